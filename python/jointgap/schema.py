@@ -1,0 +1,589 @@
+"""The model's fields in one table: dimension, bound, default; and their conversion to SI.
+
+Every field of every model element is declared once here. The file reader
+(:mod:`jointgap.io`), the builder (:mod:`jointgap.model`) and the reference tables of
+``docs/model-file.md`` (:func:`reference_markdown`) all read this table, so a unit, a
+bound or a default can change in one place only.
+
+:func:`convert_element` turns the user's values (numbers in SI or quantity strings) into
+the engine's plain-SI dictionaries, raising :class:`ModelError` naming the element, the
+field and the problem. Cross-references (does body ``rod`` exist?) are not checked here:
+the engine checks them (:meth:`jointgap.Model.check`).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from . import units as u
+from .units import Dimension, UnitError
+
+__all__ = [
+    "ModelError",
+    "Param",
+    "ELEMENTS",
+    "convert_element",
+    "params_of",
+    "types_of",
+    "reference_markdown",
+    "GROUND",
+]
+
+GROUND = "ground"
+"""The name of the fixed frame, to which joints and forces may refer."""
+
+_NAME = re.compile(r"^[A-Za-z0-9_\-]+$")
+
+
+class ModelError(ValueError):
+    """An invalid model: names the file and line (when known), the element and the problem.
+
+    ``str(error)`` reads ``file:line: kind 'name': problem``; the parts are also
+    attributes: ``file``, ``line``, ``kind`` (body, joint, driver, force, ground, model),
+    ``name``, ``index`` (position of the element among those of its kind), ``key`` (the
+    field, dotted for nested ones like ``profile.speed``) and ``problem``.
+    """
+
+    def __init__(
+        self,
+        problem: str,
+        *,
+        kind: str | None = None,
+        name: str | None = None,
+        index: int | None = None,
+        key: str | None = None,
+        file: str | None = None,
+        line: int | None = None,
+        related: tuple[str, int] | None = None,
+    ) -> None:
+        self.problem = problem
+        self.kind = kind
+        self.name = name
+        self.index = index
+        self.key = key
+        self.file = file
+        self.line = line
+        self.related = related
+        super().__init__(self._message())
+
+    @property
+    def element(self) -> str:
+        """The element as the message names it, e.g. ``joint 'crank_rod'`` or ``body #2``."""
+        if self.kind is None:
+            return ""
+        if self.name:
+            return f"{self.kind} '{self.name}'"
+        if self.index is not None:
+            return f"{self.kind} #{self.index + 1}"
+        return self.kind
+
+    def _message(self) -> str:
+        where = ""
+        if self.file is not None:
+            where = f"{self.file}:{self.line}: " if self.line is not None else f"{self.file}: "
+        element = self.element
+        return f"{where}{element}: {self.problem}" if element else f"{where}{self.problem}"
+
+    def located(self, file: str, line: int | None, problem: str | None = None) -> ModelError:
+        """The same error with its file and line (and optionally a reworded problem)."""
+        return ModelError(
+            self.problem if problem is None else problem,
+            kind=self.kind,
+            name=self.name,
+            index=self.index,
+            key=self.key,
+            file=file,
+            line=line,
+            related=self.related,
+        )
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (_rebuild, (self.problem, self.__dict__.copy()))
+
+
+def _rebuild(problem: str, attrs: dict[str, Any]) -> ModelError:
+    attrs = {k: v for k, v in attrs.items() if k != "problem"}
+    return ModelError(problem, **attrs)
+
+
+@dataclass(frozen=True)
+class Param:
+    """One field of a model element.
+
+    ``kind`` says how a value is read: ``text``, ``name`` (this element's unique name),
+    ``ref`` (another element's name), ``choice`` (the element's ``type``), ``scalar``,
+    ``vector`` ([x, y]), ``point`` (a point name or a vector), ``points`` (name -> vector),
+    ``list`` (numbers), ``scalar_signal`` / ``vector_signal`` (constant or a table
+    ``{time, value}``), ``shape`` and ``profile`` (nested tables with a ``type``).
+    ``dim`` is the expected dimension, or several for a driver's motion (angular for a
+    revolute joint, linear for a prismatic one; ``motion`` is then true).
+    """
+
+    key: str
+    kind: str
+    dim: Dimension | tuple[Dimension, ...] | None = None
+    required: bool = False
+    default: Any = None
+    bound: str | None = None  # ">0" or ">=0"
+    doc: str = ""
+    motion: bool = False
+
+
+def _name(doc: str = "unique name of the element") -> Param:
+    return Param("name", "name", required=True, doc=doc)
+
+
+_ROTATION_OR_TRANSLATION_SPEED = (u.ANGULAR_SPEED, u.SPEED)
+_ROTATION_OR_TRANSLATION = (u.ANGLE, u.LENGTH)
+
+_JOINT_COMMON = [
+    _name(),
+    Param("type", "choice", required=True, doc="revolute, prismatic or fixed"),
+    Param("body_i", "ref", required=True, doc="first body, or ground"),
+    Param("point_i", "point", u.LENGTH, default=(0.0, 0.0), doc="joint point on body_i"),
+    Param("body_j", "ref", required=True, doc="second body (reactions are forces on it)"),
+    Param("point_j", "point", u.LENGTH, default=(0.0, 0.0), doc="joint point on body_j"),
+]
+
+_FORCE_HEAD = [_name(), Param("type", "choice", required=True, doc="force element kind")]
+
+_SPEED = Param(
+    "speed",
+    "scalar",
+    _ROTATION_OR_TRANSLATION_SPEED,
+    required=True,
+    motion=True,
+    doc="final speed, counter-clockwise positive (rad/s for a revolute, m/s for a prismatic)",
+)
+_RAMP = Param("ramp_time", "scalar", u.TIME, required=True, bound=">0", doc="ramp duration")
+_TIMES = Param("time", "list", u.TIME, required=True, doc="strictly increasing times")
+
+# Element kind -> fields, or -> {type: fields} for elements with a ``type``.
+ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
+    "model": [
+        Param("name", "text", default="", doc="model name, for reports"),
+        Param(
+            "gravity",
+            "vector",
+            u.ACCELERATION,
+            default=(0.0, -9.81),
+            doc="uniform gravity in the plane; [0, 0] for a horizontal mechanism",
+        ),
+    ],
+    "ground": [
+        Param("points", "points", u.LENGTH, default={}, doc="named points, global coordinates"),
+    ],
+    "body": [
+        _name(),
+        Param("mass", "scalar", u.MASS, required=True, bound=">0", doc="mass"),
+        Param(
+            "inertia",
+            "scalar",
+            u.INERTIA,
+            required=True,
+            bound=">0",
+            doc="moment of inertia about the centre of mass",
+        ),
+        Param(
+            "position",
+            "vector",
+            u.LENGTH,
+            default=(0.0, 0.0),
+            doc="initial centre of mass (approximate: assembly corrects it)",
+        ),
+        Param("angle", "scalar", u.ANGLE, default=0.0, doc="initial angle (approximate)"),
+        Param("velocity", "vector", u.SPEED, default=(0.0, 0.0), doc="initial velocity"),
+        Param("omega", "scalar", u.ANGULAR_SPEED, default=0.0, doc="initial angular velocity"),
+        Param(
+            "points",
+            "points",
+            u.LENGTH,
+            default={},
+            doc="named points in the body frame, relative to the centre of mass",
+        ),
+        Param("shape", "shape", doc="drawing shape (bar, block or disk); ignored by the engine"),
+    ],
+    "joint": {
+        "revolute": _JOINT_COMMON,
+        "prismatic": [
+            *_JOINT_COMMON,
+            Param(
+                "axis",
+                "vector",
+                u.DIMENSIONLESS,
+                required=True,
+                doc="sliding direction in the frame of body_i",
+            ),
+        ],
+        "fixed": _JOINT_COMMON,
+    },
+    "driver": [
+        _name(),
+        Param("joint", "ref", required=True, doc="driven joint (revolute or prismatic)"),
+        Param("profile", "profile", required=True, doc="motion profile, a table with a type"),
+        Param(
+            "initial",
+            "scalar",
+            _ROTATION_OR_TRANSLATION,
+            motion=True,
+            doc="joint coordinate at t = 0; by default that of the initial placement",
+        ),
+    ],
+    "profile": {
+        "constant_speed": [Param("type", "choice", required=True), _SPEED],
+        "linear_ramp": [Param("type", "choice", required=True), _SPEED, _RAMP],
+        "smooth_ramp": [Param("type", "choice", required=True), _SPEED, _RAMP],
+        "table_angle": [
+            Param("type", "choice", required=True),
+            _TIMES,
+            Param(
+                "value",
+                "list",
+                _ROTATION_OR_TRANSLATION,
+                required=True,
+                motion=True,
+                doc="displacement from the initial coordinate (rad or m), spline",
+            ),
+        ],
+        "table_speed": [
+            Param("type", "choice", required=True),
+            _TIMES,
+            Param(
+                "value",
+                "list",
+                _ROTATION_OR_TRANSLATION_SPEED,
+                required=True,
+                motion=True,
+                doc="speed (rad/s or m/s), linear between points",
+            ),
+        ],
+    },
+    "force": {
+        "spring_damper": [
+            *_FORCE_HEAD,
+            Param("body_i", "ref", required=True, doc="first body"),
+            Param("point_i", "point", u.LENGTH, default=(0.0, 0.0), doc="attachment on body_i"),
+            Param("body_j", "ref", required=True, doc="second body"),
+            Param("point_j", "point", u.LENGTH, default=(0.0, 0.0), doc="attachment on body_j"),
+            Param("stiffness", "scalar", u.STIFFNESS, default=0.0, bound=">=0", doc="stiffness"),
+            Param("damping", "scalar", u.DAMPING, default=0.0, bound=">=0", doc="damping"),
+            Param("free_length", "scalar", u.LENGTH, default=0.0, bound=">=0", doc="free length"),
+        ],
+        "rotational_spring_damper": [
+            *_FORCE_HEAD,
+            Param("body_i", "ref", required=True, doc="first body"),
+            Param("body_j", "ref", required=True, doc="second body (torque acts on it)"),
+            Param(
+                "stiffness",
+                "scalar",
+                u.ROTATIONAL_STIFFNESS,
+                default=0.0,
+                bound=">=0",
+                doc="rotational stiffness",
+            ),
+            Param(
+                "damping",
+                "scalar",
+                u.ROTATIONAL_DAMPING,
+                default=0.0,
+                bound=">=0",
+                doc="rotational damping",
+            ),
+            Param(
+                "free_angle",
+                "scalar",
+                u.ANGLE,
+                default=0.0,
+                doc="relative angle phi_j - phi_i at which the spring is unloaded",
+            ),
+        ],
+        "applied_force": [
+            *_FORCE_HEAD,
+            Param("body", "ref", required=True, doc="loaded body"),
+            Param("point", "point", u.LENGTH, default=(0.0, 0.0), doc="point of application"),
+            Param(
+                "force",
+                "vector_signal",
+                u.FORCE,
+                required=True,
+                doc="[fx, fy] in global axes, or a table {time = [...], value = [[fx, fy], ...]}",
+            ),
+        ],
+        "applied_torque": [
+            *_FORCE_HEAD,
+            Param("body", "ref", required=True, doc="loaded body"),
+            Param(
+                "torque",
+                "scalar_signal",
+                u.TORQUE,
+                required=True,
+                doc="counter-clockwise positive; or a table {time = [...], value = [...]}",
+            ),
+        ],
+    },
+    "shape": {
+        "bar": [
+            Param("type", "choice", required=True),
+            Param("from", "point", u.LENGTH, required=True, doc="one end (point name or vector)"),
+            Param("to", "point", u.LENGTH, required=True, doc="other end"),
+            Param("width", "scalar", u.LENGTH, default=0.01, bound=">0", doc="drawn width"),
+        ],
+        "block": [
+            Param("type", "choice", required=True),
+            Param("width", "scalar", u.LENGTH, required=True, bound=">0", doc="size along x"),
+            Param("height", "scalar", u.LENGTH, required=True, bound=">0", doc="size along y"),
+        ],
+        "disk": [
+            Param("type", "choice", required=True),
+            Param("radius", "scalar", u.LENGTH, required=True, bound=">0", doc="radius"),
+        ],
+    },
+}
+
+# Number of constraint equations of each joint type (for degree-of-freedom counts).
+JOINT_EQUATIONS = {"revolute": 2, "prismatic": 2, "fixed": 3}
+# The joint coordinate a driver moves, per joint type.
+DRIVEN_MOTION = {"revolute": "rotation", "prismatic": "translation"}
+
+
+def params_of(kind: str, type_: str | None = None) -> list[Param]:
+    """The fields of an element kind (and type, for joints, forces, profiles, shapes)."""
+    entry = ELEMENTS[kind]
+    if isinstance(entry, dict):
+        if type_ is None:
+            raise KeyError(f"{kind} needs a type")
+        return entry[type_]
+    return entry
+
+
+def types_of(kind: str) -> list[str]:
+    """The allowed ``type`` values of an element kind (empty when it has no type)."""
+    entry = ELEMENTS[kind]
+    return list(entry) if isinstance(entry, dict) else []
+
+
+class _Context:
+    """Builds errors naming one element; ``prefix`` dots nested keys (``profile.``)."""
+
+    def __init__(self, kind: str | None, name: str | None, index: int | None, prefix: str = ""):
+        self.kind, self.name, self.index, self.prefix = kind, name, index, prefix
+
+    def error(self, problem: str, key: str | None = None) -> ModelError:
+        full = None if key is None else self.prefix + key
+        return ModelError(problem, kind=self.kind, name=self.name, index=self.index, key=full)
+
+    def nested(self, key: str) -> _Context:
+        return _Context(self.kind, self.name, self.index, f"{self.prefix}{key}.")
+
+    def label(self, key: str) -> str:
+        return self.prefix + key
+
+
+def convert_element(
+    kind: str, raw: Mapping[str, Any], *, index: int | None = None, label: str | None = None
+) -> tuple[dict[str, Any], str | None]:
+    """Converts one element's user values to the engine's SI dictionary.
+
+    Returns the dictionary (fields in table order, defaults filled in) and the motion it
+    was given in, for a driver or a profile: ``"rotation"`` (angular units),
+    ``"translation"`` (linear units) or ``None`` (plain SI numbers only). A key whose
+    value is ``None`` takes its default. ``label`` replaces the element's name in
+    messages (for a profile made on its own).
+    """
+    name = raw.get("name") if isinstance(raw.get("name"), str) else None
+    ctx = _Context(kind if label is None else label, name, index)
+    motions: set[str] = set()
+    out = _convert_table(kind, raw, ctx, motions)
+    if len(motions) > 1:
+        raise ctx.error("mixes angular units (rad, deg, rpm) and linear units (m, m/s)")
+    return out, (motions.pop() if motions else None)
+
+
+def _convert_table(
+    kind: str, raw: Mapping[str, Any], ctx: _Context, motions: set[str]
+) -> dict[str, Any]:
+    if not isinstance(raw, Mapping):
+        raise ctx.error(f"expected a table of fields, got {raw!r}")
+    types = types_of(kind)
+    if types:
+        type_ = raw.get("type")
+        if type_ is None:
+            raise ctx.error(f"missing field '{ctx.label('type')}' (one of: {', '.join(types)})")
+        if type_ not in types:
+            raise ctx.error(
+                f"unknown {kind} type {type_!r} (allowed: {', '.join(types)})", key="type"
+            )
+        params = params_of(kind, type_)
+    else:
+        params = params_of(kind)
+    allowed = [p.key for p in params]
+    for key in raw:
+        if key not in allowed:
+            what = f"a {raw['type']} {kind}" if types else kind
+            raise ctx.error(
+                f"unknown key '{ctx.label(str(key))}' for {what} (allowed: {', '.join(allowed)})",
+                key=str(key),
+            )
+    out: dict[str, Any] = {}
+    for p in params:
+        value = raw.get(p.key)
+        if value is None:
+            if p.required:
+                raise ctx.error(f"missing field '{ctx.label(p.key)}'", key=p.key)
+            if p.default is None:
+                continue
+            value = p.default
+        out[p.key] = _convert_value(p, value, ctx, motions)
+    return out
+
+
+def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> Any:
+    key = ctx.label(p.key)
+    if p.kind == "text":
+        if not isinstance(value, str):
+            raise ctx.error(f"{key} must be a string, got {value!r}", p.key)
+        return value
+    if p.kind in ("name", "ref", "choice"):
+        if not isinstance(value, str) or not value:
+            raise ctx.error(f"{key} must be a non-empty string, got {value!r}", p.key)
+        if p.kind == "name":
+            _check_name(value, key, ctx, p.key)
+        return value
+    if p.kind == "scalar":
+        return _scalar(p, value, ctx, key, motions)
+    if p.kind == "vector":
+        return _vector(p, value, ctx, key)
+    if p.kind == "point":
+        if isinstance(value, str):
+            _check_name(value, key, ctx, p.key)
+            return value
+        return _vector(p, value, ctx, key)
+    if p.kind == "points":
+        if not isinstance(value, Mapping):
+            raise ctx.error(f"{key} must be a table of name = [x, y], got {value!r}", p.key)
+        points = {}
+        for pname, xy in value.items():
+            _check_name(str(pname), f"{key} name", ctx, f"{p.key}.{pname}")
+            points[str(pname)] = _vector(p, xy, ctx, f"{key}.{pname}", f"{p.key}.{pname}")
+        return points
+    if p.kind == "list":
+        if isinstance(value, (str, Mapping)) or not isinstance(value, Sequence):
+            raise ctx.error(f"{key} must be a list of numbers, got {value!r}", p.key)
+        return [_scalar(p, v, ctx, f"{key}[{i}]", motions) for i, v in enumerate(value)]
+    if p.kind in ("scalar_signal", "vector_signal"):
+        return _signal(p, value, ctx, key, motions)
+    if p.kind in ("shape", "profile"):
+        if hasattr(value, "to_dict"):
+            value = value.to_dict()
+        return _convert_table(p.kind, value, ctx.nested(p.key), motions)
+    raise AssertionError(f"unknown parameter kind {p.kind}")  # pragma: no cover
+
+
+def _check_name(value: str, key: str, ctx: _Context, param_key: str) -> None:
+    if not _NAME.match(value):
+        raise ctx.error(f"{key} {value!r} may only contain letters, digits, '_' and '-'", param_key)
+
+
+def _scalar(p: Param, value: Any, ctx: _Context, key: str, motions: set[str]) -> float:
+    assert p.dim is not None
+    try:
+        x, dim = u.to_si_with_dimension(value, p.dim)
+    except UnitError as exc:
+        raise ctx.error(f"{key} {exc}", p.key) from None
+    if p.motion and dim is not None:
+        motions.add("rotation" if dim.angle != 0 else "translation")
+    if p.bound == ">0" and not x > 0:
+        raise ctx.error(f"{key} must be positive, got {_shown(value, p.dim)}", p.key)
+    if p.bound == ">=0" and not x >= 0:
+        raise ctx.error(f"{key} must not be negative, got {_shown(value, p.dim)}", p.key)
+    return x
+
+
+def _shown(value: Any, dim: Dimension | tuple[Dimension, ...]) -> str:
+    if isinstance(value, str):
+        return value
+    d = dim if isinstance(dim, Dimension) else dim[0]
+    unit = d.si_unit()
+    return f"{value:g}" if unit == "1" else f"{value:g} {unit}"
+
+
+def _vector(
+    p: Param, value: Any, ctx: _Context, key: str, param_key: str | None = None
+) -> list[float]:
+    if isinstance(value, (str, Mapping)) or not isinstance(value, Sequence) or len(value) != 2:
+        raise ctx.error(f"{key} must be a vector [x, y], got {value!r}", param_key or p.key)
+    assert p.dim is not None
+    out = []
+    for v in value:
+        try:
+            out.append(u.to_si(v, p.dim))
+        except UnitError as exc:
+            raise ctx.error(f"{key} {exc}", param_key or p.key) from None
+    return out
+
+
+def _signal(p: Param, value: Any, ctx: _Context, key: str, motions: set[str]) -> Any:
+    vector = p.kind == "vector_signal"
+    if not isinstance(value, Mapping):
+        return _vector(p, value, ctx, key) if vector else _scalar(p, value, ctx, key, motions)
+    extra = set(value) - {"time", "value"}
+    if extra:
+        raise ctx.error(f"unknown key '{key}.{sorted(extra)[0]}' (allowed: time, value)", p.key)
+    for part in ("time", "value"):
+        if part not in value:
+            raise ctx.error(f"missing field '{key}.{part}'", p.key)
+    seqs = (value["time"], value["value"])
+    if any(isinstance(s, (str, Mapping)) or not isinstance(s, Sequence) for s in seqs):
+        raise ctx.error(f"{key}.time and {key}.value must be lists", p.key)
+    times = [_scalar(_TIMES, t, ctx, f"{key}.time[{i}]", motions) for i, t in enumerate(seqs[0])]
+    if vector:
+        vals: list[Any] = [_vector(p, v, ctx, f"{key}.value[{i}]") for i, v in enumerate(seqs[1])]
+    else:
+        vals = [_scalar(p, v, ctx, f"{key}.value[{i}]", motions) for i, v in enumerate(seqs[1])]
+    return {"time": times, "value": vals}
+
+
+def reference_markdown() -> str:
+    """Markdown tables of every element's fields, as included in ``docs/model-file.md``."""
+    lines: list[str] = []
+    for kind, entry in ELEMENTS.items():
+        groups = entry.items() if isinstance(entry, dict) else [(None, entry)]
+        for type_, params in groups:
+            title = f"`{kind}`" if type_ is None else f"`{kind}` type `{type_}`"
+            lines += [f"#### {title}", "", "| key | unit | required / default | notes |"]
+            lines.append("|---|---|---|---|")
+            for p in params:
+                if p.key == "type":
+                    continue
+                lines.append(f"| `{p.key}` | {_unit_text(p)} | {_default_text(p)} | {_notes(p)} |")
+            lines.append("")
+    return "\n".join(lines)
+
+
+def _unit_text(p: Param) -> str:
+    if p.dim is None:
+        return "-"
+    dims = p.dim if isinstance(p.dim, tuple) else (p.dim,)
+    return " or ".join(d.si_unit() for d in dims)
+
+
+def _default_text(p: Param) -> str:
+    if p.required:
+        return "required"
+    if p.default is None:
+        return "optional"
+    if isinstance(p.default, tuple):
+        return "[" + ", ".join(f"{v:g}" for v in p.default) + "]"
+    if isinstance(p.default, dict):
+        return "{}"
+    if isinstance(p.default, str):
+        return f'"{p.default}"'
+    return f"{p.default:g}"
+
+
+def _notes(p: Param) -> str:
+    bound = {">0": "> 0; ", ">=0": ">= 0; "}.get(p.bound or "", "")
+    return f"{bound}{p.doc}".rstrip("; ")
