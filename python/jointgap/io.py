@@ -1,0 +1,229 @@
+"""Model files: read a TOML model into a :class:`~jointgap.Model`, write one back.
+
+The format is described in ``docs/model-file.md``. Every error names the file, the line
+(of the offending key, else of the element's ``name``), the element and the problem::
+
+    slider.toml:23: joint 'crank_rod': body_j 'rodd' is not a body of the model
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from collections.abc import Mapping
+from os import PathLike
+from pathlib import Path
+from typing import Any
+
+from .model import Model
+from .schema import ModelError, convert_element
+
+__all__ = ["load", "loads", "save", "dumps", "SECTIONS"]
+
+SECTIONS = {
+    "model": False,
+    "ground": False,
+    "body": True,
+    "joint": True,
+    "driver": True,
+    "force": True,
+}
+"""Top-level sections of a model file; True for arrays of tables (``[[body]]``)."""
+
+_HEADER = re.compile(r"^\s*(\[\[?)\s*([A-Za-z0-9_.\-\"' ]+?)\s*\]\]?\s*(#.*)?$")
+_TOML_LINE = re.compile(r"\(at line (\d+), column \d+\)")
+
+
+class SourceMap:
+    """Finds the line of an element's key in the raw text of a model file."""
+
+    def __init__(self, path: str, text: str) -> None:
+        self.path = path
+        self.lines = [_strip_comment(line) for line in text.splitlines()]
+        # (section, is_array, first line index) for every table header
+        self.headers: list[tuple[str, bool, int]] = []
+        for n, line in enumerate(self.lines):
+            m = _HEADER.match(line)
+            if m:
+                self.headers.append((m.group(2).replace(" ", ""), m.group(1) == "[[", n))
+
+    def span(self, kind: str, index: int | None) -> tuple[int, int] | None:
+        """Lines [start, end) of the ``index``-th ``[[kind]]`` table (or of ``[kind]``)."""
+        count = -1
+        for h, (name, is_array, start) in enumerate(self.headers):
+            if name != kind or (is_array and index is None):
+                continue
+            count += 1
+            if is_array and count != index:
+                continue
+            end = len(self.lines)
+            for other, _, line in self.headers[h + 1 :]:
+                if not other.startswith(kind + "."):
+                    end = line
+                    break
+            return start, end
+        return None
+
+    def line_of(
+        self, kind: str | None, index: int | None, name: str | None, key: str | None
+    ) -> int | None:
+        """1-based line of ``key`` in the element, else of its name, else its header."""
+        if kind is None and key:  # a top-level section
+            found = self._find(
+                rf"^\s*(\[\[?\s*{re.escape(key)}\s*\]|{re.escape(key)}\s*=)", 0, None
+            )
+            return None if found is None else found + 1
+        span = self.span(kind, index) if kind else None
+        if span is None and name:
+            found = self._find(rf"(?<![\w\-])name\s*=\s*[\"']{re.escape(name)}[\"']", 0, None)
+            return None if found is None else found + 1
+        if span is None:
+            return None
+        start, end = span
+        for part in reversed(key.split(".") if key else []):
+            found = self._find(rf"(?<![\w\-])[\"']?{re.escape(part)}[\"']?\s*=", start, end)
+            if found is not None:
+                return found + 1
+        found = self._find(r"(?<![\w\-])name\s*=", start, end)
+        return (found if found is not None else start) + 1
+
+    def _find(self, pattern: str, start: int, end: int | None) -> int | None:
+        regex = re.compile(pattern)
+        for n in range(start, len(self.lines) if end is None else end):
+            if regex.search(self.lines[n]):
+                return n
+        return None
+
+    def locate(self, error: ModelError) -> ModelError:
+        """The error with this file and the line of its element and key."""
+        if error.file is not None:
+            return error
+        line = self.line_of(error.kind, error.index, error.name, error.key)
+        problem = error.problem
+        if error.related is not None:
+            other = self.line_of(error.related[0], error.related[1], None, "name")
+            if other is not None:
+                problem += f" on line {other}"
+        return error.located(self.path, line, problem)
+
+
+def _strip_comment(line: str) -> str:
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            return line[:i]
+    return line
+
+
+def load(path: str | PathLike[str]) -> Model:
+    """Reads a TOML model file and checks it with the engine.
+
+    Raises :class:`~jointgap.ModelError` naming the file, the line, the element and the
+    problem; OSError when the file cannot be read.
+    """
+    text = Path(path).read_text(encoding="utf-8")
+    return loads(text, str(path))
+
+
+def loads(text: str, path: str = "<string>") -> Model:
+    """Reads a model from TOML text; ``path`` names it in error messages."""
+    source = SourceMap(path, text)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        m = _TOML_LINE.search(str(exc))
+        line = int(m.group(1)) if m else None
+        raise ModelError(f"invalid TOML: {exc}", file=path, line=line) from None
+    try:
+        model = _build(data)
+    except ModelError as exc:
+        raise source.locate(exc) from None
+    model._source = source
+    model.check()
+    return model
+
+
+def _build(data: Mapping[str, Any]) -> Model:
+    for section, value in data.items():
+        if section not in SECTIONS:
+            raise ModelError(
+                f"unknown section '{section}' (allowed: {', '.join(SECTIONS)})", key=section
+            )
+        is_array = SECTIONS[section]
+        if is_array and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
+            raise ModelError(
+                f"write [[{section}]] (one table per {section}), not [{section}]", key=section
+            )
+        if not is_array and not isinstance(value, dict):
+            raise ModelError(f"write [{section}] as a table", key=section)
+    head = data.get("model", {})
+    convert_element("model", head)  # unknown keys, units
+    model = Model(head.get("name", ""), head.get("gravity"))
+    ground = data.get("ground", {})
+    points = convert_element("ground", ground)[0]["points"]
+    for name in points:
+        model.add_ground_point(name, ground["points"][name])
+    for kind in ("body", "joint", "driver", "force"):
+        for element in data.get(kind, []):
+            model._add(kind, element)
+    return model
+
+
+# ---------------------------------------------------------------------- writing
+
+
+def save(model: Model, path: str | PathLike[str]) -> None:
+    """Writes ``model`` as a TOML model file in SI numbers."""
+    Path(path).write_text(dumps(model), encoding="utf-8")
+
+
+def dumps(model: Model) -> str:
+    """The TOML text of a model file for ``model`` (SI numbers, radians)."""
+    d = model.to_dict()
+    out = ["# jointgap model file; plain numbers are SI (kg, m, s, N, rad)", "", "[model]"]
+    out += [f"name = {_value(d['name'])}", f"gravity = {_value(d['gravity'])}", ""]
+    if d["ground_points"]:
+        out += ["[ground]", f"points = {_value(d['ground_points'])}", ""]
+    for kind, key in (
+        ("body", "bodies"),
+        ("joint", "joints"),
+        ("driver", "drivers"),
+        ("force", "forces"),
+    ):
+        for element in d[key]:
+            out.append(f"[[{kind}]]")
+            out += [f"{_key(k)} = {_value(v)}" for k, v in element.items() if v is not None]
+            out.append("")
+    return "\n".join(out)
+
+
+def _key(key: str) -> str:
+    return key if re.fullmatch(r"[A-Za-z0-9_\-]+", key) else _value(key)
+
+
+def _value(value: Any) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
+    if isinstance(value, int):
+        return str(value)
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "nan"
+        if math.isinf(value):
+            return "inf" if value > 0 else "-inf"
+        return repr(value)
+    if isinstance(value, Mapping):
+        if not value:
+            return "{}"
+        return "{ " + ", ".join(f"{_key(str(k))} = {_value(v)}" for k, v in value.items()) + " }"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
+    raise TypeError(f"cannot write {value!r} to TOML")

@@ -1,0 +1,549 @@
+"""Build a mechanism in Python: bodies, joints, drivers and forces, in SI or with units.
+
+>>> import jointgap
+>>> m = (
+...     jointgap.Model("pendulum", gravity=(0, "-9.81 m/s^2"))
+...     .add_body("bob", mass="1 kg", inertia="1e-3 kg*m^2", position=(1, 0),
+...               points={"pivot": (-1, 0)})
+...     .add_ground_point("O", (0, 0))
+...     .add_revolute("hinge", "ground", "bob", point_i="O", point_j="pivot")
+... )
+>>> m.degrees_of_freedom()
+1
+
+Every quantity is a number in SI (kg, m, s, N, rad) or a string with a unit
+(``"300 rpm"``, ``"15 mm"``). Each ``add_*`` method checks its own values and returns
+the model, so calls chain; a bad value, a unit of the wrong dimension or a name used
+twice raises :class:`jointgap.ModelError` at once. References between elements (a joint
+naming a body) are checked by :meth:`Model.check` and before every run.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+from collections.abc import Mapping, Sequence
+from os import PathLike
+from typing import TYPE_CHECKING, Any, Protocol
+
+from .profiles import Profile
+from .schema import (
+    DRIVEN_MOTION,
+    GROUND,
+    JOINT_EQUATIONS,
+    ModelError,
+    convert_element,
+    params_of,
+    types_of,
+)
+
+if TYPE_CHECKING:
+    from .results import Result
+
+__all__ = ["Model"]
+
+Quantity = float | str
+Vector = Sequence[Quantity]
+PointRef = str | Vector
+
+_KINDS = ("body", "joint", "driver", "force")
+_RESERVED = (GROUND, "system")
+_CORE_ERROR = re.compile(r"^(body|joint|driver|force) '([^']*)': (.*)$", re.S)
+_MOTION_UNITS = {"rotation": "angular units (rad, deg, rpm)", "translation": "linear units (m)"}
+
+
+class Locator(Protocol):
+    """Adds a file and line to an error about an element (see :mod:`jointgap.io`)."""
+
+    path: str
+
+    def locate(self, error: ModelError) -> ModelError: ...
+
+
+class Model:
+    """A planar mechanism: moving rigid bodies, ideal joints, drivers and force elements.
+
+    The ground (the fixed frame) is implicit and named ``ground``; its named points are
+    added with :meth:`add_ground_point`. ``gravity`` defaults to (0, -9.81) m/s^2: a
+    vertical plane with y up.
+    """
+
+    def __init__(self, name: str = "", gravity: Vector | None = None) -> None:
+        fields, _ = convert_element("model", {"name": name, "gravity": gravity})
+        self._name: str = fields["name"]
+        self._gravity: list[float] = fields["gravity"]
+        self._elements: dict[str, list[dict[str, Any]]] = {k: [] for k in _KINDS}
+        self._motions: list[str | None] = []  # per driver: units it was given in
+        self._owner: dict[str, tuple[str, int]] = {}  # element name -> (kind, index)
+        self._ground_points: dict[str, list[float]] = {}
+        self._source: Locator | None = None
+
+    # ------------------------------------------------------------------ read access
+
+    @property
+    def name(self) -> str:
+        """Model name, for reports."""
+        return self._name
+
+    @property
+    def gravity(self) -> tuple[float, float]:
+        """Gravity vector [m/s^2]."""
+        return (self._gravity[0], self._gravity[1])
+
+    @property
+    def bodies(self) -> dict[str, dict[str, Any]]:
+        """Bodies by name, in model order (copies, SI units)."""
+        return self._view("body")
+
+    @property
+    def joints(self) -> dict[str, dict[str, Any]]:
+        """Joints by name, in model order (copies, SI units)."""
+        return self._view("joint")
+
+    @property
+    def drivers(self) -> dict[str, dict[str, Any]]:
+        """Drivers by name, in model order (copies, SI units and radians)."""
+        return self._view("driver")
+
+    @property
+    def forces(self) -> dict[str, dict[str, Any]]:
+        """Force elements by name, in model order (copies, SI units)."""
+        return self._view("force")
+
+    @property
+    def ground_points(self) -> dict[str, tuple[float, float]]:
+        """Named points of the ground [m], global coordinates."""
+        return {k: (v[0], v[1]) for k, v in self._ground_points.items()}
+
+    @property
+    def source(self) -> str | None:
+        """The file the model was loaded from, if any."""
+        return None if self._source is None else self._source.path
+
+    def _view(self, kind: str) -> dict[str, dict[str, Any]]:
+        return {e["name"]: copy.deepcopy(e) for e in self._elements[kind]}
+
+    def degrees_of_freedom(self, with_drivers: bool = False) -> int:
+        """Nominal degrees of freedom (Gruebler): 3 per body less the joint equations,
+        less one per driver if ``with_drivers``. Redundant constraints, which the engine
+        reports as warnings of :meth:`check`, add to the true count."""
+        n = 3 * len(self._elements["body"])
+        n -= sum(JOINT_EQUATIONS[j["type"]] for j in self._elements["joint"])
+        if with_drivers:
+            n -= len(self._elements["driver"])
+        return n
+
+    def __repr__(self) -> str:
+        counts = ", ".join(_count(len(v), k) for k, v in self._count())
+        return f"<Model {self._name!r}: {counts}>"
+
+    def _count(self) -> list[tuple[str, list[dict[str, Any]]]]:
+        return [(k, self._elements[k]) for k in _KINDS]
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Model) and self.to_dict() == other.to_dict()
+
+    __hash__ = None  # type: ignore[assignment]
+
+    # ------------------------------------------------------------------ building
+
+    def add_body(
+        self,
+        name: str,
+        mass: Quantity,
+        inertia: Quantity,
+        position: Vector | None = None,
+        angle: Quantity | None = None,
+        velocity: Vector | None = None,
+        omega: Quantity | None = None,
+        points: Mapping[str, Vector] | None = None,
+        shape: Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Adds a rigid body; coordinates are those of its centre of mass.
+
+        Args:
+            name: unique name (letters, digits, ``_``, ``-``).
+            mass: mass [kg], > 0.
+            inertia: moment of inertia about the centre of mass [kg m^2], > 0.
+            position: approximate initial position [m], default (0, 0); the engine
+                assembles the mechanism from it.
+            angle: approximate initial angle [rad], default 0.
+            velocity: initial velocity [m/s], default (0, 0).
+            omega: initial angular velocity [rad/s], default 0.
+            points: named points in the body frame, relative to the centre of mass [m].
+            shape: drawing shape, e.g. ``{"type": "bar", "from": "O", "to": "A",
+                "width": "20 mm"}``, ``{"type": "block", "width": .., "height": ..}`` or
+                ``{"type": "disk", "radius": ..}``; the engine ignores it.
+        """
+        raw = {
+            "name": name,
+            "mass": mass,
+            "inertia": inertia,
+            "position": position,
+            "angle": angle,
+            "velocity": velocity,
+            "omega": omega,
+            "points": points,
+            "shape": shape,
+        }
+        return self._add("body", raw)
+
+    def add_ground_point(self, name: str, xy: Vector) -> Model:
+        """Names a point fixed in the ground, global coordinates [m]."""
+        if name in self._ground_points:
+            raise ModelError(f"duplicate point '{name}'", kind="ground", key=f"points.{name}")
+        fields, _ = convert_element("ground", {"points": {name: xy}})
+        self._ground_points.update(fields["points"])
+        return self
+
+    def add_revolute(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        point_i: PointRef | None = None,
+        point_j: PointRef | None = None,
+    ) -> Model:
+        """Adds a pin joint: ``point_i`` of ``body_i`` and ``point_j`` of ``body_j``
+        coincide. Points are point names or local vectors [m], default (0, 0), the centre
+        of mass (for the ground: global coordinates)."""
+        return self._add_joint("revolute", name, body_i, body_j, point_i, point_j)
+
+    def add_prismatic(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        axis: Vector,
+        point_i: PointRef | None = None,
+        point_j: PointRef | None = None,
+    ) -> Model:
+        """Adds a slider: ``point_j`` stays on the line through ``point_i`` along ``axis``
+        (a direction in the frame of ``body_i``), and the relative angle is fixed."""
+        return self._add_joint("prismatic", name, body_i, body_j, point_i, point_j, axis)
+
+    def add_fixed(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        point_i: PointRef | None = None,
+        point_j: PointRef | None = None,
+    ) -> Model:
+        """Welds two bodies: the points coincide and the relative angle is fixed."""
+        return self._add_joint("fixed", name, body_i, body_j, point_i, point_j)
+
+    def _add_joint(
+        self,
+        type_: str,
+        name: str,
+        body_i: str,
+        body_j: str,
+        point_i: PointRef | None,
+        point_j: PointRef | None,
+        axis: Vector | None = None,
+    ) -> Model:
+        raw = {
+            "name": name,
+            "type": type_,
+            "body_i": body_i,
+            "point_i": point_i,
+            "body_j": body_j,
+            "point_j": point_j,
+            "axis": axis,
+        }
+        return self._add("joint", raw)
+
+    def add_driver(
+        self,
+        name: str,
+        joint: str,
+        profile: Profile | Mapping[str, Any],
+        initial: Quantity | None = None,
+    ) -> Model:
+        """Prescribes the motion of a revolute or prismatic joint.
+
+        Args:
+            name: unique name; its output channel is ``<name>.torque`` (revolute) or
+                ``<name>.force`` (prismatic), as applied by the motor to ``body_j``.
+            joint: the driven joint.
+            profile: a profile from :mod:`jointgap.profiles`, e.g.
+                ``profiles.linear_ramp("300 rpm", "0.2 s")``, or the same as a dict with
+                a ``type``.
+            initial: joint coordinate at t = 0 [rad or m]; by default the one of the
+                initial placement.
+        """
+        return self._add(
+            "driver", {"name": name, "joint": joint, "profile": profile, "initial": initial}
+        )
+
+    def add_spring_damper(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        stiffness: Quantity | None = None,
+        damping: Quantity | None = None,
+        free_length: Quantity | None = None,
+        point_i: PointRef | None = None,
+        point_j: PointRef | None = None,
+    ) -> Model:
+        """Adds a point-to-point spring-damper: tension ``k (l - l0) + c dl/dt``.
+
+        ``stiffness`` [N/m], ``damping`` [N s/m] and ``free_length`` [m] default to 0."""
+        raw = {
+            "name": name,
+            "type": "spring_damper",
+            "body_i": body_i,
+            "point_i": point_i,
+            "body_j": body_j,
+            "point_j": point_j,
+            "stiffness": stiffness,
+            "damping": damping,
+            "free_length": free_length,
+        }
+        return self._add("force", raw)
+
+    def add_rotational_spring_damper(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        stiffness: Quantity | None = None,
+        damping: Quantity | None = None,
+        free_angle: Quantity | None = None,
+    ) -> Model:
+        """Adds a torsion spring-damper: torque on ``body_j`` of
+        ``-k (phi_j - phi_i - free_angle) - c (omega_j - omega_i)``, opposite on ``body_i``.
+
+        ``stiffness`` [N m/rad], ``damping`` [N m s/rad], ``free_angle`` [rad], default 0."""
+        raw = {
+            "name": name,
+            "type": "rotational_spring_damper",
+            "body_i": body_i,
+            "body_j": body_j,
+            "stiffness": stiffness,
+            "damping": damping,
+            "free_angle": free_angle,
+        }
+        return self._add("force", raw)
+
+    def add_force(self, name: str, body: str, force: Any, point: PointRef | None = None) -> Model:
+        """Applies a force [N] in global axes at a point of a body.
+
+        ``force`` is a constant ``(fx, fy)`` or a table against time:
+        ``(times, [(fx, fy), ...])`` or ``{"time": [...], "value": [...]}`` (linear
+        between points, held outside)."""
+        raw = {
+            "name": name,
+            "type": "applied_force",
+            "body": body,
+            "point": point,
+            "force": _signal(force),
+        }
+        return self._add("force", raw)
+
+    def add_torque(self, name: str, body: str, torque: Any) -> Model:
+        """Applies a torque [N m], counter-clockwise positive: a constant, or a table
+        ``(times, values)`` / ``{"time": [...], "value": [...]}``."""
+        raw = {"name": name, "type": "applied_torque", "body": body, "torque": _signal(torque)}
+        return self._add("force", raw)
+
+    def _add(self, kind: str, raw: Mapping[str, Any]) -> Model:
+        index = len(self._elements[kind])
+        fields, motion = convert_element(kind, raw, index=index)
+        name = fields["name"]
+        if name in _RESERVED:
+            raise ModelError(f"the name '{name}' is reserved", kind=kind, index=index, key="name")
+        if name in self._owner:
+            other_kind, other_index = self._owner[name]
+            raise ModelError(
+                f"duplicate name '{name}', already used by a {other_kind}",
+                kind=kind,
+                name=name,
+                index=index,
+                key="name",
+                related=(other_kind, other_index),
+            )
+        if kind == "driver":
+            self._check_motion(fields, motion, index)
+            self._motions.append(motion)
+        self._elements[kind].append(fields)
+        self._owner[name] = (kind, index)
+        return self
+
+    def _check_motion(self, driver: Mapping[str, Any], motion: str | None, index: int) -> None:
+        """A driver given in angular units must drive a revolute joint, and so on."""
+        owner = self._owner.get(driver["joint"])
+        if motion is None or owner is None or owner[0] != "joint":
+            return  # plain numbers, or a missing joint: the engine reports the latter
+        joint = self._elements["joint"][owner[1]]
+        expected = DRIVEN_MOTION.get(joint["type"])
+        if expected is not None and expected != motion:
+            raise ModelError(
+                f"profile is given in {_MOTION_UNITS[motion]} but joint '{joint['name']}' is "
+                f"{joint['type']}: use {_MOTION_UNITS[expected]}",
+                kind="driver",
+                name=driver["name"],
+                index=index,
+                key="profile",
+            )
+
+    # ------------------------------------------------------------------ conversion
+
+    def to_dict(self) -> dict[str, Any]:
+        """The model as the engine reads it: plain data, SI units and radians."""
+        return {
+            "name": self._name,
+            "gravity": list(self._gravity),
+            "bodies": copy.deepcopy(self._elements["body"]),
+            "joints": copy.deepcopy(self._elements["joint"]),
+            "drivers": copy.deepcopy(self._elements["driver"]),
+            "forces": copy.deepcopy(self._elements["force"]),
+            "ground_points": copy.deepcopy(self._ground_points),
+        }
+
+    def to_json(self, indent: int | None = None) -> str:
+        """:meth:`to_dict` as JSON, the engine's input."""
+        return json.dumps(self.to_dict(), indent=indent)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Model:
+        """Rebuilds a model from :meth:`to_dict` output (e.g. a run's ``summary.json``)."""
+        known = {"name", "gravity", "bodies", "joints", "drivers", "forces", "ground_points"}
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise ModelError(f"unknown key '{unknown[0]}' (allowed: {', '.join(sorted(known))})")
+        model = cls(data.get("name", ""), data.get("gravity"))
+        for name, xy in (data.get("ground_points") or {}).items():
+            model.add_ground_point(name, xy)
+        for kind, key in (("body", "bodies"), ("joint", "joints"), ("driver", "drivers")):
+            for element in data.get(key) or []:
+                model._add(kind, element)
+        for element in data.get("forces") or []:
+            model._add("force", element)
+        return model
+
+    def save(self, path: str | PathLike[str]) -> None:
+        """Writes the model as a TOML model file (SI numbers) that :func:`jointgap.load`
+        reads back to the same model."""
+        from .io import save
+
+        save(self, path)
+
+    # ------------------------------------------------------------------ checks and runs
+
+    def check(self) -> list[str]:
+        """Checks the whole model with the engine (references, assembly data); returns
+        its warnings (e.g. redundant constraints) or raises :class:`ModelError`."""
+        self._check_drivers()
+        from ._jointgap import check_model
+
+        try:
+            return list(check_model(self.to_json()))
+        except ValueError as exc:
+            raise self.engine_error(exc) from None
+
+    def _check_drivers(self) -> None:
+        for index, (driver, motion) in enumerate(
+            zip(self._elements["driver"], self._motions, strict=True)
+        ):
+            try:
+                self._check_motion(driver, motion, index)
+            except ModelError as exc:
+                raise self._located(exc) from None
+
+    def engine_error(self, exc: ValueError) -> Exception:
+        """Turns the engine's ``<kind> '<name>': <problem>`` error into a ModelError
+        naming the element (and its file and line for a loaded model). Errors about run
+        options stay ValueErrors."""
+        message = str(exc)
+        if message.startswith(("option", "options")):
+            return ValueError(message)
+        m = _CORE_ERROR.match(message)
+        if m is None:
+            return self._located(ModelError(message))
+        kind, name, problem = m.groups()
+        owner = self._owner.get(name)
+        index = owner[1] if owner is not None and owner[0] == kind else None
+        key = None
+        if index is not None:
+            first = problem.split(" ", 1)[0].strip("':,")
+            key = first if first in self._keys_of(kind, index) else None
+        return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
+
+    def _keys_of(self, kind: str, index: int) -> list[str]:
+        element = self._elements[kind][index]
+        type_ = element.get("type") if types_of(kind) else None
+        return [p.key for p in params_of(kind, type_)]
+
+    def _located(self, error: ModelError) -> ModelError:
+        return error if self._source is None else self._source.locate(error)
+
+    def simulate(
+        self,
+        t_end: Quantity,
+        rate: Quantity | None = None,
+        rtol: float = 1e-6,
+        atol: float = 1e-9,
+        method: str = "auto",
+        every_step: bool = False,
+        max_step: Quantity | None = None,
+        channels: Sequence[str] | None = None,
+        max_steps: int | None = None,
+    ) -> Result:
+        """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
+
+        Args:
+            t_end: end time [s] (or e.g. ``"0.5 s"``).
+            rate: output sampling rate [Hz] (e.g. ``"10 kHz"``); ``None`` records every
+                accepted step.
+            rtol, atol: tolerances of the local error test (atol in m, rad, m/s, rad/s).
+            method: ``"auto"`` (explicit Dormand-Prince, switching to the implicit SDIRK4
+                when the problem turns stiff), ``"dopri5"`` or ``"sdirk4"``.
+            every_step: also record every accepted step.
+            max_step: largest step [s]; unbounded by default.
+            channels: channels to record (exact names or ``"element.*"``); all by default.
+            max_steps: step budget (default 1e7); the run fails when it is spent.
+
+        A run that stops early is returned with ``status == "failed"`` and everything
+        computed up to then. Raises :class:`ModelError` for an invalid model and
+        ValueError for invalid options.
+        """
+        from .run import run_options, simulate
+
+        self._check_drivers()
+        options = run_options(
+            t_end,
+            rate=rate,
+            rtol=rtol,
+            atol=atol,
+            method=method,
+            every_step=every_step,
+            max_step=max_step,
+            channels=channels,
+            max_steps=max_steps,
+        )
+        try:
+            return simulate(self.to_dict(), options)
+        except ValueError as exc:
+            raise self.engine_error(exc) from None
+
+
+def _count(n: int, kind: str) -> str:
+    plural = {"body": "bodies"}.get(kind, kind + "s")
+    return f"{n} {kind if n == 1 else plural}"
+
+
+def _signal(value: Any) -> Any:
+    """A builder's table ``(times, values)`` as the file's ``{time, value}``."""
+    if (
+        isinstance(value, Sequence)
+        and not isinstance(value, str)
+        and len(value) == 2
+        and isinstance(value[0], Sequence)
+        and not isinstance(value[0], str)
+    ):
+        return {"time": list(value[0]), "value": list(value[1])}
+    return value

@@ -1,0 +1,212 @@
+"""Results of a run: named channels against time, with the run's model and options.
+
+Channels are named ``<element>.<quantity>`` (``slider.ax``, ``motor.torque``,
+``system.kinetic_energy``), SI units; :func:`channel_unit` gives each one's unit. A
+result saved with :meth:`Result.save` (``results.csv`` + ``summary.json``) holds the model
+and the options, so the run can be repeated from the folder alone::
+
+    r = Result.load("out/run1")
+    again = jointgap.Model.from_dict(r.model).simulate(**r.run_arguments())
+"""
+
+from __future__ import annotations
+
+import csv
+import difflib
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from os import PathLike
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
+
+__all__ = ["Result", "channel_unit", "RESULTS_CSV", "SUMMARY_JSON"]
+
+RESULTS_CSV = "results.csv"
+SUMMARY_JSON = "summary.json"
+
+_UNITS = {
+    "x": "m",
+    "y": "m",
+    "angle": "rad",
+    "vx": "m/s",
+    "vy": "m/s",
+    "omega": "rad/s",
+    "ax": "m/s^2",
+    "ay": "m/s^2",
+    "alpha": "rad/s^2",
+    "fx": "N",
+    "fy": "N",
+    "force": "N",
+    "moment": "N*m",
+    "torque": "N*m",
+    "kinetic_energy": "J",
+    "potential_energy": "J",
+    "constraint_error": "m",
+    "fn": "N",
+    "ft": "N",
+    "penetration": "m",
+    "penetration_rate": "m/s",
+    "ex": "m",
+    "ey": "m",
+    "slip": "m/s",
+}
+
+
+def channel_unit(channel: str) -> str:
+    """The SI unit of a channel, from its quantity: ``channel_unit("slider.ax") == "m/s^2"``;
+    ``""`` when unknown."""
+    return _UNITS.get(channel.rsplit(".", 1)[-1], "")
+
+
+@dataclass(frozen=True, eq=False)
+class Result:
+    """The outcome of one run.
+
+    Attributes:
+        time: sample times [s].
+        channels: channel names, in model order.
+        data: samples, one row per channel (``data[k]`` is ``channels[k]``).
+        stats: run counters: accepted_steps, rejected_steps, rhs_evaluations,
+            jacobian_evaluations, projections, method, wall_time [s].
+        status: ``"finished"`` or ``"failed"`` (then the data stop where the run did).
+        message: why and when a failed run stopped; ``""`` otherwise.
+        warnings: the engine's non-fatal notes.
+        model: the model that ran (SI dictionary, :meth:`jointgap.Model.to_dict`).
+        options: the run options, every one written out.
+    """
+
+    time: np.ndarray
+    channels: list[str]
+    data: np.ndarray
+    stats: dict[str, Any] = field(default_factory=dict)
+    status: str = "finished"
+    message: str = ""
+    warnings: list[str] = field(default_factory=list)
+    model: dict[str, Any] = field(default_factory=dict)
+    options: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        time = np.array(self.time, dtype=float)
+        data = np.array(self.data, dtype=float).reshape(len(self.channels), len(time))
+        time.flags.writeable = False
+        data.flags.writeable = False
+        object.__setattr__(self, "time", time)
+        object.__setattr__(self, "data", data)
+        object.__setattr__(self, "_index", {name: k for k, name in enumerate(self.channels)})
+
+    @property
+    def ok(self) -> bool:
+        """True when the run reached its end time."""
+        return self.status == "finished"
+
+    def __getitem__(self, channel: str) -> np.ndarray:
+        """The samples of one channel (read-only); KeyError lists close matches."""
+        k = self._index.get(channel)  # type: ignore[attr-defined]
+        if k is None:
+            raise KeyError(self._missing(channel))
+        return self.data[k]
+
+    def __contains__(self, channel: object) -> bool:
+        return channel in self._index  # type: ignore[attr-defined]
+
+    def _missing(self, channel: str) -> str:
+        close = difflib.get_close_matches(channel, self.channels, n=6, cutoff=0.6)
+        element = channel.split(".", 1)[0]
+        close += [c for c in self.channels if c.split(".", 1)[0] == element and c not in close]
+        if close:
+            return f"no channel '{channel}'; close matches: {', '.join(close[:8])}"
+        return f"no channel '{channel}' ({len(self.channels)} channels, see Result.channels)"
+
+    def __repr__(self) -> str:
+        span = f"t = 0..{self.time[-1]:g} s" if len(self.time) else "no samples"
+        tail = "" if self.ok else f", {self.message}"
+        return (
+            f"<Result {self.model.get('name', '')!r}: {self.status}, {len(self.time)} samples, "
+            f"{span}, {len(self.channels)} channels{tail}>"
+        )
+
+    def run_arguments(self) -> dict[str, Any]:
+        """The options as keyword arguments of :meth:`jointgap.Model.simulate`."""
+        return dict(self.options)
+
+    # ------------------------------------------------------------------ export
+
+    def to_pandas(self) -> pd.DataFrame:
+        """A DataFrame with a ``time`` column first, then the channels in model order."""
+        import pandas as pd
+
+        columns = {"time": self.time, **{c: self.data[k] for k, c in enumerate(self.channels)}}
+        return pd.DataFrame(columns)
+
+    def to_csv(self, path: str | PathLike[str]) -> None:
+        """Writes ``time`` then every channel, one row per sample, shortest exact floats."""
+        with open(path, "w", newline="") as f:
+            writer = csv.writer(f, lineterminator="\n")
+            writer.writerow(["time", *self.channels])
+            table = np.vstack([self.time[None, :], self.data]).T
+            writer.writerows([repr(float(v)) for v in row] for row in table)
+
+    def summary(self) -> dict[str, Any]:
+        """What ``summary.json`` holds: model, options, stats, status, message, warnings."""
+        return {
+            "model": self.model,
+            "options": self.options,
+            "stats": self.stats,
+            "status": self.status,
+            "message": self.message,
+            "warnings": self.warnings,
+            "channels": self.channels,
+        }
+
+    def save(self, directory: str | PathLike[str]) -> Path:
+        """Writes ``results.csv`` and ``summary.json`` into ``directory`` (created)."""
+        out = Path(directory)
+        out.mkdir(parents=True, exist_ok=True)
+        self.to_csv(out / RESULTS_CSV)
+        with open(out / SUMMARY_JSON, "w") as f:
+            json.dump(_jsonable(self.summary()), f, indent=2)
+            f.write("\n")
+        return out
+
+    @classmethod
+    def load(cls, directory: str | PathLike[str]) -> Result:
+        """Reads a result written by :meth:`save`."""
+        folder = Path(directory)
+        with open(folder / SUMMARY_JSON) as f:
+            summary = json.load(f)
+        with open(folder / RESULTS_CSV, newline="") as f:
+            reader = csv.reader(f)
+            header = next(reader)
+            rows = np.array([[float(v) for v in row] for row in reader], dtype=float)
+        if header[:1] != ["time"]:
+            raise ValueError(f"{folder / RESULTS_CSV}: the first column must be 'time'")
+        rows = rows.reshape(-1, len(header))
+        return cls(
+            time=rows[:, 0],
+            channels=header[1:],
+            data=rows[:, 1:].T,
+            stats=summary.get("stats", {}),
+            status=summary.get("status", "finished"),
+            message=summary.get("message", ""),
+            warnings=summary.get("warnings", []),
+            model=summary.get("model", {}),
+            options=summary.get("options", {}),
+        )
+
+
+def _jsonable(value: Any) -> Any:
+    """NaN and infinities as strings so that summary.json stays strict JSON."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return repr(value)
+    if isinstance(value, Mapping):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    return value
