@@ -422,9 +422,9 @@ def _convert_table(
     allowed = [p.key for p in params]
     for key in raw:
         if key not in allowed:
-            what = f"a {raw['type']} {kind}" if types else kind
+            what = f" for a {raw['type']} {kind}" if types else ""
             raise ctx.error(
-                f"unknown key '{ctx.label(str(key))}' for {what} (allowed: {', '.join(allowed)})",
+                f"unknown key '{ctx.label(str(key))}'{what} (allowed: {', '.join(allowed)})",
                 key=str(key),
             )
     out: dict[str, Any] = {}
