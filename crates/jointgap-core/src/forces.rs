@@ -1,0 +1,280 @@
+//! Applied forces: gravity, spring-dampers and prescribed loads, as generalised forces
+//! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
+
+use crate::math::{cross, perp, rotate, Vec2};
+use crate::model::{Force, Signal};
+use crate::planar::BodyState;
+use crate::system::Resolver;
+use crate::Error;
+
+/// A value against time: constant, or linear between table points and held outside.
+#[derive(Debug, Clone)]
+pub struct TimeTable<const N: usize> {
+    time: Vec<f64>,
+    value: Vec<[f64; N]>,
+}
+
+impl<const N: usize> TimeTable<N> {
+    fn new(who: &str, time: Vec<f64>, value: Vec<[f64; N]>) -> Result<Self, Error> {
+        if time.is_empty() || time.len() != value.len() {
+            return Err(Error::Model(format!(
+                "{who}: a table needs as many values as times (got {} times, {} values)",
+                time.len(),
+                value.len()
+            )));
+        }
+        if let Some(k) =
+            time.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        {
+            return Err(Error::Model(format!(
+                "{who}: table times must increase strictly (time[{k}] = {} then {})",
+                time[k],
+                time[k + 1]
+            )));
+        }
+        if let Some(v) = time.iter().chain(value.iter().flatten()).find(|v| !v.is_finite()) {
+            return Err(Error::Model(format!("{who}: table value {v} is not finite")));
+        }
+        Ok(TimeTable { time, value })
+    }
+
+    fn constant(v: [f64; N]) -> Self {
+        TimeTable { time: vec![0.0], value: vec![v] }
+    }
+
+    fn from_signal(who: &str, s: &Signal<[f64; N]>) -> Result<Self, Error> {
+        match s {
+            Signal::Constant(v) => {
+                if let Some(x) = v.iter().find(|x| !x.is_finite()) {
+                    return Err(Error::Model(format!("{who}: value {x} is not finite")));
+                }
+                Ok(Self::constant(*v))
+            }
+            Signal::Table { time, value } => Self::new(who, time.clone(), value.clone()),
+        }
+    }
+
+    /// Value at time `t`.
+    pub fn at(&self, t: f64) -> [f64; N] {
+        let n = self.time.len();
+        if t <= self.time[0] {
+            return self.value[0];
+        }
+        if t >= self.time[n - 1] {
+            return self.value[n - 1];
+        }
+        let i = self.time.partition_point(|&x| x <= t) - 1;
+        let s = (t - self.time[i]) / (self.time[i + 1] - self.time[i]);
+        std::array::from_fn(|k| self.value[i][k] + s * (self.value[i + 1][k] - self.value[i][k]))
+    }
+}
+
+/// A checked force element; bodies are `None` for the ground.
+#[derive(Debug, Clone)]
+pub enum ForceElement {
+    /// Point-to-point spring-damper.
+    SpringDamper {
+        /// Name.
+        name: String,
+        /// Body i.
+        body_i: Option<usize>,
+        /// Point on body i [m].
+        s_i: Vec2,
+        /// Body j.
+        body_j: Option<usize>,
+        /// Point on body j [m].
+        s_j: Vec2,
+        /// Stiffness [N/m].
+        stiffness: f64,
+        /// Damping [N s/m].
+        damping: f64,
+        /// Free length [m].
+        free_length: f64,
+    },
+    /// Torsional spring-damper between two bodies.
+    RotationalSpringDamper {
+        /// Name.
+        name: String,
+        /// Body i.
+        body_i: Option<usize>,
+        /// Body j.
+        body_j: Option<usize>,
+        /// Stiffness [N m/rad].
+        stiffness: f64,
+        /// Damping [N m s/rad].
+        damping: f64,
+        /// Unloaded relative angle [rad].
+        free_angle: f64,
+    },
+    /// Force in global axes at a body point.
+    AppliedForce {
+        /// Name.
+        name: String,
+        /// Loaded body.
+        body: Option<usize>,
+        /// Point [m].
+        s: Vec2,
+        /// Force [N] against time.
+        force: TimeTable<2>,
+    },
+    /// Torque on a body.
+    AppliedTorque {
+        /// Name.
+        name: String,
+        /// Loaded body.
+        body: Option<usize>,
+        /// Torque [N m] against time.
+        torque: TimeTable<1>,
+    },
+}
+
+/// Adds force `f` acting at body-frame point `s` of body `b` to `qe`.
+#[inline]
+pub fn add_point_force(qe: &mut [f64], b: Option<usize>, phi: f64, s: Vec2, f: Vec2) {
+    if let Some(k) = b {
+        qe[3 * k] += f.x;
+        qe[3 * k + 1] += f.y;
+        qe[3 * k + 2] += cross(rotate(phi, s), f);
+    }
+}
+
+#[inline]
+fn add_torque(qe: &mut [f64], b: Option<usize>, tau: f64) {
+    if let Some(k) = b {
+        qe[3 * k + 2] += tau;
+    }
+}
+
+fn non_negative(who: &str, what: &str, unit: &str, v: f64) -> Result<f64, Error> {
+    if v.is_finite() && v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::Model(format!("{who}: {what} = {v} {unit} must be zero or positive")))
+    }
+}
+
+impl ForceElement {
+    pub(crate) fn new(f: &Force, res: &Resolver) -> Result<Self, Error> {
+        let who = format!("force '{}'", f.name());
+        Ok(match f {
+            Force::SpringDamper {
+                name,
+                body_i,
+                point_i,
+                body_j,
+                point_j,
+                stiffness,
+                damping,
+                free_length,
+            } => {
+                let bi = res.body(&who, "body_i", body_i)?;
+                let bj = res.body(&who, "body_j", body_j)?;
+                ForceElement::SpringDamper {
+                    name: name.clone(),
+                    body_i: bi,
+                    s_i: res.point(&who, "point_i", bi, point_i)?,
+                    body_j: bj,
+                    s_j: res.point(&who, "point_j", bj, point_j)?,
+                    stiffness: non_negative(&who, "stiffness", "N/m", *stiffness)?,
+                    damping: non_negative(&who, "damping", "N s/m", *damping)?,
+                    free_length: non_negative(&who, "free_length", "m", *free_length)?,
+                }
+            }
+            Force::RotationalSpringDamper { name, body_i, body_j, stiffness, damping, free_angle } => {
+                if !free_angle.is_finite() {
+                    return Err(Error::Model(format!("{who}: free_angle = {free_angle} is not finite")));
+                }
+                ForceElement::RotationalSpringDamper {
+                    name: name.clone(),
+                    body_i: res.body(&who, "body_i", body_i)?,
+                    body_j: res.body(&who, "body_j", body_j)?,
+                    stiffness: non_negative(&who, "stiffness", "N m/rad", *stiffness)?,
+                    damping: non_negative(&who, "damping", "N m s/rad", *damping)?,
+                    free_angle: *free_angle,
+                }
+            }
+            Force::AppliedForce { name, body, point, force } => {
+                let b = res.body(&who, "body", body)?;
+                ForceElement::AppliedForce {
+                    name: name.clone(),
+                    body: b,
+                    s: res.point(&who, "point", b, point)?,
+                    force: TimeTable::from_signal(&who, force)?,
+                }
+            }
+            Force::AppliedTorque { name, body, torque } => {
+                let torque = match torque {
+                    Signal::Constant(v) => Signal::Constant([*v]),
+                    Signal::Table { time, value } => {
+                        Signal::Table { time: time.clone(), value: value.iter().map(|v| [*v]).collect() }
+                    }
+                };
+                ForceElement::AppliedTorque {
+                    name: name.clone(),
+                    body: res.body(&who, "body", body)?,
+                    torque: TimeTable::from_signal(&who, &torque)?,
+                }
+            }
+        })
+    }
+
+    /// Table times, where the load's slope jumps.
+    pub fn corners(&self) -> Vec<f64> {
+        match self {
+            ForceElement::AppliedForce { force, .. } => force.time.clone(),
+            ForceElement::AppliedTorque { torque, .. } => torque.time.clone(),
+            _ => vec![],
+        }
+    }
+
+    /// Adds this element's generalised force at time `t` to `qe`.
+    pub fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut [f64]) {
+        match self {
+            ForceElement::SpringDamper {
+                body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
+            } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let (a_i, a_j) = (rotate(bi.phi, *s_i), rotate(bj.phi, *s_j));
+                let d = bj.r + a_j - bi.r - a_i;
+                let length = d.norm();
+                if length < 1e-12 {
+                    return; // direction undefined: coincident points carry no force
+                }
+                let u = d / length;
+                let rate = u.dot(&(bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega));
+                let tension = stiffness * (length - free_length) + damping * rate;
+                add_point_force(qe, *body_i, bi.phi, *s_i, u * tension);
+                add_point_force(qe, *body_j, bj.phi, *s_j, -u * tension);
+            }
+            ForceElement::RotationalSpringDamper {
+                body_i, body_j, stiffness, damping, free_angle, ..
+            } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let tau = -stiffness * (bj.phi - bi.phi - free_angle) - damping * (bj.omega - bi.omega);
+                add_torque(qe, *body_j, tau);
+                add_torque(qe, *body_i, -tau);
+            }
+            ForceElement::AppliedForce { body, s, force, .. } => {
+                let f = force.at(t);
+                add_point_force(qe, *body, state(*body).phi, *s, Vec2::new(f[0], f[1]));
+            }
+            ForceElement::AppliedTorque { body, torque, .. } => add_torque(qe, *body, torque.at(t)[0]),
+        }
+    }
+
+    /// Stored elastic energy [J] (springs only; applied loads are non-conservative).
+    pub fn potential_energy(&self, state: impl Fn(Option<usize>) -> BodyState) -> f64 {
+        match self {
+            ForceElement::SpringDamper { body_i, s_i, body_j, s_j, stiffness, free_length, .. } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let d = bj.r + rotate(bj.phi, *s_j) - bi.r - rotate(bi.phi, *s_i);
+                0.5 * stiffness * (d.norm() - free_length).powi(2)
+            }
+            ForceElement::RotationalSpringDamper { body_i, body_j, stiffness, free_angle, .. } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                0.5 * stiffness * (bj.phi - bi.phi - free_angle).powi(2)
+            }
+            _ => 0.0,
+        }
+    }
+}

@@ -1,0 +1,36 @@
+//! jointgap-core: planar multibody dynamics in Cartesian coordinates with Lagrange
+//! multipliers, for mechanisms with ideal and (later) clearance joints.
+//!
+//! Pipeline: [`model::Model`] (plain data) -> [`system::System`] (checked, indexed) ->
+//! [`solve::simulate`] (assembly, integration, output) -> [`output::SimResult`].
+#![warn(missing_docs)]
+// Index loops mirror the formulas of the methods (stages, rows, coordinates).
+#![allow(clippy::needless_range_loop)]
+
+pub mod drivers;
+pub mod forces;
+pub mod math;
+pub mod model;
+pub mod output;
+pub mod planar;
+pub mod solve;
+pub mod system;
+
+pub use model::Model;
+pub use output::{RunStats, SimResult, Status};
+pub use solve::{simulate, Method, SimOptions};
+pub use system::System;
+
+/// Errors that stop a run before it starts. Each message names the offending element.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The model is malformed or physically invalid.
+    #[error("{0}")]
+    Model(String),
+    /// The initial configuration cannot satisfy the constraints.
+    #[error("{0}")]
+    Assembly(String),
+    /// The run options are invalid.
+    #[error("{0}")]
+    Options(String),
+}

@@ -1,0 +1,61 @@
+//! Run results: named channels sampled in time, run statistics and status.
+
+use serde::Serialize;
+
+/// How a run ended.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum Status {
+    /// Reached the end time.
+    Finished,
+    /// Stopped early; the result holds everything computed up to `time`.
+    Failed {
+        /// Simulated time at which the run stopped [s].
+        time: f64,
+        /// Why it stopped.
+        reason: String,
+    },
+}
+
+/// Counters of one run.
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+pub struct RunStats {
+    /// Accepted integration steps.
+    pub accepted_steps: usize,
+    /// Rejected integration steps (error test or Newton failure).
+    pub rejected_steps: usize,
+    /// Evaluations of the equations of motion (each one an augmented solve).
+    pub rhs_evaluations: usize,
+    /// Jacobian evaluations of the implicit method.
+    pub jacobian_evaluations: usize,
+    /// Position and velocity projections onto the constraint manifold.
+    pub projections: usize,
+    /// Integrator that ran.
+    pub method: String,
+    /// Wall-clock time of the run [s].
+    pub wall_time: f64,
+}
+
+/// The outcome of a run: `data[k][i]` is channel `names[k]` at `time[i]`.
+#[derive(Debug, Clone, Serialize)]
+pub struct SimResult {
+    /// Sample times [s].
+    pub time: Vec<f64>,
+    /// Channel names, `<element>.<quantity>`, in model order.
+    pub names: Vec<String>,
+    /// One vector per channel, SI units.
+    pub data: Vec<Vec<f64>>,
+    /// Counters.
+    pub stats: RunStats,
+    /// Finished, or failed with time and reason.
+    pub status: Status,
+    /// Non-fatal notes (e.g. redundant constraints removed).
+    pub warnings: Vec<String>,
+}
+
+impl SimResult {
+    /// The samples of one channel, if present.
+    pub fn channel(&self, name: &str) -> Option<&[f64]> {
+        self.names.iter().position(|n| n == name).map(|k| self.data[k].as_slice())
+    }
+}

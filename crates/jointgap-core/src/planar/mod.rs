@@ -1,0 +1,202 @@
+//! Constraint equations of planar joints and drivers, one scalar row at a time, with
+//! analytic Jacobians and acceleration right-hand sides (gamma).
+//!
+//! Every row is written `C(q, t) = 0`; its time derivatives give `Cq qd + Ct = 0` and
+//! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
+
+use crate::drivers::Motion;
+use crate::math::{perp, rotate, Vec2};
+
+/// Position and velocity of one body (the ground: all zero).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct BodyState {
+    /// Centre of mass [m].
+    pub r: Vec2,
+    /// Angle [rad].
+    pub phi: f64,
+    /// Velocity of the centre of mass [m/s].
+    pub v: Vec2,
+    /// Angular velocity [rad/s].
+    pub omega: f64,
+}
+
+/// One scalar constraint equation between body i and body j.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RowKind {
+    /// Component `axis` (0 = x, 1 = y) of `P_i - P_j`: half of a revolute or fixed joint.
+    Coincide {
+        /// 0 for x, 1 for y.
+        axis: usize,
+        /// Point on body i, body frame [m].
+        s_i: Vec2,
+        /// Point on body j, body frame [m].
+        s_j: Vec2,
+    },
+    /// `phi_j - phi_i - offset - theta(t)`: fixed relative angle (prismatic, fixed
+    /// joints) or a rotation driver.
+    Angle {
+        /// Relative angle at t = 0 [rad].
+        offset: f64,
+    },
+    /// `(A_i w) . (P_j - P_i) - offset - theta(t)`: `P_j` stays on a line of body i
+    /// (w is the line's normal), or a translation driver (w is the sliding axis).
+    Along {
+        /// Point on body i, body frame [m].
+        s_i: Vec2,
+        /// Unit direction in the frame of body i.
+        w: Vec2,
+        /// Point on body j, body frame [m].
+        s_j: Vec2,
+        /// Value at t = 0 [m].
+        offset: f64,
+    },
+}
+
+/// A row evaluated at one state: residual, Jacobian blocks and right-hand sides.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RowEval {
+    /// Residual `C`.
+    pub c: f64,
+    /// `dC/d(x_i, y_i, phi_i)`.
+    pub jac_i: [f64; 3],
+    /// `dC/d(x_j, y_j, phi_j)`.
+    pub jac_j: [f64; 3],
+    /// `dC/dt`.
+    pub ct: f64,
+    /// Acceleration right-hand side: `Cq qdd = gamma`.
+    pub gamma: f64,
+}
+
+impl RowKind {
+    /// Evaluates the row; `motion` is the driver's prescribed motion (zero if none).
+    pub fn eval(&self, bi: &BodyState, bj: &BodyState, motion: Motion) -> RowEval {
+        match *self {
+            RowKind::Coincide { axis, s_i, s_j } => {
+                let a_i = rotate(bi.phi, s_i);
+                let a_j = rotate(bj.phi, s_j);
+                let c = bi.r + a_i - bj.r - a_j;
+                let (pi, pj) = (perp(a_i), perp(a_j));
+                let g = a_i * bi.omega.powi(2) - a_j * bj.omega.powi(2);
+                let mut jac_i = [0.0; 3];
+                let mut jac_j = [0.0; 3];
+                jac_i[axis] = 1.0;
+                jac_j[axis] = -1.0;
+                jac_i[2] = pi[axis];
+                jac_j[2] = -pj[axis];
+                RowEval { c: c[axis], jac_i, jac_j, ct: 0.0, gamma: g[axis] }
+            }
+            RowKind::Angle { offset } => RowEval {
+                c: bj.phi - bi.phi - offset - motion.position,
+                jac_i: [0.0, 0.0, -1.0],
+                jac_j: [0.0, 0.0, 1.0],
+                ct: -motion.speed,
+                gamma: motion.acceleration,
+            },
+            RowKind::Along { s_i, w, s_j, offset } => {
+                let wg = rotate(bi.phi, w);
+                let a_i = rotate(bi.phi, s_i);
+                let a_j = rotate(bj.phi, s_j);
+                let d = bj.r + a_j - bi.r - a_i;
+                let d_dot = bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega;
+                let (wi, wj) = (bi.omega, bj.omega);
+                let gamma = motion.acceleration + wi * wi * wg.dot(&d) - 2.0 * wi * perp(wg).dot(&d_dot)
+                    + wj * wj * wg.dot(&a_j)
+                    - wi * wi * wg.dot(&a_i);
+                RowEval {
+                    c: wg.dot(&d) - offset - motion.position,
+                    jac_i: [-wg.x, -wg.y, perp(wg).dot(&d) - wg.dot(&perp(a_i))],
+                    jac_j: [wg.x, wg.y, wg.dot(&perp(a_j))],
+                    ct: -motion.speed,
+                    gamma,
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(x: f64, y: f64, phi: f64, vx: f64, vy: f64, w: f64) -> BodyState {
+        BodyState { r: Vec2::new(x, y), phi, v: Vec2::new(vx, vy), omega: w }
+    }
+
+    /// Advances both bodies along their velocities (and the driver along its speed).
+    fn moved(b: &BodyState, e: f64) -> BodyState {
+        BodyState { r: b.r + b.v * e, phi: b.phi + b.omega * e, ..*b }
+    }
+
+    /// Checks jac against finite differences of C, ct against dC/dt, and gamma against
+    /// `-(d/dt (Cq qd))` at fixed qd, the definition of PHYSICS.md section 1.
+    fn check(kind: RowKind, bi: BodyState, bj: BodyState, motion: Motion) {
+        let ev = kind.eval(&bi, &bj, motion);
+        let e = 1e-6;
+        for k in 0..3 {
+            let perturb = |b: &BodyState, s: f64| {
+                let mut b = *b;
+                match k {
+                    0 => b.r.x += s,
+                    1 => b.r.y += s,
+                    _ => b.phi += s,
+                }
+                b
+            };
+            let di = (kind.eval(&perturb(&bi, e), &bj, motion).c
+                - kind.eval(&perturb(&bi, -e), &bj, motion).c)
+                / (2.0 * e);
+            let dj = (kind.eval(&bi, &perturb(&bj, e), motion).c
+                - kind.eval(&bi, &perturb(&bj, -e), motion).c)
+                / (2.0 * e);
+            assert!((di - ev.jac_i[k]).abs() < 1e-8, "{kind:?} jac_i[{k}] {di} vs {}", ev.jac_i[k]);
+            assert!((dj - ev.jac_j[k]).abs() < 1e-8, "{kind:?} jac_j[{k}] {dj} vs {}", ev.jac_j[k]);
+        }
+        // Cq qd + Ct is the total time derivative of C along the motion.
+        let shifted = |s: f64| Motion { position: motion.position + motion.speed * s, ..motion };
+        let dcdt = (kind.eval(&moved(&bi, e), &moved(&bj, e), shifted(e)).c
+            - kind.eval(&moved(&bi, -e), &moved(&bj, -e), shifted(-e)).c)
+            / (2.0 * e);
+        let cq_qd = |ev: &RowEval, bi: &BodyState, bj: &BodyState| {
+            ev.jac_i[0] * bi.v.x
+                + ev.jac_i[1] * bi.v.y
+                + ev.jac_i[2] * bi.omega
+                + ev.jac_j[0] * bj.v.x
+                + ev.jac_j[1] * bj.v.y
+                + ev.jac_j[2] * bj.omega
+        };
+        assert!((dcdt - (cq_qd(&ev, &bi, &bj) + ev.ct)).abs() < 1e-7, "{kind:?} velocity equation");
+        // gamma = -(Cq qd)_q qd + Ctt-part: differentiate Cq qd along qd, then add the
+        // driver acceleration that Ctt contributes.
+        let plus = kind.eval(&moved(&bi, e), &moved(&bj, e), motion);
+        let minus = kind.eval(&moved(&bi, -e), &moved(&bj, -e), motion);
+        let quad = (cq_qd(&plus, &bi, &bj) - cq_qd(&minus, &bi, &bj)) / (2.0 * e);
+        let expected = -quad + motion.acceleration;
+        assert!(
+            (ev.gamma - expected).abs() < 1e-6 * (1.0 + expected.abs()),
+            "{kind:?} gamma {} vs {expected}",
+            ev.gamma
+        );
+    }
+
+    #[test]
+    fn every_row_kind_matches_finite_differences() {
+        let bi = state(0.3, -0.2, 0.7, 1.1, -0.4, 2.3);
+        let bj = state(-0.1, 0.5, -1.2, -0.6, 0.9, -3.1);
+        let motion = Motion { position: 0.4, speed: 1.7, acceleration: -2.9 };
+        let s_i = Vec2::new(0.12, -0.05);
+        let s_j = Vec2::new(-0.2, 0.07);
+        for axis in 0..2 {
+            check(
+                RowKind::Coincide { axis, s_i, s_j },
+                bi,
+                bj,
+                Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
+            );
+        }
+        check(RowKind::Angle { offset: 0.3 }, bi, bj, motion);
+        let w = Vec2::new(0.6, 0.8);
+        check(RowKind::Along { s_i, w, s_j, offset: 0.1 }, bi, bj, motion);
+        // With the ground as body i (at rest at the origin).
+        check(RowKind::Along { s_i, w, s_j, offset: 0.0 }, BodyState::default(), bj, motion);
+    }
+}

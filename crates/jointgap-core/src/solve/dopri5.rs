@@ -1,0 +1,109 @@
+//! Dormand-Prince 5(4): explicit, 7 stages with first-same-as-last (Dormand and Prince
+//! 1980; coefficients as in Hairer, Norsett, Wanner, Solving ODEs I, Table II.5.2).
+
+use super::dynamics::Singular;
+use super::ode::Ode;
+use super::stepper::{Attempt, StepFailure, Stepper};
+
+const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
+const A: [[f64; 6]; 7] = [
+    [0.0; 6],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
+    [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+];
+/// Difference of the 5th- and 4th-order weights: the local error estimate.
+const E: [f64; 7] =
+    [71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0, -1.0 / 40.0];
+
+/// Stage storage of the explicit method.
+pub struct Dopri5 {
+    k: Vec<Vec<f64>>,
+    stage: Vec<f64>,
+    err: Vec<f64>,
+}
+
+impl Dopri5 {
+    /// Allocates for a state of length `n`.
+    pub fn new(n: usize) -> Self {
+        Dopri5 { k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], err: vec![0.0; n] }
+    }
+}
+
+impl Stepper for Dopri5 {
+    fn name(&self) -> &'static str {
+        "dopri5"
+    }
+
+    fn error_exponent(&self) -> f64 {
+        1.0 / 5.0
+    }
+
+    fn attempt(
+        &mut self,
+        ode: &mut Ode,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        y_new: &mut [f64],
+        f_new: &mut [f64],
+    ) -> Result<Attempt, StepFailure> {
+        let n = y.len();
+        self.k[0].copy_from_slice(f0);
+        for s in 1..7 {
+            for i in 0..n {
+                let mut acc = 0.0;
+                for (j, a) in A[s][..s].iter().enumerate() {
+                    acc += a * self.k[j][i];
+                }
+                self.stage[i] = y[i] + h * acc;
+            }
+            ode.rhs(t + C[s] * h, &self.stage, &mut self.k[s]).map_err(|Singular| StepFailure::Singular)?;
+            if s == 5 {
+                // Keep stage 6 for the stiffness test; stage 7 is the new solution.
+                self.err.copy_from_slice(&self.stage);
+            }
+        }
+        // Stage 7's argument is the 5th-order solution (FSAL).
+        y_new.copy_from_slice(&self.stage);
+        f_new.copy_from_slice(&self.k[6]);
+        // Stiffness indicator h |lambda| ~ h |k7 - k6| / |y7 - y6| (Hairer's DOPRI5 code).
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..n {
+            num += (self.k[6][i] - self.k[5][i]).powi(2);
+            den += (y_new[i] - self.err[i]).powi(2);
+        }
+        let stiffness = if den > 0.0 { Some(h * (num / den).sqrt()) } else { None };
+        for i in 0..n {
+            let mut e = 0.0;
+            for (j, ej) in E.iter().enumerate() {
+                e += ej * self.k[j][i];
+            }
+            self.err[i] = h * e;
+        }
+        Ok(Attempt { error: ode.error_norm(&self.err, y, y_new), stiffness })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Row sums equal the nodes, and the 5th-order weights meet the order conditions.
+    #[test]
+    fn tableau_is_consistent() {
+        for s in 0..7 {
+            let sum: f64 = A[s].iter().sum();
+            assert!((sum - C[s]).abs() < 1e-15, "row {s}");
+        }
+        let b = A[6];
+        let bc: f64 = (0..6).map(|i| b[i] * C[i]).sum();
+        let bc4: f64 = (0..6).map(|i| b[i] * C[i].powi(4)).sum();
+        assert!((bc - 0.5).abs() < 1e-15 && (bc4 - 0.2).abs() < 1e-15);
+        assert!(E.iter().sum::<f64>().abs() < 1e-15);
+    }
+}

@@ -1,0 +1,204 @@
+//! The integration loop shared by all methods: steps between input corners, error
+//! control, switching to the implicit method when the problem turns stiff, projection
+//! onto the constraints, and output at sample times by quintic Hermite interpolation.
+
+use super::dopri5::Dopri5;
+use super::dynamics::{project, violation};
+use super::ode::{hermite5, Ode};
+use super::record::Recorder;
+use super::sdirk4::Sdirk4;
+use super::stepper::{StepFailure, Stepper};
+use super::{Method, SimOptions};
+use crate::output::{RunStats, Status};
+
+/// Consecutive stiff indications after which `auto` switches to the implicit method.
+const STIFF_SWITCH: usize = 15;
+/// `h |lambda|` above which an explicit step counts as stiff (DOPRI5's stability edge).
+const STIFF_EDGE: f64 = 3.25;
+
+/// Integrates from `(0, y)` to `t_end`, recording into `rec`. Returns the final status.
+pub fn integrate(
+    ode: &mut Ode,
+    opts: &SimOptions,
+    y: &mut Vec<f64>,
+    rec: &mut Recorder,
+    stats: &mut RunStats,
+) -> Status {
+    let n_state = ode.state_len();
+    let n = n_state / 2;
+    let sys = ode.sys;
+    let mut method = if opts.method == Method::Sdirk4 { Method::Sdirk4 } else { Method::Dopri5 };
+    let mut stepper: Box<dyn Stepper> = match method {
+        Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
+        _ => Box::new(Dopri5::new(n_state)),
+    };
+    let mut method_name =
+        if opts.method == Method::Auto { "auto: dopri5".to_string() } else { stepper.name().to_string() };
+    let mut f = vec![0.0; n_state];
+    let mut y_new = vec![0.0; n_state];
+    let mut f_new = vec![0.0; n_state];
+    let mut sample = vec![0.0; n_state];
+
+    let mut t = 0.0;
+    let sample_dt = opts.rate.map(|r| 1.0 / r);
+    let mut next_sample = 1usize; // sample 0 is recorded by the caller
+    let sample_time = |k: usize| sample_dt.map(|dt| k as f64 * dt);
+    let every_step = opts.every_step || opts.rate.is_none();
+
+    let mut boundaries: Vec<f64> = sys.corners.iter().copied().filter(|&c| c < opts.t_end).collect();
+    boundaries.push(opts.t_end);
+
+    let fail = |t: f64, reason: String| Status::Failed { time: t, reason };
+    let singular = |t: f64| {
+        fail(t, format!(
+            "the constraint equations became singular at t = {t:.6} s: the mechanism locks up or passes a \
+             singular position (e.g. a four-bar at a change point, a crank at a dead centre with the driver on the rod)"
+        ))
+    };
+    ode.ws.t_piece = 0.0;
+    if ode.rhs(t, y, &mut f).is_err() {
+        return singular(t);
+    }
+    let mut h = initial_step(ode, y, &f, stepper.error_exponent(), boundaries[0]);
+    if let Some(hmax) = opts.max_step {
+        h = h.min(hmax);
+    }
+    let mut stiff_count = 0usize;
+    let mut last_rejected = false;
+
+    for &segment_end in &boundaries {
+        // At a corner the inputs change piece: re-evaluate the derivative on the new side.
+        if t > 0.0 {
+            ode.ws.t_piece = 0.5 * (t + segment_end);
+            if ode.rhs(t, y, &mut f).is_err() {
+                return singular(t);
+            }
+        }
+        while t < segment_end {
+            if stats.accepted_steps + stats.rejected_steps >= opts.max_steps {
+                return fail(t, format!("step budget of {} steps spent (max_steps)", opts.max_steps));
+            }
+            if let Some(hmax) = opts.max_step {
+                h = h.min(hmax);
+            }
+            let remaining = segment_end - t;
+            let last = h >= remaining * (1.0 - 1e-12);
+            if last {
+                h = remaining;
+            }
+            let hmin = 1e-14 * t.abs().max(1e-3);
+            if h < hmin {
+                return fail(
+                    t,
+                    format!("step size {h:.3e} s below the smallest resolvable step at t = {t:.6} s"),
+                );
+            }
+            ode.ws.t_piece = t + 0.5 * h;
+            match stepper.attempt(ode, t, y, &f, h, &mut y_new, &mut f_new) {
+                Err(StepFailure::Singular) => return singular(t),
+                Err(StepFailure::Convergence) => {
+                    stats.rejected_steps += 1;
+                    stepper.rejected();
+                    h *= 0.5;
+                    last_rejected = true;
+                }
+                Ok(att) if att.error > 1.0 || att.error.is_nan() => {
+                    stats.rejected_steps += 1;
+                    stepper.rejected();
+                    let factor = if att.error.is_finite() {
+                        0.9 * att.error.powf(-stepper.error_exponent())
+                    } else {
+                        0.1
+                    };
+                    h *= factor.clamp(0.1, 0.9);
+                    last_rejected = true;
+                }
+                Ok(att) => {
+                    stats.accepted_steps += 1;
+                    let t_new = if last { segment_end } else { t + h };
+                    // Output samples inside (t, t_new].
+                    while let Some(ts) = sample_time(next_sample) {
+                        if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
+                            break;
+                        }
+                        let ts = ts.min(t_new);
+                        hermite5((ts - t) / h, h, y, &f, &y_new, &f_new, &mut sample);
+                        if rec.push(sys, &mut ode.ws, ts, &sample[..n], &sample[n..]).is_err() {
+                            return singular(ts);
+                        }
+                        next_sample += 1;
+                    }
+                    t = t_new;
+                    std::mem::swap(y, &mut y_new);
+                    std::mem::swap(&mut f, &mut f_new);
+                    if y.iter().any(|x| !x.is_finite()) {
+                        return fail(t, "the state became non-finite".into());
+                    }
+                    // Keep the drift far below the tolerance: project when it shows.
+                    let (pos, vel) = {
+                        let (q, v) = y.split_at(n);
+                        violation(sys, t, q, v, &mut ode.ws)
+                    };
+                    if pos > 1e-2 * ode.atol || vel > 1e-2 * ode.atol {
+                        let (q, v) = y.split_at_mut(n);
+                        if project(sys, t, q, v, &mut ode.ws).is_err() {
+                            return singular(t);
+                        }
+                        stats.projections += 1;
+                        ode.ws.t_piece = t - 0.5 * h;
+                        if ode.rhs(t, y, &mut f).is_err() {
+                            return singular(t);
+                        }
+                    }
+                    if every_step
+                        && rec.time.last().is_none_or(|&tl| tl < t)
+                        && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
+                    {
+                        return singular(t);
+                    }
+                    // Stiffness detection for `auto` (Hairer's DOPRI5 test).
+                    if opts.method == Method::Auto && method == Method::Dopri5 {
+                        match att.stiffness {
+                            Some(s) if s > STIFF_EDGE => stiff_count += 1,
+                            _ => stiff_count = stiff_count.saturating_sub(1),
+                        }
+                        if stiff_count >= STIFF_SWITCH {
+                            method = Method::Sdirk4;
+                            stats.jacobian_evaluations += stepper.jacobian_evaluations();
+                            stepper = Box::new(Sdirk4::new(n_state));
+                            method_name = format!("auto: dopri5, sdirk4 from t = {t:.6} s");
+                        }
+                    }
+                    let factor =
+                        if att.error > 0.0 { 0.9 * att.error.powf(-stepper.error_exponent()) } else { 5.0 };
+                    let grow = if last_rejected { 1.0 } else { 5.0 };
+                    let h_next = h * factor.clamp(0.2, grow);
+                    // A step cut short by a corner does not shrink the next one.
+                    h = if last { h_next.max(h) } else { h_next };
+                    last_rejected = false;
+                }
+            }
+        }
+    }
+    stats.jacobian_evaluations += stepper.jacobian_evaluations();
+    stats.method = method_name;
+    Status::Finished
+}
+
+/// Starting step (Hairer, Norsett, Wanner I, II.4, algorithm of `hinit`).
+fn initial_step(ode: &mut Ode, y: &[f64], f: &[f64], exponent: f64, horizon: f64) -> f64 {
+    let zeros = vec![0.0; y.len()];
+    let d0 = ode.error_norm(y, &zeros, y);
+    let d1 = ode.error_norm(f, &zeros, y);
+    let mut h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
+    h0 = h0.min(horizon);
+    let y1: Vec<f64> = y.iter().zip(f).map(|(a, b)| a + h0 * b).collect();
+    let mut f1 = vec![0.0; y.len()];
+    if ode.rhs(h0, &y1, &mut f1).is_err() {
+        return h0;
+    }
+    let diff: Vec<f64> = f1.iter().zip(f).map(|(a, b)| a - b).collect();
+    let d2 = ode.error_norm(&diff, &zeros, y) / h0;
+    let h1 = if d1.max(d2) <= 1e-15 { (h0 * 1e-3).max(1e-6) } else { (0.01 / d1.max(d2)).powf(exponent) };
+    (100.0 * h0).min(h1).min(horizon)
+}

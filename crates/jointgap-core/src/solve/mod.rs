@@ -1,0 +1,70 @@
+//! Assembly, integration and output of one run.
+
+pub mod assembly;
+pub mod dopri5;
+pub mod dynamics;
+pub mod integrate;
+pub mod ode;
+mod options;
+pub mod record;
+pub mod sdirk4;
+pub mod stepper;
+
+pub use options::{Method, SimOptions};
+
+use crate::output::{RunStats, SimResult, Status};
+use crate::system::System;
+use crate::{Error, Model};
+
+/// A system with consistent initial conditions, ready to integrate.
+pub struct Prepared {
+    /// The compiled mechanism (warnings include removed redundant rows).
+    pub system: System,
+    /// Consistent initial state.
+    pub initial: assembly::Assembled,
+}
+
+/// Checks and compiles a model and assembles its initial configuration.
+pub fn prepare(model: &Model) -> Result<Prepared, Error> {
+    let mut system = System::new(model)?;
+    let initial = assembly::assemble(&system)?;
+    system.warnings.extend(initial.warnings.iter().cloned());
+    Ok(Prepared { system, initial })
+}
+
+/// Simulates a model from t = 0 to `opts.t_end`. Errors in the model or options come
+/// back as `Err`; a run that fails midway returns what it computed, with `Status::Failed`.
+pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
+    opts.check()?;
+    let started = std::time::Instant::now();
+    let Prepared { system, initial } = prepare(model)?;
+    let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref())?;
+    let mut ode = ode::Ode {
+        sys: &system,
+        ws: dynamics::Workspace::new(&system, initial.active.clone()),
+        evaluations: 0,
+        rtol: opts.rtol,
+        atol: opts.atol,
+    };
+    let n = system.n_coords();
+    let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
+    let mut stats = RunStats::default();
+    let status = if rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]).is_err() {
+        Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
+    } else {
+        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut stats)
+    };
+    if stats.method.is_empty() {
+        stats.method = opts.method.name().to_string();
+    }
+    stats.rhs_evaluations = ode.evaluations;
+    stats.wall_time = started.elapsed().as_secs_f64();
+    Ok(SimResult {
+        time: rec.time.clone(),
+        names: rec.names(),
+        data: rec.data,
+        stats,
+        status,
+        warnings: system.warnings.clone(),
+    })
+}

@@ -1,0 +1,116 @@
+//! Run options: end time, output sampling, tolerances and method.
+
+use serde::{Deserialize, Serialize};
+
+/// Integration method.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Method {
+    /// Explicit Dormand-Prince 5(4) while it is efficient, the implicit SDIRK4 when the
+    /// problem turns stiff (detected from repeated step-size limitation).
+    #[default]
+    Auto,
+    /// Explicit embedded Runge-Kutta, Dormand-Prince 5(4) with 4th-order dense output.
+    Dopri5,
+    /// L-stable singly diagonally implicit Runge-Kutta of order 4 with embedded order 3
+    /// (Hairer and Wanner, Solving ODEs II, Table IV.6.5), for stiff contact and friction.
+    Sdirk4,
+}
+
+impl Method {
+    /// The method's name in options and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Auto => "auto",
+            Method::Dopri5 => "dopri5",
+            Method::Sdirk4 => "sdirk4",
+        }
+    }
+}
+
+fn default_rtol() -> f64 {
+    1e-6
+}
+fn default_atol() -> f64 {
+    1e-9
+}
+fn default_max_steps() -> usize {
+    10_000_000
+}
+
+/// Options of one run. Times in s, rates in Hz.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SimOptions {
+    /// End time [s], > 0. Runs start at t = 0.
+    pub t_end: f64,
+    /// Output sampling rate [Hz]; `None` records every accepted step.
+    #[serde(default)]
+    pub rate: Option<f64>,
+    /// Record every accepted step in addition to the sampled output.
+    #[serde(default)]
+    pub every_step: bool,
+    /// Relative tolerance of the local error test (default 1e-6).
+    #[serde(default = "default_rtol")]
+    pub rtol: f64,
+    /// Absolute tolerance of the local error test, in state units m, rad, m/s, rad/s
+    /// (default 1e-9).
+    #[serde(default = "default_atol")]
+    pub atol: f64,
+    /// Integration method (default `auto`).
+    #[serde(default)]
+    pub method: Method,
+    /// Largest step [s]; by default unbounded.
+    #[serde(default)]
+    pub max_step: Option<f64>,
+    /// Step budget; the run stops with a reason when it is spent (default 1e7).
+    #[serde(default = "default_max_steps")]
+    pub max_steps: usize,
+    /// Channels to record (exact names or `element.*`); all by default.
+    #[serde(default)]
+    pub channels: Option<Vec<String>>,
+}
+
+impl SimOptions {
+    /// Options with defaults for a run to `t_end`.
+    pub fn new(t_end: f64) -> Self {
+        SimOptions {
+            t_end,
+            rate: None,
+            every_step: false,
+            rtol: default_rtol(),
+            atol: default_atol(),
+            method: Method::default(),
+            max_step: None,
+            max_steps: default_max_steps(),
+            channels: None,
+        }
+    }
+
+    /// Rejects non-finite or out-of-range values, naming the option.
+    pub fn check(&self) -> Result<(), crate::Error> {
+        let bad = |what: &str, v: f64| {
+            Err(crate::Error::Options(format!("option {what} = {v}: must be finite and positive")))
+        };
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return bad("t_end", self.t_end);
+        }
+        if let Some(r) = self.rate {
+            if !(r.is_finite() && r > 0.0) {
+                return bad("rate", r);
+            }
+        }
+        if !(self.rtol.is_finite() && self.rtol > 0.0 && self.rtol < 1.0) {
+            return Err(crate::Error::Options(format!("option rtol = {}: must lie in (0, 1)", self.rtol)));
+        }
+        if !(self.atol.is_finite() && self.atol > 0.0) {
+            return bad("atol", self.atol);
+        }
+        if let Some(h) = self.max_step {
+            if !(h.is_finite() && h > 0.0) {
+                return bad("max_step", h);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,179 @@
+//! Output channels: which quantities exist (DESIGN.md naming) and how each sample is
+//! computed from a state by one full evaluation of the equations of motion.
+
+use super::dynamics::{accelerations, Singular, Workspace};
+use crate::math::{cross, rotate, Vec2};
+use crate::model::JointKind;
+use crate::system::System;
+use crate::Error;
+
+const BODY_QUANTITIES: [&str; 9] = ["x", "y", "angle", "vx", "vy", "omega", "ax", "ay", "alpha"];
+
+/// Collects the chosen channels at sample times.
+pub struct Recorder {
+    /// All channel names of the system, in model order.
+    all: Vec<String>,
+    /// Indices into `all` that are kept.
+    keep: Vec<usize>,
+    /// Active index of each row (`None`: redundant row).
+    active_of_row: Vec<Option<usize>>,
+    /// Sample times.
+    pub time: Vec<f64>,
+    /// One vector per kept channel.
+    pub data: Vec<Vec<f64>>,
+    values: Vec<f64>,
+}
+
+/// Every channel name of a system, in model order.
+pub fn channel_names(sys: &System) -> Vec<String> {
+    let mut names = Vec::new();
+    for b in &sys.bodies {
+        names.extend(BODY_QUANTITIES.iter().map(|q| format!("{}.{q}", b.name)));
+    }
+    for j in &sys.joints {
+        names.push(format!("{}.fx", j.name));
+        names.push(format!("{}.fy", j.name));
+        if j.kind != JointKind::Revolute {
+            names.push(format!("{}.moment", j.name));
+        }
+    }
+    for d in &sys.drivers {
+        names.push(format!("{}.{}", d.name, if d.rotation { "torque" } else { "force" }));
+    }
+    for q in ["kinetic_energy", "potential_energy", "constraint_error"] {
+        names.push(format!("system.{q}"));
+    }
+    names
+}
+
+impl Recorder {
+    /// Selects channels by exact name or `element.*`; unknown selections are an error.
+    pub fn new(sys: &System, active: &[usize], select: Option<&[String]>) -> Result<Self, Error> {
+        let all = channel_names(sys);
+        let keep: Vec<usize> = match select {
+            None => (0..all.len()).collect(),
+            Some(patterns) => {
+                for p in patterns {
+                    let hit = match p.strip_suffix(".*") {
+                        Some(prefix) => all.iter().any(|n| n.split('.').next() == Some(prefix)),
+                        None => all.contains(p),
+                    };
+                    if !hit {
+                        return Err(Error::Options(format!("channel '{p}' is not an output of this model")));
+                    }
+                }
+                (0..all.len())
+                    .filter(|&k| {
+                        patterns.iter().any(|p| match p.strip_suffix(".*") {
+                            Some(prefix) => all[k].split('.').next() == Some(prefix),
+                            None => &all[k] == p,
+                        })
+                    })
+                    .collect()
+            }
+        };
+        let mut active_of_row = vec![None; sys.rows.len()];
+        for (a, &r) in active.iter().enumerate() {
+            active_of_row[r] = Some(a);
+        }
+        Ok(Recorder {
+            data: vec![Vec::new(); keep.len()],
+            values: vec![0.0; all.len()],
+            all,
+            keep,
+            active_of_row,
+            time: Vec::new(),
+        })
+    }
+
+    /// Names of the kept channels.
+    pub fn names(&self) -> Vec<String> {
+        self.keep.iter().map(|&k| self.all[k].clone()).collect()
+    }
+
+    /// Records one sample at `(t, q, v)`.
+    pub fn push(
+        &mut self,
+        sys: &System,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), Singular> {
+        ws.t_piece = t;
+        accelerations(sys, t, q, v, ws)?;
+        let vals = &mut self.values;
+        let mut c = 0;
+        let mut put = |x: f64| {
+            vals[c] = x;
+            c += 1;
+        };
+        for k in 0..sys.bodies.len() {
+            for i in 0..3 {
+                put(q[3 * k + i]);
+            }
+            for i in 0..3 {
+                put(v[3 * k + i]);
+            }
+            for i in 0..3 {
+                put(ws.qdd[3 * k + i]);
+            }
+        }
+        // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
+        let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
+        for j in &sys.joints {
+            let (mut f, mut m) = (Vec2::zeros(), 0.0);
+            let bi = sys.body_state(j.body_i, q, v);
+            let bj = sys.body_state(j.body_j, q, v);
+            for r in j.rows.clone() {
+                let ev = sys.rows[r].kind.eval(
+                    &bi,
+                    &bj,
+                    crate::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
+                );
+                let l = lambda_of(r);
+                f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
+                m -= ev.jac_j[2] * l;
+            }
+            put(f.x);
+            put(f.y);
+            if j.kind != JointKind::Revolute {
+                // Couple about the joint point of body j.
+                put(m - cross(rotate(bj.phi, j.s_j), f));
+            }
+        }
+        for d in &sys.drivers {
+            let row = &sys.rows[d.row];
+            let bi = sys.body_state(row.body_i, q, v);
+            let bj = sys.body_state(row.body_j, q, v);
+            let ev = row.kind.eval(&bi, &bj, d.profile.motion(t));
+            let l = lambda_of(d.row);
+            // Effort on the driven body (body j, or body i when j is the ground).
+            let value = match (d.rotation, row.body_j.is_some()) {
+                (true, true) => -ev.jac_j[2] * l,
+                (true, false) => -ev.jac_i[2] * l,
+                (false, true) => -l,
+                (false, false) => l,
+            };
+            put(value);
+        }
+        let mut kinetic = 0.0;
+        let mut potential = 0.0;
+        for (k, b) in sys.bodies.iter().enumerate() {
+            let (vx, vy, w) = (v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+            kinetic += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * w * w;
+            potential -= b.mass * (sys.gravity.x * q[3 * k] + sys.gravity.y * q[3 * k + 1]);
+        }
+        for f in &sys.forces {
+            potential += f.potential_energy(|b| sys.body_state(b, q, v));
+        }
+        put(kinetic);
+        put(potential);
+        put(if ws.active.is_empty() { 0.0 } else { ws.c.amax() });
+        self.time.push(t);
+        for (slot, &k) in self.keep.iter().enumerate() {
+            self.data[slot].push(self.values[k]);
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,228 @@
+//! L-stable SDIRK of order 4 with an embedded order-3 estimate, gamma = 1/4 (Hairer and
+//! Wanner, Solving ODEs II, Table IV.6.5). Stages are solved by simplified Newton with a
+//! finite-difference Jacobian reused across steps while Newton converges fast.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::dynamics::Singular;
+use super::ode::Ode;
+use super::stepper::{Attempt, StepFailure, Stepper};
+
+const GAMMA: f64 = 0.25;
+const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
+const A: [[f64; 5]; 5] = [
+    [0.25, 0.0, 0.0, 0.0, 0.0],
+    [0.5, 0.25, 0.0, 0.0, 0.0],
+    [17.0 / 50.0, -1.0 / 25.0, 0.25, 0.0, 0.0],
+    [371.0 / 1360.0, -137.0 / 2720.0, 15.0 / 544.0, 0.25, 0.0],
+    [25.0 / 24.0, -49.0 / 48.0, 125.0 / 16.0, -85.0 / 12.0, 0.25],
+];
+/// Embedded 3rd-order weights.
+const B_HAT: [f64; 5] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 0.0];
+
+/// Newton state of the implicit method.
+pub struct Sdirk4 {
+    jac: DMatrix<f64>,
+    jac_fresh: bool,
+    jac_valid: bool,
+    jac_evals: usize,
+    lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
+    lu_h: f64,
+    slow: bool,
+    k: Vec<Vec<f64>>,
+    base: Vec<f64>,
+    stage: Vec<f64>,
+    work: Vec<f64>,
+}
+
+impl Sdirk4 {
+    /// Allocates for a state of length `n`.
+    pub fn new(n: usize) -> Self {
+        Sdirk4 {
+            jac: DMatrix::zeros(n, n),
+            jac_fresh: false,
+            jac_valid: false,
+            jac_evals: 0,
+            lu: None,
+            lu_h: 0.0,
+            slow: false,
+            k: vec![vec![0.0; n]; 5],
+            base: vec![0.0; n],
+            stage: vec![0.0; n],
+            work: vec![0.0; n],
+        }
+    }
+
+    /// Forward-difference Jacobian of f at (t, y).
+    fn jacobian(&mut self, ode: &mut Ode, t: f64, y: &[f64], f0: &[f64]) -> Result<(), Singular> {
+        let n = y.len();
+        let mut yp = y.to_vec();
+        for j in 0..n {
+            let dy = f64::EPSILON.sqrt() * y[j].abs().max(1e-5);
+            yp[j] = y[j] + dy;
+            ode.rhs(t, &yp, &mut self.work)?;
+            yp[j] = y[j];
+            for i in 0..n {
+                self.jac[(i, j)] = (self.work[i] - f0[i]) / dy;
+            }
+        }
+        self.jac_evals += 1;
+        self.jac_fresh = true;
+        self.jac_valid = true;
+        self.lu = None;
+        Ok(())
+    }
+
+    fn factor(&mut self, h: f64) -> Result<(), StepFailure> {
+        if self.lu.is_some() && self.lu_h == h {
+            return Ok(());
+        }
+        let n = self.jac.nrows();
+        let m = DMatrix::identity(n, n) - &self.jac * (h * GAMMA);
+        let lu = m.lu();
+        if !lu.is_invertible() {
+            return Err(StepFailure::Convergence);
+        }
+        self.lu = Some(lu);
+        self.lu_h = h;
+        Ok(())
+    }
+
+    /// Solves stage `s`: `Y = base + h gamma f(Y)`; leaves `Y` in `stage`, `f(Y)` in `k[s]`.
+    fn solve_stage(&mut self, ode: &mut Ode, t: f64, h: f64, s: usize, y: &[f64]) -> Result<(), StepFailure> {
+        let n = y.len();
+        let lu = self.lu.as_ref().expect("factored before the stages");
+        // Predictor: the previous stage's slope.
+        let guess = if s == 0 { 0 } else { s - 1 };
+        for i in 0..n {
+            self.stage[i] = self.base[i] + h * GAMMA * self.k[guess][i];
+        }
+        let mut prev_norm = f64::INFINITY;
+        for iter in 0..10 {
+            ode.rhs(t + C[s] * h, &self.stage, &mut self.work).map_err(|Singular| StepFailure::Singular)?;
+            let mut r = DVector::from_fn(n, |i, _| self.base[i] + h * GAMMA * self.work[i] - self.stage[i]);
+            lu.solve_mut(&mut r);
+            let norm = ode.error_norm(r.as_slice(), y, &self.stage);
+            for i in 0..n {
+                self.stage[i] += r[i];
+            }
+            if !norm.is_finite() {
+                return Err(StepFailure::Convergence);
+            }
+            let rate = norm / prev_norm;
+            if iter > 0 && rate > 0.9 {
+                return Err(StepFailure::Convergence);
+            }
+            if iter > 0 && rate > 0.3 {
+                self.slow = true;
+            }
+            let eta = if iter == 0 { 1.0 } else { rate / (1.0 - rate) };
+            if norm < 1e-10 || eta * norm < 0.01 {
+                // k from the stage relation, consistent with the converged Y.
+                for i in 0..n {
+                    self.k[s][i] = (self.stage[i] - self.base[i]) / (h * GAMMA);
+                }
+                return Ok(());
+            }
+            prev_norm = norm;
+        }
+        Err(StepFailure::Convergence)
+    }
+}
+
+impl Stepper for Sdirk4 {
+    fn name(&self) -> &'static str {
+        "sdirk4"
+    }
+
+    fn error_exponent(&self) -> f64 {
+        1.0 / 4.0
+    }
+
+    fn jacobian_evaluations(&self) -> usize {
+        self.jac_evals
+    }
+
+    fn rejected(&mut self) {
+        self.slow = true;
+    }
+
+    fn attempt(
+        &mut self,
+        ode: &mut Ode,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        y_new: &mut [f64],
+        f_new: &mut [f64],
+    ) -> Result<Attempt, StepFailure> {
+        let n = y.len();
+        if !self.jac_valid || (self.slow && !self.jac_fresh) {
+            self.jacobian(ode, t, y, f0).map_err(|Singular| StepFailure::Singular)?;
+            self.slow = false;
+        }
+        self.factor(h)?;
+        for s in 0..5 {
+            for i in 0..n {
+                let mut acc = 0.0;
+                for j in 0..s {
+                    acc += A[s][j] * self.k[j][i];
+                }
+                self.base[i] = y[i] + h * acc;
+            }
+            if let Err(e) = self.solve_stage(ode, t, h, s, y) {
+                if e == StepFailure::Convergence {
+                    self.slow = true;
+                }
+                return Err(e);
+            }
+        }
+        self.jac_fresh = false;
+        // Stiffly accurate: the last stage is the solution.
+        y_new.copy_from_slice(&self.stage);
+        ode.rhs(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
+        let mut err = DVector::from_fn(n, |i, _| {
+            let mut e = 0.0;
+            for j in 0..5 {
+                e += (A[4][j] - B_HAT[j]) * self.k[j][i];
+            }
+            h * e
+        });
+        // Filter through (I - h gamma J)^-1 so stiff components do not inflate the
+        // estimate (Shampine's device, as in RADAU5).
+        self.lu.as_ref().expect("factored").solve_mut(&mut err);
+        Ok(Attempt { error: ode.error_norm(err.as_slice(), y, y_new), stiffness: None })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Order conditions up to 4 for the solution and 3 for the embedded weights.
+    #[test]
+    fn tableau_meets_order_conditions() {
+        let b = A[4];
+        for s in 0..5 {
+            assert!((A[s].iter().sum::<f64>() - C[s]).abs() < 1e-14, "row {s}");
+            assert_eq!(A[s][s], GAMMA);
+        }
+        let dot = |w: &[f64; 5], f: &dyn Fn(usize) -> f64| (0..5).map(|i| w[i] * f(i)).sum::<f64>();
+        let ac = |i: usize| (0..5).map(|j| A[i][j] * C[j]).sum::<f64>();
+        let ac2 = |i: usize| (0..5).map(|j| A[i][j] * C[j] * C[j]).sum::<f64>();
+        let aac = |i: usize| (0..5).map(|j| A[i][j] * ac(j)).sum::<f64>();
+        for (w, order) in [(&b, 4), (&B_HAT, 3)] {
+            assert!((dot(w, &|_| 1.0) - 1.0).abs() < 1e-13);
+            assert!((dot(w, &|i| C[i]) - 0.5).abs() < 1e-13);
+            assert!((dot(w, &|i| C[i] * C[i]) - 1.0 / 3.0).abs() < 1e-13);
+            assert!((dot(w, &ac) - 1.0 / 6.0).abs() < 1e-13);
+            if order == 4 {
+                assert!((dot(w, &|i| C[i].powi(3)) - 0.25).abs() < 1e-13);
+                assert!((dot(w, &|i| C[i] * ac(i)) - 0.125).abs() < 1e-13);
+                assert!((dot(w, &ac2) - 1.0 / 12.0).abs() < 1e-13);
+                assert!((dot(w, &aac) - 1.0 / 24.0).abs() < 1e-13);
+            }
+        }
+    }
+}

@@ -1,0 +1,49 @@
+//! The inner step of an integration method; the loop in `integrate` owns time, error
+//! control, corners, projection and output (the template of scipy's `OdeSolver`).
+
+use super::ode::Ode;
+
+/// Outcome of one trial step.
+#[derive(Debug, Clone, Copy)]
+pub struct Attempt {
+    /// Weighted RMS local error estimate; the step is accepted when <= 1.
+    pub error: f64,
+    /// Explicit methods: estimate of `h |lambda|` for stiffness detection.
+    pub stiffness: Option<f64>,
+}
+
+/// Why a trial step produced no estimate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepFailure {
+    /// The implicit stage equations did not converge: retry with a smaller step.
+    Convergence,
+    /// The augmented system is singular: the run cannot go on.
+    Singular,
+}
+
+/// One integration method's inner step.
+pub trait Stepper {
+    /// Name in reports.
+    fn name(&self) -> &'static str;
+    /// `1 / (p + 1)` with p the order of the error estimate.
+    fn error_exponent(&self) -> f64;
+    /// Tries a step of size `h` from `(t, y)` with `f0 = f(t, y)`; writes the solution
+    /// and its derivative at `t + h`.
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &mut self,
+        ode: &mut Ode,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        h: f64,
+        y_new: &mut [f64],
+        f_new: &mut [f64],
+    ) -> Result<Attempt, StepFailure>;
+    /// Jacobian evaluations so far (implicit methods).
+    fn jacobian_evaluations(&self) -> usize {
+        0
+    }
+    /// Called after a rejected step.
+    fn rejected(&mut self) {}
+}

@@ -1,0 +1,403 @@
+//! Model -> System: checks every element (errors name it), resolves points, and lays
+//! out coordinates (3 per moving body: x, y, phi) and scalar constraint rows.
+
+use std::collections::{BTreeMap, HashMap};
+
+use crate::drivers::MotionProfile;
+use crate::forces::ForceElement;
+use crate::math::{rotate, Vec2};
+use crate::model::{JointKind, Model, PointRef, GROUND};
+use crate::planar::{BodyState, RowKind};
+use crate::Error;
+
+/// A moving body's inertia; its coordinates sit at `3 * index`.
+#[derive(Debug, Clone)]
+pub struct BodyInfo {
+    /// Name.
+    pub name: String,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Centroidal moment of inertia [kg m^2].
+    pub inertia: f64,
+}
+
+/// Which element a constraint row belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Owner {
+    /// Joint index.
+    Joint(usize),
+    /// Driver index.
+    Driver(usize),
+}
+
+/// One scalar constraint equation.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Body i (`None`: ground).
+    pub body_i: Option<usize>,
+    /// Body j (`None`: ground).
+    pub body_j: Option<usize>,
+    /// The equation.
+    pub kind: RowKind,
+    /// Owning joint or driver.
+    pub owner: Owner,
+    /// Driver whose motion enters this row.
+    pub driver: Option<usize>,
+    /// False when assembly found the row redundant (dependent on earlier rows).
+    pub active: bool,
+    /// For messages, e.g. `joint 'crank_rod' (x)`.
+    pub label: String,
+}
+
+/// A joint after checking.
+#[derive(Debug, Clone)]
+pub struct JointInfo {
+    /// Name.
+    pub name: String,
+    /// Kind.
+    pub kind: JointKind,
+    /// Body j, on which reactions are reported (`None`: ground).
+    pub body_j: Option<usize>,
+    /// Body i.
+    pub body_i: Option<usize>,
+    /// Joint point on body j, body frame [m].
+    pub s_j: Vec2,
+    /// Joint point on body i, body frame [m].
+    pub s_i: Vec2,
+    /// Its rows in `System::rows`.
+    pub rows: std::ops::Range<usize>,
+}
+
+/// A driver after checking.
+#[derive(Debug, Clone)]
+pub struct DriverInfo {
+    /// Name.
+    pub name: String,
+    /// Driven joint index.
+    pub joint: usize,
+    /// True for a rotation (revolute), false for a translation (prismatic).
+    pub rotation: bool,
+    /// Motion profile.
+    pub profile: MotionProfile,
+    /// Its row in `System::rows`.
+    pub row: usize,
+}
+
+/// The compiled, immutable mechanism: everything the solver needs, nothing it changes.
+#[derive(Debug, Clone)]
+pub struct System {
+    /// Moving bodies; body k owns coordinates `3k..3k+3`.
+    pub bodies: Vec<BodyInfo>,
+    /// Joints in model order.
+    pub joints: Vec<JointInfo>,
+    /// Drivers in model order.
+    pub drivers: Vec<DriverInfo>,
+    /// Constraint rows: joints in model order, then drivers.
+    pub rows: Vec<Row>,
+    /// Force elements in model order.
+    pub forces: Vec<ForceElement>,
+    /// Gravity [m/s^2].
+    pub gravity: Vec2,
+    /// Approximate initial coordinates (user placement).
+    pub q_guess: Vec<f64>,
+    /// Approximate initial velocities.
+    pub v_guess: Vec<f64>,
+    /// Times where a prescribed input has a corner; steps stop there.
+    pub corners: Vec<f64>,
+    /// Notes for the user (redundant constraints removed, ...).
+    pub warnings: Vec<String>,
+}
+
+/// Looks up bodies by name and resolves points on them, naming the element in errors.
+pub(crate) struct Resolver<'a> {
+    model: &'a Model,
+    index: HashMap<&'a str, usize>,
+}
+
+impl<'a> Resolver<'a> {
+    pub(crate) fn body(&self, who: &str, field: &str, name: &str) -> Result<Option<usize>, Error> {
+        if name == GROUND {
+            return Ok(None);
+        }
+        self.index.get(name).copied().map(Some).ok_or_else(|| {
+            let mut known: Vec<&str> = vec![GROUND];
+            known.extend(self.model.bodies.iter().map(|b| b.name.as_str()));
+            Error::Model(format!(
+                "{who}: {field} '{name}' is not a body of the model (bodies: {})",
+                known.join(", ")
+            ))
+        })
+    }
+
+    pub(crate) fn point(
+        &self,
+        who: &str,
+        field: &str,
+        body: Option<usize>,
+        p: &PointRef,
+    ) -> Result<Vec2, Error> {
+        let (points, body_name): (&BTreeMap<String, [f64; 2]>, &str) = match body {
+            None => (&self.model.ground_points, GROUND),
+            Some(k) => (&self.model.bodies[k].points, &self.model.bodies[k].name),
+        };
+        let v = match p {
+            PointRef::Local(v) => *v,
+            PointRef::Named(n) => *points.get(n).ok_or_else(|| {
+                let known: Vec<&str> = points.keys().map(|s| s.as_str()).collect();
+                Error::Model(format!(
+                    "{who}: {field} '{n}' is not a point of body '{body_name}' (points: {})",
+                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                ))
+            })?,
+        };
+        if !(v[0].is_finite() && v[1].is_finite()) {
+            return Err(Error::Model(format!("{who}: {field} {v:?} is not finite")));
+        }
+        Ok(Vec2::new(v[0], v[1]))
+    }
+
+    /// Global position, angle and velocity of a body at its user placement.
+    pub(crate) fn placement(&self, body: Option<usize>) -> BodyState {
+        match body {
+            None => BodyState::default(),
+            Some(k) => {
+                let b = &self.model.bodies[k];
+                BodyState {
+                    r: Vec2::new(b.position[0], b.position[1]),
+                    phi: b.angle,
+                    v: Vec2::new(b.velocity[0], b.velocity[1]),
+                    omega: b.omega,
+                }
+            }
+        }
+    }
+}
+
+fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<(), Error> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(Error::Model(format!("{who}: {what} = {v} is not finite"))),
+        None => Ok(()),
+    }
+}
+
+impl System {
+    /// Checks and compiles a model.
+    pub fn new<'m>(model: &'m Model) -> Result<System, Error> {
+        check_finite("model", "gravity", &model.gravity)?;
+        let mut seen: HashMap<&str, &str> = HashMap::new();
+        let mut claim = |kind: &'static str, name: &'m str| -> Result<(), Error> {
+            if name.is_empty() {
+                return Err(Error::Model(format!("a {kind} has an empty name")));
+            }
+            if name == GROUND || name == "system" {
+                return Err(Error::Model(format!("{kind} '{name}': the name '{name}' is reserved")));
+            }
+            if let Some(other) = seen.insert(name, kind) {
+                return Err(Error::Model(format!("{kind} '{name}': the name is already used by a {other}")));
+            }
+            Ok(())
+        };
+        let mut bodies = Vec::new();
+        let mut index = HashMap::new();
+        for (k, b) in model.bodies.iter().enumerate() {
+            claim("body", &b.name)?;
+            let who = format!("body '{}'", b.name);
+            if !(b.mass.is_finite() && b.mass > 0.0) {
+                return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
+            }
+            if !(b.inertia.is_finite() && b.inertia > 0.0) {
+                return Err(Error::Model(format!("{who}: inertia = {} kg m^2 must be positive", b.inertia)));
+            }
+            check_finite(&who, "position", &b.position)?;
+            check_finite(&who, "angle", &[b.angle])?;
+            check_finite(&who, "velocity", &b.velocity)?;
+            check_finite(&who, "omega", &[b.omega])?;
+            index.insert(b.name.as_str(), k);
+            bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
+        }
+        let res = Resolver { model, index };
+
+        let mut rows = Vec::new();
+        let mut joints = Vec::new();
+        for (k, j) in model.joints.iter().enumerate() {
+            claim("joint", &j.name)?;
+            let who = format!("joint '{}'", j.name);
+            let bi = res.body(&who, "body_i", &j.body_i)?;
+            let bj = res.body(&who, "body_j", &j.body_j)?;
+            if bi == bj {
+                return Err(Error::Model(format!("{who}: connects body '{}' to itself", j.body_i)));
+            }
+            let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
+            let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
+            let (pi, pj) = (res.placement(bi), res.placement(bj));
+            let rel_angle = pj.phi - pi.phi;
+            let first = rows.len();
+            let mut push = |kind: RowKind, tag: &str| {
+                rows.push(Row {
+                    body_i: bi,
+                    body_j: bj,
+                    kind,
+                    owner: Owner::Joint(k),
+                    driver: None,
+                    active: true,
+                    label: format!("{who} ({tag})"),
+                })
+            };
+            match (j.kind, j.axis) {
+                (JointKind::Revolute | JointKind::Fixed, Some(_)) => {
+                    return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
+                }
+                (JointKind::Prismatic, None) => {
+                    return Err(Error::Model(format!("{who}: a prismatic joint needs an 'axis'")));
+                }
+                (JointKind::Revolute, None) => {
+                    push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                    push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+                }
+                (JointKind::Fixed, None) => {
+                    push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                    push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+                    push(RowKind::Angle { offset: rel_angle }, "angle");
+                }
+                (JointKind::Prismatic, Some(axis)) => {
+                    let u = Vec2::new(axis[0], axis[1]);
+                    if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
+                        return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
+                    }
+                    let u = u.normalize();
+                    push(RowKind::Angle { offset: rel_angle }, "angle");
+                    push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
+                }
+            }
+            joints.push(JointInfo {
+                name: j.name.clone(),
+                kind: j.kind,
+                body_i: bi,
+                body_j: bj,
+                s_i,
+                s_j,
+                rows: first..rows.len(),
+            });
+        }
+
+        let mut drivers = Vec::new();
+        let mut corners = Vec::new();
+        for (k, d) in model.drivers.iter().enumerate() {
+            claim("driver", &d.name)?;
+            let who = format!("driver '{}'", d.name);
+            let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
+                let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+                Error::Model(format!(
+                    "{who}: joint '{}' is not a joint of the model (joints: {})",
+                    d.joint,
+                    names.join(", ")
+                ))
+            })?;
+            if let Some(other) = drivers.iter().find(|o: &&DriverInfo| o.joint == jk) {
+                return Err(Error::Model(format!(
+                    "{who}: joint '{}' is already driven by driver '{}'",
+                    d.joint, other.name
+                )));
+            }
+            let joint = &joints[jk];
+            let profile = MotionProfile::new(&d.profile, &d.name)?;
+            if let Some(v) = d.initial {
+                check_finite(&who, "initial", &[v])?;
+            }
+            let (pi, pj) = (res.placement(joint.body_i), res.placement(joint.body_j));
+            let (kind, rotation) = match joint.kind {
+                JointKind::Revolute => {
+                    (RowKind::Angle { offset: d.initial.unwrap_or(pj.phi - pi.phi) }, true)
+                }
+                JointKind::Prismatic => {
+                    let axis = model.joints[jk].axis.expect("checked above");
+                    let u = Vec2::new(axis[0], axis[1]).normalize();
+                    let here = pj.r + rotate(pj.phi, joint.s_j) - pi.r - rotate(pi.phi, joint.s_i);
+                    let placed = rotate(pi.phi, u).dot(&here);
+                    (
+                        RowKind::Along {
+                            s_i: joint.s_i,
+                            w: u,
+                            s_j: joint.s_j,
+                            offset: d.initial.unwrap_or(placed),
+                        },
+                        false,
+                    )
+                }
+                JointKind::Fixed => {
+                    return Err(Error::Model(format!(
+                        "{who}: joint '{}' is fixed; only revolute and prismatic joints can be driven",
+                        d.joint
+                    )));
+                }
+            };
+            corners.extend(profile.corners());
+            rows.push(Row {
+                body_i: joint.body_i,
+                body_j: joint.body_j,
+                kind,
+                owner: Owner::Driver(k),
+                driver: Some(k),
+                active: true,
+                label: format!("{who} (motion)"),
+            });
+            drivers.push(DriverInfo {
+                name: d.name.clone(),
+                joint: jk,
+                rotation,
+                profile,
+                row: rows.len() - 1,
+            });
+        }
+
+        let mut forces = Vec::new();
+        for f in &model.forces {
+            claim("force", f.name())?;
+            let element = ForceElement::new(f, &res)?;
+            corners.extend(element.corners());
+            forces.push(element);
+        }
+
+        corners.retain(|t| *t > 0.0);
+        corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        corners.dedup();
+
+        let mut q_guess = Vec::with_capacity(3 * bodies.len());
+        let mut v_guess = Vec::with_capacity(3 * bodies.len());
+        for b in &model.bodies {
+            q_guess.extend([b.position[0], b.position[1], b.angle]);
+            v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
+        }
+        Ok(System {
+            bodies,
+            joints,
+            drivers,
+            rows,
+            forces,
+            gravity: Vec2::new(model.gravity[0], model.gravity[1]),
+            q_guess,
+            v_guess,
+            corners,
+            warnings: Vec::new(),
+        })
+    }
+
+    /// Number of coordinates (3 per moving body).
+    pub fn n_coords(&self) -> usize {
+        3 * self.bodies.len()
+    }
+
+    /// State of body `b` (ground: zero) from coordinate and velocity vectors.
+    #[inline]
+    pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
+        match b {
+            None => BodyState::default(),
+            Some(k) => BodyState {
+                r: Vec2::new(q[3 * k], q[3 * k + 1]),
+                phi: q[3 * k + 2],
+                v: Vec2::new(v[3 * k], v[3 * k + 1]),
+                omega: v[3 * k + 2],
+            },
+        }
+    }
+}

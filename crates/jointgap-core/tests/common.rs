@@ -1,0 +1,59 @@
+//! Models shared by the engine's integration tests, written inline as JSON.
+#![allow(dead_code)]
+
+use jointgap_core::Model;
+use serde_json::json;
+
+pub const R: f64 = 0.08;
+pub const L: f64 = 0.32;
+pub const W: f64 = 300.0 * 2.0 * std::f64::consts::PI / 60.0;
+pub const T_RAMP: f64 = 0.2;
+
+/// The founding slider-crank with ideal joints (PHYSICS.md section 5).
+pub fn slider_crank(gravity: f64) -> Model {
+    Model::from_json(
+        &json!({
+            "name": "slider_crank",
+            "gravity": [0.0, -gravity],
+            "bodies": [
+                {"name": "crank", "mass": 2.37, "inertia": 0.01201, "position": [R / 2.0, 0.0],
+                 "points": {"O": [-R / 2.0, 0.0], "A": [R / 2.0, 0.0]}},
+                {"name": "rod", "mass": 0.72, "inertia": 0.0006926, "position": [R + L / 2.0, 0.0],
+                 "points": {"A": [-L / 2.0, 0.0], "B": [L / 2.0, 0.0]}},
+                {"name": "slider", "mass": 2.28, "inertia": 0.001, "position": [R + L, 0.0]}
+            ],
+            "joints": [
+                {"name": "ground_crank", "type": "revolute", "body_i": "ground", "body_j": "crank", "point_j": "O"},
+                {"name": "crank_rod", "type": "revolute", "body_i": "crank", "point_i": "A", "body_j": "rod", "point_j": "A"},
+                {"name": "rod_slider", "type": "revolute", "body_i": "slider", "body_j": "rod", "point_j": "B"},
+                {"name": "slider_guide", "type": "prismatic", "body_i": "ground", "body_j": "slider", "axis": [1.0, 0.0]}
+            ],
+            "drivers": [
+                {"name": "motor", "joint": "ground_crank",
+                 "profile": {"type": "linear_ramp", "speed": W, "ramp_time": T_RAMP}}
+            ]
+        })
+        .to_string(),
+    )
+    .unwrap()
+}
+
+/// Crank angle and its derivatives for the ramp.
+pub fn crank(t: f64) -> (f64, f64, f64) {
+    if t < T_RAMP {
+        (0.5 * W * t * t / T_RAMP, W * t / T_RAMP, W / T_RAMP)
+    } else {
+        (0.5 * W * T_RAMP + W * (t - T_RAMP), W, 0.0)
+    }
+}
+
+/// Closed-form slider position, velocity and acceleration (PHYSICS.md section 6).
+pub fn slider_closed_form(t: f64) -> (f64, f64, f64) {
+    let (th, w, al) = crank(t);
+    let (s, c) = th.sin_cos();
+    let root = (L * L - R * R * s * s).sqrt();
+    let x = R * c + root;
+    let dx = -R * s - R * R * s * c / root; // dx/dtheta
+    let d2x = -R * c - R * R * (c * c - s * s) / root - R.powi(4) * s * s * c * c / root.powi(3);
+    (x, dx * w, d2x * w * w + dx * al)
+}
