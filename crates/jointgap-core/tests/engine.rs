@@ -6,6 +6,7 @@ mod common;
 use common::*;
 use jointgap_core::{simulate, Method, Model, SimOptions, Status};
 use serde_json::json;
+use std::f64::consts::FRAC_PI_2;
 
 fn opts(t_end: f64, rate: f64, rtol: f64, method: Method) -> SimOptions {
     SimOptions { rate: Some(rate), rtol, atol: rtol * 1e-2, method, ..SimOptions::new(t_end) }
@@ -53,11 +54,11 @@ fn parallelogram_redundancy_is_removed_and_named() {
         &json!({
             "gravity": [0.0, -9.81],
             "bodies": [
-                {"name": "left", "mass": 1.0, "inertia": 0.01, "position": [0.0, 0.1], "angle": 1.5707963267948966,
+                {"name": "left", "mass": 1.0, "inertia": 0.01, "position": [0.0, 0.1], "angle": FRAC_PI_2,
                  "points": {"bottom": [-0.1, 0.0], "top": [0.1, 0.0]}},
-                {"name": "right", "mass": 1.0, "inertia": 0.01, "position": [0.5, 0.1], "angle": 1.5707963267948966,
+                {"name": "right", "mass": 1.0, "inertia": 0.01, "position": [0.5, 0.1], "angle": FRAC_PI_2,
                  "points": {"bottom": [-0.1, 0.0], "top": [0.1, 0.0]}},
-                {"name": "middle", "mass": 1.0, "inertia": 0.01, "position": [0.25, 0.1], "angle": 1.5707963267948966,
+                {"name": "middle", "mass": 1.0, "inertia": 0.01, "position": [0.25, 0.1], "angle": FRAC_PI_2,
                  "points": {"bottom": [-0.1, 0.0], "top": [0.1, 0.0]}},
                 {"name": "coupler", "mass": 2.0, "inertia": 0.05, "position": [0.25, 0.2],
                  "points": {"l": [-0.25, 0.0], "r": [0.25, 0.0]}}
@@ -87,7 +88,7 @@ fn parallelogram_redundancy_is_removed_and_named() {
     let left = res.channel("left.angle").unwrap();
     for (i, &t) in res.time.iter().enumerate() {
         assert!(angle[i].abs() < 1e-9, "coupler angle {}", angle[i]);
-        assert!((left[i] - (std::f64::consts::FRAC_PI_2 + 2.0 * t)).abs() < 1e-9);
+        assert!((left[i] - (FRAC_PI_2 + 2.0 * t)).abs() < 1e-9);
     }
 }
 
