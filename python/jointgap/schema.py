@@ -104,6 +104,9 @@ class ModelError(ValueError):
         return (_rebuild, (self.problem, self.__dict__.copy()))
 
 
+ModelError.__module__ = "jointgap"  # shown as jointgap.ModelError in tracebacks
+
+
 def _rebuild(problem: str, attrs: dict[str, Any]) -> ModelError:
     attrs = {k: v for k, v in attrs.items() if k != "problem"}
     return ModelError(problem, **attrs)
@@ -420,8 +423,8 @@ def _convert_table(
     else:
         params = params_of(kind)
     allowed = [p.key for p in params]
-    for key in raw:
-        if key not in allowed:
+    for key, value in raw.items():
+        if key not in allowed and value is not None:
             what = f" for a {raw['type']} {kind}" if types else ""
             raise ctx.error(
                 f"unknown key '{ctx.label(str(key))}'{what} (allowed: {', '.join(allowed)})",

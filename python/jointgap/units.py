@@ -213,7 +213,7 @@ _TOKEN = re.compile(r"\s*(?:(\*\*|[*/^()·+-])|([A-Za-zµμ°_]+)|(\d+(?:\.\d*)?
 _Interpretations = list[tuple[Factor, Dimension]]
 
 
-def _lookup(name: str) -> _Interpretations:
+def _resolve(name: str) -> _Interpretations | None:
     if name in _UNITS:
         return _UNITS[name]
     for prefix, scale in _PREFIXES.items():
@@ -221,11 +221,21 @@ def _lookup(name: str) -> _Interpretations:
         if name.startswith(prefix) and base in _PREFIXABLE:
             # a prefixed g is the gram, never a multiple of standard gravity
             return [(scale * f, d) for f, d in _UNITS[base] if base != "g" or d == MASS]
+    return None
+
+
+def _lookup(name: str) -> _Interpretations:
+    found = _resolve(name)
+    if found is not None:
+        return found
     hint = ""
     if name in ("Nm", "Nms"):
         hint = f" (write {'N*m' if name == 'Nm' else 'N*m*s'})"
-    elif name.lower() in {u.lower() for u in _UNITS}:
-        hint = " (unit names are case-sensitive)"
+    else:
+        for guess in dict.fromkeys((name.lower(), name.capitalize(), name[:1] + name[1:].lower())):
+            if guess != name and _resolve(guess) is not None:
+                hint = f" (did you mean '{guess}'? unit names are case-sensitive)"
+                break
     raise UnitError(f"unknown unit '{name}'{hint}")
 
 

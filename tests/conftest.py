@@ -1,0 +1,30 @@
+"""Shared fixtures of the front-end tests (units, model files, builder, CLI)."""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples"
+
+
+@pytest.fixture
+def examples() -> Path:
+    """The examples/ folder of the repository."""
+    return EXAMPLES
+
+
+@pytest.fixture
+def write_model(tmp_path: Path) -> Callable[[str, str], Path]:
+    """Writes TOML text (dedented) to tmp_path/<name> and returns the path."""
+
+    def write(text: str, name: str = "model.toml") -> Path:
+        path = tmp_path / name
+        path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
+        return path
+
+    return write
