@@ -28,3 +28,9 @@ def write_model(tmp_path: Path) -> Callable[[str, str], Path]:
         return path
 
     return write
+
+
+@pytest.fixture
+def engine() -> None:
+    """Skips a test when the compiled engine is not built (``make install`` builds it)."""
+    pytest.importorskip("jointgap._jointgap", reason="the engine is not built: run make install")
