@@ -1,0 +1,169 @@
+"""The jointgap command: run, check, help and errors."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+
+import pytest
+from jointgap.cli import EXIT_INVALID, EXIT_RUN_FAILED, main
+
+
+def jointgap_cli(*args: str) -> subprocess.CompletedProcess[str]:
+    """Runs the command in a fresh interpreter, as a user would."""
+    return subprocess.run(
+        [sys.executable, "-m", "jointgap.cli", *args], capture_output=True, text=True, timeout=120
+    )
+
+
+def test_help_lists_the_commands() -> None:
+    done = jointgap_cli("--help")
+    assert done.returncode == 0
+    assert "usage: jointgap" in done.stdout
+    assert "run" in done.stdout and "check" in done.stdout
+    assert "exit status" in done.stdout
+
+
+def test_run_help_lists_every_option(capsys) -> None:
+    with pytest.raises(SystemExit) as exit_:
+        main(["run", "--help"])
+    assert exit_.value.code == 0
+    out = capsys.readouterr().out
+    for option in (
+        "--t-end",
+        "--rate",
+        "--rtol",
+        "--atol",
+        "--method",
+        "--max-step",
+        "--out",
+        "--plot",
+    ):
+        assert option in out
+    assert "{auto,dopri5,sdirk4}" in out
+
+
+def test_check_help(capsys) -> None:
+    with pytest.raises(SystemExit) as exit_:
+        main(["check", "--help"])
+    assert exit_.value.code == 0
+    assert "degrees of freedom" in capsys.readouterr().out
+
+
+def test_run_writes_results_and_summary(examples, tmp_path, capsys, engine) -> None:
+    out = tmp_path / "run"
+    status = main(
+        [
+            "run",
+            str(examples / "slider_crank_ideal.toml"),
+            "--t-end",
+            "0.5",
+            "--rate",
+            "10000",
+            "--out",
+            str(out),
+        ]
+    )
+    assert status == 0
+    with open(out / "results.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    assert header[0] == "time"
+    for channel in ("slider.x", "slider.vx", "slider.ax", "motor.torque"):
+        assert channel in header
+    assert len(rows) == 1 + 5001
+    last = dict(zip(header, map(float, rows[-1]), strict=True))
+    assert last["time"] == pytest.approx(0.5, abs=1e-12)
+    assert last["slider.x"] == pytest.approx(0.40, abs=1e-7)
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "finished"
+    assert summary["model"]["name"] == "slider_crank_ideal"
+    assert summary["options"]["t_end"] == 0.5 and summary["options"]["rate"] == 10000.0
+    assert summary["stats"]["accepted_steps"] > 0
+    printed = capsys.readouterr().out
+    assert "model      slider_crank_ideal" in printed
+    assert "status     finished" in printed
+    assert "slider.ax" in printed and "motor.torque" in printed
+    assert "-98.69" in printed  # peak slider acceleration, -r w^2 (1 + r/L)
+
+
+def test_run_with_plot_writes_figures(examples, tmp_path, engine) -> None:
+    out = tmp_path / "plot"
+    args = [
+        "run",
+        str(examples / "slider_crank_ideal.toml"),
+        "--t-end",
+        "0.05",
+        "--out",
+        str(out),
+        "--plot",
+    ]
+    assert main(args) == 0
+    assert (out / "figure.png").stat().st_size > 10_000
+    assert (out / "figure.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_check_prints_counts_and_degrees_of_freedom(examples, capsys, engine) -> None:
+    assert main(["check", str(examples / "slider_crank_ideal.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "3 bodies, 4 joints, 1 driver, 0 forces, 1 ground point" in out
+    assert "degrees of freedom: 1 without drivers, 0 with drivers" in out
+
+
+def test_bad_file_exits_non_zero_with_one_clear_line(write_model, engine) -> None:
+    path = write_model(
+        """
+        [[body]]
+        name = "crank"
+        mass = "2.37 m"
+        inertia = 0.01
+        """
+    )
+    done = jointgap_cli("run", str(path), "--t-end", "0.1")
+    assert done.returncode == EXIT_INVALID
+    assert done.stderr == (
+        f"jointgap: error: {path}:3: body 'crank': mass '2.37 m': expected a mass [kg], "
+        "got a length [m]\n"
+    )
+    assert "Traceback" not in done.stderr
+
+
+def test_missing_file_exits_non_zero(tmp_path, capsys) -> None:
+    assert main(["check", str(tmp_path / "none.toml")]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert err == f"jointgap: error: {tmp_path / 'none.toml'}: No such file or directory\n"
+
+
+def test_bad_option_exits_non_zero(examples, tmp_path, capsys, engine) -> None:
+    args = ["run", str(examples / "pendulum.toml"), "--t-end", "-1", "--out", str(tmp_path)]
+    assert main(args) == EXIT_INVALID
+    assert capsys.readouterr().err == "jointgap: error: option t_end = -1: must be positive\n"
+
+
+def test_failed_run_still_writes_results(examples, tmp_path, capsys, engine) -> None:
+    out = tmp_path / "failed"
+    args = [
+        "run",
+        str(examples / "slider_crank_ideal.toml"),
+        "--t-end",
+        "0.5",
+        "--max-steps",
+        "5",
+        "--out",
+        str(out),
+    ]
+    assert main(args) == EXIT_RUN_FAILED
+    err = capsys.readouterr().err
+    assert err.startswith("jointgap: error: ")
+    assert "the run failed at t = " in err
+    assert json.loads((out / "summary.json").read_text())["status"] == "failed"
+    assert (out / "results.csv").read_text().startswith("time,")
+
+
+def test_usage_error_exits_2(capsys) -> None:
+    with pytest.raises(SystemExit) as exit_:
+        main(["run", "model.toml"])  # --t-end is required
+    assert exit_.value.code == 2
+    assert "the following arguments are required: --t-end" in capsys.readouterr().err
