@@ -350,3 +350,35 @@ def test_model_error_carries_its_parts(write_model) -> None:
     )
     assert e.element == "body 'rod'"
     assert e.problem == "mass '0.72 m': expected a mass [kg], got a length [m]"
+
+
+def test_docs_field_reference_matches_the_schema() -> None:
+    from jointgap.schema import reference_markdown
+
+    docs = (Path(__file__).resolve().parent.parent / "docs" / "model-file.md").read_text()
+    begin, end = "<!-- reference:begin -->\n", "<!-- reference:end -->"
+    section = docs[docs.index(begin) + len(begin) : docs.index(end)]
+    assert section.strip() == reference_markdown().strip(), (
+        "docs/model-file.md is out of date: paste jointgap.schema.reference_markdown() "
+        "between the reference markers"
+    )
+
+
+def test_sub_tables_and_their_lines(write_model) -> None:
+    path = write_model(
+        """
+        [[body]]
+        name = "bob"
+        mass = 1
+        inertia = 0.001
+
+        [body.points]
+        pivot = ["-1 m", 0]
+        tip = ["1 m", "2 s"]
+        """
+    )
+    with pytest.raises(ModelError) as err:
+        jointgap.load(path)
+    assert str(err.value) == (
+        f"{path}:8: body 'bob': points.tip '2 s': expected a length [m], got a time [s]"
+    )

@@ -159,7 +159,8 @@ _SPEED = Param(
     _ROTATION_OR_TRANSLATION_SPEED,
     required=True,
     motion=True,
-    doc="final speed, counter-clockwise positive (rad/s for a revolute, m/s for a prismatic)",
+    doc="final speed: rad/s for a revolute joint (counter-clockwise positive), m/s for a "
+    "prismatic joint (along its axis)",
 )
 _RAMP = Param("ramp_time", "scalar", u.TIME, required=True, bound=">0", doc="ramp duration")
 _TIMES = Param("time", "list", u.TIME, required=True, doc="strictly increasing times")
@@ -330,7 +331,7 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
     "shape": {
         "bar": [
             Param("type", "choice", required=True),
-            Param("from", "point", u.LENGTH, required=True, doc="one end (point name or vector)"),
+            Param("from", "point", u.LENGTH, required=True, doc="one end"),
             Param("to", "point", u.LENGTH, required=True, doc="other end"),
             Param("width", "scalar", u.LENGTH, default=0.01, bound=">0", doc="drawn width"),
         ],
@@ -549,15 +550,26 @@ def _signal(p: Param, value: Any, ctx: _Context, key: str, motions: set[str]) ->
     return {"time": times, "value": vals}
 
 
+_TITLES = {
+    "model": "[model]",
+    "ground": "[ground]",
+    "body": "[[body]]",
+    "joint": '[[joint]] type = "{}"',
+    "driver": "[[driver]]",
+    "profile": 'profile = {{ type = "{}", ... }}',
+    "force": '[[force]] type = "{}"',
+    "shape": 'shape = {{ type = "{}", ... }}',
+}
+
+
 def reference_markdown() -> str:
     """Markdown tables of every element's fields, as included in ``docs/model-file.md``."""
     lines: list[str] = []
     for kind, entry in ELEMENTS.items():
         groups = entry.items() if isinstance(entry, dict) else [(None, entry)]
         for type_, params in groups:
-            title = f"`{kind}`" if type_ is None else f"`{kind}` type `{type_}`"
-            lines += [f"#### {title}", "", "| key | unit | required / default | notes |"]
-            lines.append("|---|---|---|---|")
+            lines += [f"#### `{_TITLES[kind].format(type_)}`", ""]
+            lines += ["| key | unit | required / default | notes |", "|---|---|---|---|"]
             for p in params:
                 if p.key == "type":
                     continue
@@ -567,7 +579,7 @@ def reference_markdown() -> str:
 
 
 def _unit_text(p: Param) -> str:
-    if p.dim is None:
+    if p.dim is None or p.dim == u.DIMENSIONLESS:
         return "-"
     dims = p.dim if isinstance(p.dim, tuple) else (p.dim,)
     return " or ".join(d.si_unit() for d in dims)
@@ -589,4 +601,5 @@ def _default_text(p: Param) -> str:
 
 def _notes(p: Param) -> str:
     bound = {">0": "> 0; ", ">=0": ">= 0; "}.get(p.bound or "", "")
-    return f"{bound}{p.doc}".rstrip("; ")
+    form = {"point": "; a point name or [x, y]", "vector": "; [x, y]"}.get(p.kind, "")
+    return f"{bound}{p.doc}{form}"

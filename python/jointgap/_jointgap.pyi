@@ -1,0 +1,21 @@
+"""Type stubs of the compiled engine (crates/jointgap-py): JSON in, NumPy arrays out."""
+
+import numpy as np
+import numpy.typing as npt
+
+def check_model(model_json: str) -> list[str]:
+    """Checks a model (JSON, SI units, radians) and returns its warnings.
+
+    Raises ValueError naming the offending element: ``<kind> '<name>': <problem>``.
+    """
+
+def simulate(
+    model_json: str, options_json: str
+) -> tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str]:
+    """Runs a simulation with the GIL released.
+
+    Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
+    holds ``stats``, ``status`` (``{"status": "finished"}`` or ``{"status": "failed",
+    "time": t, "reason": ...}``) and ``warnings``. Raises ValueError for an invalid model
+    or invalid options.
+    """
