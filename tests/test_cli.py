@@ -167,3 +167,21 @@ def test_usage_error_exits_2(capsys) -> None:
         main(["run", "model.toml"])  # --t-end is required
     assert exit_.value.code == 2
     assert "the following arguments are required: --t-end" in capsys.readouterr().err
+
+
+def test_figures_label_their_axes_with_units(examples, engine) -> None:
+    import jointgap
+    from jointgap.plots import figure
+
+    crank = jointgap.load(examples / "slider_crank_ideal.toml").simulate(0.05, rate=1000)
+    labels = [ax.get_ylabel() for ax in figure(crank).axes]
+    assert labels == [
+        "slider displacement [mm]",
+        "slider velocity [m/s]",
+        "slider acceleration [m/s$^2$]",
+        "motor torque [N m]",
+    ]
+    assert figure(crank).axes[-1].get_xlabel() == "time [s]"
+    pendulum = jointgap.load(examples / "pendulum.toml").simulate(0.5, rate=100)
+    labels = [ax.get_ylabel() for ax in figure(pendulum).axes]
+    assert labels == ["x [m]", "y [m]", "angle [deg]"]

@@ -257,8 +257,7 @@ def main_channels(result: Result) -> list[str]:
         for body in model.get("bodies", [])[:3]:
             chosen += [f"{body['name']}.angle", f"{body['name']}.omega"]
     chosen.append("system.constraint_error")
-    seen: set[str] = set()
-    return [c for c in chosen if c in result and not (c in seen or seen.add(c))]
+    return [c for c in dict.fromkeys(chosen) if c in result]
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    import pandas as pd
+    import pandas as pd  # type: ignore[import-untyped]
 
 __all__ = ["Result", "channel_unit", "RESULTS_CSV", "SUMMARY_JSON"]
 
@@ -111,7 +111,8 @@ class Result:
         k = self._index.get(channel)  # type: ignore[attr-defined]
         if k is None:
             raise KeyError(self._missing(channel))
-        return self.data[k]
+        row: np.ndarray = self.data[k]
+        return row
 
     def __contains__(self, channel: object) -> bool:
         return channel in self._index  # type: ignore[attr-defined]

@@ -348,7 +348,7 @@ class _UnitParser:
 def _power(f: Factor, p: Fraction) -> Factor:
     if isinstance(f, Fraction) and p.denominator == 1:
         return f ** int(p)
-    return float(f) ** float(p)
+    return float(float(f) ** float(p))
 
 
 def _combine(a: _Interpretations, b: _Interpretations, sign: int) -> _Interpretations:
