@@ -200,11 +200,17 @@ def _run(args: argparse.Namespace) -> int:
     )
     result.save(out)
     written = [out / RESULTS_CSV, out / SUMMARY_JSON]
-    if args.plot and len(result.time):
+    notes = []
+    if args.plot:
         from .plots import save_figure
 
-        written += save_figure(result, out)
+        try:
+            written += save_figure(result, out)
+        except ValueError as exc:
+            notes.append(f"warning    no figure: {exc}")
     print(_summary(model, args.model, result, written))
+    for note in notes:
+        print(note)
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     return 0

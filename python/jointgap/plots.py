@@ -30,6 +30,8 @@ def figure(result: Result) -> Figure:
         panels = _slider_crank_panels(result)
     else:
         panels = _body_panels(result)
+    if not panels:
+        raise ValueError("the result holds no channel to plot (positions, slider motion)")
     fig = Figure(figsize=(8.0, 2.2 * len(panels) + 0.8), layout="constrained")
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     for ax, (ylabel, lines) in zip(axes, panels, strict=True):
@@ -54,9 +56,13 @@ Panel = tuple[str, list[tuple[str, np.ndarray]]]
 
 def _slider_crank_panels(result: Result) -> list[Panel]:
     panels: list[Panel] = [
-        ("slider displacement [mm]", [("slider.x", 1000.0 * result["slider.x"])]),
-        ("slider velocity [m/s]", [("slider.vx", result["slider.vx"])]),
-        ("slider acceleration [m/s$^2$]", [("slider.ax", result["slider.ax"])]),
+        (label, [(channel, scale * result[channel])])
+        for channel, label, scale in (
+            ("slider.x", "slider displacement [mm]", 1000.0),
+            ("slider.vx", "slider velocity [m/s]", 1.0),
+            ("slider.ax", "slider acceleration [m/s$^2$]", 1.0),
+        )
+        if channel in result
     ]
     torques = _driver_channels(result, "torque")
     if torques:
@@ -86,8 +92,6 @@ def _body_panels(result: Result) -> list[Panel]:
         ]
         if lines:
             panels.append((label, lines))
-    if not panels:
-        raise ValueError("the result holds no body positions to plot")
     return panels
 
 
