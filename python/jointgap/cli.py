@@ -31,13 +31,30 @@ exit status: 0 success, 1 invalid model, options or file, 2 wrong command line,
 3 the run stopped early (what was computed is still written).
 """
 
+_DESCRIPTION = """\
+Planar multibody mechanisms: check and run TOML model files
+(format: docs/model-file.md).
+
+example:
+  jointgap check examples/slider_crank_ideal.toml
+  jointgap run examples/slider_crank_ideal.toml --t-end 0.5 --rate 10000 --out out --plot
+"""
+
+_RUN_DESCRIPTION = """\
+Simulate a model from t = 0 to --t-end and write
+  OUT/results.csv   first column time [s], then every channel <element>.<quantity>
+                    (SI units) in model order
+  OUT/summary.json  the model, the options, run statistics and status: the run can
+                    be repeated from it
+and print a short summary with the peaks of the main channels.
+"""
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``jointgap`` command."""
     parser = argparse.ArgumentParser(
         prog="jointgap",
-        description="Planar multibody mechanisms with ideal and clearance joints: run and "
-        "check TOML model files (format: docs/model-file.md).",
+        description=_DESCRIPTION,
         epilog=_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -47,10 +64,7 @@ def build_parser() -> argparse.ArgumentParser:
     run = sub.add_parser(
         "run",
         help="simulate a model file and write results.csv and summary.json",
-        description="Simulate a model from t = 0 to --t-end and write OUT/results.csv "
-        "(first column time, then every channel <element>.<quantity> in SI units) and "
-        "OUT/summary.json (model, options, run statistics, status): the run can be "
-        "repeated from them. Prints a short summary with the peaks of the main channels.",
+        description=_RUN_DESCRIPTION,
         epilog=_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

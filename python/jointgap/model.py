@@ -135,11 +135,8 @@ class Model:
         return n
 
     def __repr__(self) -> str:
-        counts = ", ".join(_count(len(v), k) for k, v in self._count())
+        counts = ", ".join(_count(len(self._elements[k]), k) for k in _KINDS)
         return f"<Model {self._name!r}: {counts}>"
-
-    def _count(self) -> list[tuple[str, list[dict[str, Any]]]]:
-        return [(k, self._elements[k]) for k in _KINDS]
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Model) and self.to_dict() == other.to_dict()
