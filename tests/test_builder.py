@@ -303,3 +303,19 @@ def test_failed_run_keeps_what_was_computed(engine) -> None:
     assert r.message.startswith("failed at t = ")
     assert 0.0 < r.time[-1] < 0.5
     assert len(r["slider.x"]) == len(r.time)
+
+
+def test_numpy_vectors_are_accepted() -> None:
+    model = jointgap.Model(gravity=np.array([0.0, -9.81])).add_body(
+        "a", np.float64(1.0), 0.1, position=np.array([0.5, 0.25]), points={"P": np.zeros(2)}
+    )
+    assert model.bodies["a"]["position"] == [0.5, 0.25]
+    assert model.bodies["a"]["points"] == {"P": [0.0, 0.0]}
+
+
+def test_shape_ends_must_be_points_of_the_body() -> None:
+    with pytest.raises(ModelError) as err:
+        jointgap.Model().add_body(
+            "crank", 1, 1, points={"O": (0, 0)}, shape={"type": "bar", "from": "O", "to": "A"}
+        )
+    assert str(err.value) == "body 'crank': shape.to 'A' is not a point of body 'crank' (points: O)"

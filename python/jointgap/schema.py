@@ -403,7 +403,21 @@ def convert_element(
     out = _convert_table(kind, raw, ctx, motions)
     if len(motions) > 1:
         raise ctx.error("mixes angular units (rad, deg, rpm) and linear units (m, m/s)")
+    if kind == "body" and "shape" in out:
+        _check_shape_points(out, ctx)
     return out, (motions.pop() if motions else None)
+
+
+def _check_shape_points(body: Mapping[str, Any], ctx: _Context) -> None:
+    """A bar's ends, when named, must be points of the body itself."""
+    for end in ("from", "to"):
+        ref = body["shape"].get(end)
+        if isinstance(ref, str) and ref not in body["points"]:
+            known = ", ".join(body["points"]) or "none"
+            raise ctx.error(
+                f"shape.{end} '{ref}' is not a point of body '{body['name']}' (points: {known})",
+                key=f"shape.{end}",
+            )
 
 
 def _convert_table(
@@ -446,6 +460,8 @@ def _convert_table(
 
 def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> Any:
     key = ctx.label(p.key)
+    if hasattr(value, "tolist") and getattr(value, "ndim", 0) > 0:
+        value = value.tolist()  # NumPy arrays as lists
     if p.kind == "text":
         if not isinstance(value, str):
             raise ctx.error(f"{key} must be a string, got {value!r}", p.key)
@@ -517,6 +533,8 @@ def _shown(value: Any, dim: Dimension | tuple[Dimension, ...]) -> str:
 def _vector(
     p: Param, value: Any, ctx: _Context, key: str, param_key: str | None = None
 ) -> list[float]:
+    if hasattr(value, "tolist") and getattr(value, "ndim", 0) > 0:
+        value = value.tolist()
     if isinstance(value, (str, Mapping)) or not isinstance(value, Sequence) or len(value) != 2:
         raise ctx.error(f"{key} must be a vector [x, y], got {value!r}", param_key or p.key)
     assert p.dim is not None
