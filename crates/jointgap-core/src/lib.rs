@@ -7,6 +7,7 @@
 // Index loops mirror the formulas of the methods (stages, rows, coordinates).
 #![allow(clippy::needless_range_loop)]
 
+pub mod contact;
 pub mod drivers;
 pub mod forces;
 pub mod math;
@@ -17,7 +18,7 @@ pub mod solve;
 pub mod system;
 
 pub use model::Model;
-pub use output::{RunStats, SimResult, Status};
+pub use output::{Impact, JointImpacts, RunStats, SimResult, Status};
 pub use solve::{simulate, Method, SimOptions};
 pub use system::System;
 

@@ -105,6 +105,10 @@ pub struct Joint {
     /// the engine); required for `prismatic`, rejected for the others.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 2]>,
+    /// Contact data of a `clearance_revolute` (bearing on body i, journal on body j);
+    /// required for that type, rejected for the others.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<Clearance>,
 }
 
 /// The closed set of ideal joints.
@@ -119,6 +123,189 @@ pub enum JointKind {
     /// Weld: the points coincide and the relative angle keeps its initial value
     /// (3 equations).
     Fixed,
+    /// Revolute joint with radial clearance: no constraint, a contact force element
+    /// between the bearing (hole on body i at point i) and the journal (pin on body j at
+    /// point j). See [`Clearance`].
+    ClearanceRevolute,
+}
+
+/// Geometry, stiffness and laws of a clearance revolute joint. Give two of
+/// `bearing_radius`, `journal_radius`, `clearance`; give `stiffness` or both materials.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Clearance {
+    /// Radius of the hole [m].
+    #[serde(default)]
+    pub bearing_radius: Option<f64>,
+    /// Radius of the pin [m].
+    #[serde(default)]
+    pub journal_radius: Option<f64>,
+    /// Radial clearance `bearing_radius - journal_radius` [m], > 0.
+    #[serde(default)]
+    pub clearance: Option<f64>,
+    /// Explicit contact stiffness K [N/m^n]; by default from the materials and radii.
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    /// Bearing material: a library name or explicit properties.
+    #[serde(default)]
+    pub bearing_material: Option<MaterialRef>,
+    /// Journal material: a library name or explicit properties.
+    #[serde(default)]
+    pub journal_material: Option<MaterialRef>,
+    /// Normal contact force law.
+    pub normal_law: NormalLawSpec,
+    /// Tangential (friction) law; none by default.
+    #[serde(default)]
+    pub friction: FrictionSpec,
+}
+
+/// A material from the library (by name) or given explicitly.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum MaterialRef {
+    /// A name from the library (`steel`, `stainless_steel`, `brass`, ...).
+    Named(String),
+    /// Explicit elastic properties.
+    Custom(Material),
+}
+
+/// Elastic properties of a contact material.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus [Pa], > 0.
+    pub youngs_modulus: f64,
+    /// Poisson's ratio, in [0, 0.5).
+    pub poisson_ratio: f64,
+}
+
+fn default_exponent() -> f64 {
+    1.5
+}
+fn default_true() -> bool {
+    true
+}
+
+/// Normal contact force laws, `F_N` as a function of penetration `delta > 0` and its
+/// rate (PHYSICS.md section 3). `clip` (default true) sets pulling forces to zero.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum NormalLawSpec {
+    /// Hertz, elastic: `K delta^n`.
+    Hertz {
+        /// Exponent n (1.5 for metals).
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+    },
+    /// Kelvin-Voigt: `K delta^n + c delta_dot` (n = 1 for the linear spring).
+    KelvinVoigt {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Damping c [N s/m].
+        damping: f64,
+        /// Set pulling forces to zero.
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+    /// Hunt and Crossley (1975): `K delta^n [1 + 3(1-r)/2 delta_dot/delta_dot(-)]`.
+    HuntCrossley {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Coefficient of restitution r in (0, 1].
+        restitution: f64,
+        /// Set pulling forces to zero.
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+    /// Lankarani and Nikravesh (1990): `K delta^n [1 + 3(1-r^2)/4 delta_dot/delta_dot(-)]`.
+    LankaraniNikravesh {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Coefficient of restitution r in (0, 1].
+        restitution: f64,
+        /// Set pulling forces to zero.
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+    /// Gonthier et al. (2004): `K delta^n [1 + (1-r^2)/r delta_dot/delta_dot(-)]`.
+    Gonthier {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Coefficient of restitution r in (0, 1].
+        restitution: f64,
+        /// Set pulling forces to zero.
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+    /// Flores et al. (2011): `K delta^n [1 + 8(1-r)/(5r) delta_dot/delta_dot(-)]`.
+    Flores {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Coefficient of restitution r in (0, 1].
+        restitution: f64,
+        /// Set pulling forces to zero.
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+    /// ADAMS IMPACT: `K delta^n + STEP(delta, 0, 0, d_max, c_max) delta_dot`.
+    AdamsImpact {
+        /// Exponent n.
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+        /// Full damping coefficient c_max [N s/m], >= 0.
+        c_max: f64,
+        /// Penetration at which damping is full, d_max [m], > 0; by default the
+        /// bearing material's typical value from the library.
+        #[serde(default)]
+        d_max: Option<f64>,
+        /// Set pulling forces to zero (ADAMS does).
+        #[serde(default = "default_true")]
+        clip: bool,
+    },
+}
+
+/// Friction laws: the tangential force opposes the slip `v_t` (PHYSICS.md section 4).
+#[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FrictionSpec {
+    /// Frictionless.
+    #[default]
+    None,
+    /// ADAMS / SolidWorks-Motion Coulomb with static and dynamic coefficients blended by
+    /// STEP functions between the transition speeds `v_s < v_d` [m/s].
+    Coulomb {
+        /// Static coefficient.
+        mu_s: f64,
+        /// Dynamic coefficient.
+        mu_d: f64,
+        /// Stiction transition speed [m/s].
+        v_s: f64,
+        /// Friction transition speed [m/s].
+        v_d: f64,
+    },
+    /// Ambrosio (2003): `mu c_d(|v_t|)` with `c_d` 0 below `v_0`, linear to 1 at `v_1`.
+    ModifiedCoulomb {
+        /// Friction coefficient.
+        mu: f64,
+        /// Speed below which there is no friction [m/s].
+        v_0: f64,
+        /// Speed from which friction is full [m/s].
+        v_1: f64,
+    },
+    /// `mu F_N tanh(v_t / v_s) + viscous v_t`.
+    ViscousCoulomb {
+        /// Friction coefficient.
+        mu: f64,
+        /// Regularisation speed [m/s].
+        v_s: f64,
+        /// Viscous coefficient [N s/m].
+        viscous: f64,
+    },
 }
 
 /// A prescribed motion of a revolute (rotation) or prismatic (translation) joint.

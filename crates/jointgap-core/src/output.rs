@@ -30,10 +30,36 @@ pub struct RunStats {
     pub jacobian_evaluations: usize,
     /// Position and velocity projections onto the constraint manifold.
     pub projections: usize,
+    /// Located contact onsets and separations.
+    pub events: usize,
     /// Integrator that ran.
     pub method: String,
     /// Wall-clock time of the run [s].
     pub wall_time: f64,
+}
+
+/// One impact of a clearance joint: from the located contact onset to separation.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Impact {
+    /// Time of the contact onset [s].
+    pub onset_time: f64,
+    /// Penetration rate at onset, the approach speed delta_dot(-) [m/s].
+    pub onset_speed: f64,
+    /// Largest normal force during the contact [N].
+    pub peak_force: f64,
+    /// Largest penetration during the contact [m].
+    pub max_penetration: f64,
+    /// Time from onset to separation [s]; `None` if still in contact at the end.
+    pub duration: Option<f64>,
+}
+
+/// The impacts of one clearance joint, in time order.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct JointImpacts {
+    /// Joint name.
+    pub joint: String,
+    /// Its impacts.
+    pub impacts: Vec<Impact>,
 }
 
 /// The outcome of a run: `data[k][i]` is channel `names[k]` at `time[i]`.
@@ -51,6 +77,8 @@ pub struct SimResult {
     pub status: Status,
     /// Non-fatal notes (e.g. redundant constraints removed).
     pub warnings: Vec<String>,
+    /// Impacts of each clearance joint, in model order.
+    pub impacts: Vec<JointImpacts>,
 }
 
 impl SimResult {

@@ -3,6 +3,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use crate::contact::ClearanceRevolute;
 use crate::drivers::MotionProfile;
 use crate::forces::ForceElement;
 use crate::math::{rotate, Vec2};
@@ -64,8 +65,10 @@ pub struct JointInfo {
     pub s_j: Vec2,
     /// Joint point on body i, body frame [m].
     pub s_i: Vec2,
-    /// Its rows in `System::rows`.
+    /// Its rows in `System::rows` (none for a clearance joint).
     pub rows: std::ops::Range<usize>,
+    /// Index in `System::clearances` of a clearance joint.
+    pub clearance: Option<usize>,
 }
 
 /// A driver after checking.
@@ -96,6 +99,8 @@ pub struct System {
     pub rows: Vec<Row>,
     /// Force elements in model order.
     pub forces: Vec<ForceElement>,
+    /// Clearance joints, in model order.
+    pub clearances: Vec<ClearanceRevolute>,
     /// Gravity [m/s^2].
     pub gravity: Vec2,
     /// Approximate initial coordinates (user placement).
@@ -219,6 +224,7 @@ impl System {
 
         let mut rows = Vec::new();
         let mut joints = Vec::new();
+        let mut clearances = Vec::new();
         for (k, j) in model.joints.iter().enumerate() {
             claim("joint", &j.name)?;
             let who = format!("joint '{}'", j.name);
@@ -243,8 +249,19 @@ impl System {
                     label: format!("{who} ({tag})"),
                 })
             };
+            let mut clearance = None;
+            if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
+                return Err(Error::Model(format!(
+                    "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
+                )));
+            }
             match (j.kind, j.axis) {
-                (JointKind::Revolute | JointKind::Fixed, Some(_)) => {
+                (JointKind::ClearanceRevolute, None) => {
+                    let data = j.clearance.as_ref().expect("checked above");
+                    clearances.push(ClearanceRevolute::new(j, data, bi, bj, &res)?);
+                    clearance = Some(clearances.len() - 1);
+                }
+                (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
                     return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
                 }
                 (JointKind::Prismatic, None) => {
@@ -277,6 +294,7 @@ impl System {
                 s_i,
                 s_j,
                 rows: first..rows.len(),
+                clearance,
             });
         }
 
@@ -324,10 +342,11 @@ impl System {
                         false,
                     )
                 }
-                JointKind::Fixed => {
+                JointKind::Fixed | JointKind::ClearanceRevolute => {
                     return Err(Error::Model(format!(
-                        "{who}: joint '{}' is fixed; only revolute and prismatic joints can be driven",
-                        d.joint
+                        "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                        d.joint,
+                        if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
                     )));
                 }
             };
@@ -374,6 +393,7 @@ impl System {
             drivers,
             rows,
             forces,
+            clearances,
             gravity: Vec2::new(model.gravity[0], model.gravity[1]),
             q_guess,
             v_guess,

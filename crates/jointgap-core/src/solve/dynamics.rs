@@ -4,6 +4,7 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::contacts::ContactState;
 use crate::drivers::Motion;
 use crate::system::System;
 
@@ -41,6 +42,8 @@ pub struct Workspace {
     pub qdd: Vec<f64>,
     /// Time inside the current step, selecting the driver profiles' pieces.
     pub t_piece: f64,
+    /// Discrete state of each clearance joint; forces filled by [`applied_forces`].
+    pub contacts: Vec<ContactState>,
 }
 
 impl Workspace {
@@ -65,6 +68,7 @@ impl Workspace {
             lambda: DVector::zeros(m),
             qdd: vec![0.0; n],
             t_piece: 0.0,
+            contacts: vec![ContactState::default(); sys.clearances.len()],
         }
     }
 }
@@ -104,6 +108,10 @@ pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Works
     }
     for f in &sys.forces {
         f.add_to(t, |b| sys.body_state(b, q, v), &mut ws.qe);
+    }
+    for (c, state) in sys.clearances.iter().zip(&ws.contacts) {
+        let (bearing, journal) = (sys.body_state(c.bearing, q, v), sys.body_state(c.journal, q, v));
+        c.add_to(&bearing, &journal, state, &mut ws.qe);
     }
 }
 

@@ -2,6 +2,7 @@
 //! control, switching to the implicit method when the problem turns stiff, projection
 //! onto the constraints, and output at sample times by quintic Hermite interpolation.
 
+use super::contacts::{self, ImpactLog};
 use super::dopri5::Dopri5;
 use super::dynamics::{project, violation};
 use super::ode::{hermite5, Ode};
@@ -22,6 +23,7 @@ pub fn integrate(
     opts: &SimOptions,
     y: &mut Vec<f64>,
     rec: &mut Recorder,
+    log: &mut ImpactLog,
     stats: &mut RunStats,
 ) -> Status {
     let n_state = ode.state_len();
@@ -115,7 +117,13 @@ pub fn integrate(
                 }
                 Ok(att) => {
                     stats.accepted_steps += 1;
-                    let t_new = if last { segment_end } else { t + h };
+                    // A contact onset or separation inside the step ends the step there.
+                    let event =
+                        contacts::locate(sys, &ode.ws.contacts, h, y, &f, &y_new, &f_new, &mut sample);
+                    let (t_new, last) = match event {
+                        Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
+                        _ => (if last { segment_end } else { t + h }, last),
+                    };
                     // Output samples inside (t, t_new].
                     while let Some(ts) = sample_time(next_sample) {
                         if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
@@ -123,11 +131,25 @@ pub fn integrate(
                         }
                         let ts = ts.min(t_new);
                         hermite5((ts - t) / h, h, y, &f, &y_new, &f_new, &mut sample);
-                        if rec.push(sys, &mut ode.ws, ts, &sample[..n], &sample[n..]).is_err() {
+                        let (q, v) = sample.split_at(n);
+                        if rec.push(sys, &mut ode.ws, ts, q, v).is_err() {
                             return singular(ts);
                         }
+                        log.update(sys, &mut ode.ws.contacts, q, v);
                         next_sample += 1;
                     }
+                    let mut refresh = false;
+                    if let Some((theta, k)) = event {
+                        if theta < 1.0 {
+                            hermite5(theta, h, y, &f, &y_new, &f_new, &mut sample);
+                            y_new.copy_from_slice(&sample);
+                        }
+                        let (q, v) = y_new.split_at(n);
+                        log.switch(sys, &mut ode.ws.contacts, k, t_new, q, v);
+                        stats.events += 1;
+                        refresh = true;
+                    }
+                    let h_taken = t_new - t;
                     t = t_new;
                     std::mem::swap(y, &mut y_new);
                     std::mem::swap(&mut f, &mut f_new);
@@ -145,11 +167,15 @@ pub fn integrate(
                             return singular(t);
                         }
                         stats.projections += 1;
-                        ode.ws.t_piece = t - 0.5 * h;
+                        refresh = true;
+                    }
+                    if refresh {
+                        ode.ws.t_piece = t - 0.5 * h_taken;
                         if ode.rhs(t, y, &mut f).is_err() {
                             return singular(t);
                         }
                     }
+                    log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
                     if every_step
                         && rec.time.last().is_none_or(|&tl| tl < t)
                         && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
@@ -171,7 +197,7 @@ pub fn integrate(
                     }
                     let factor =
                         if att.error > 0.0 { 0.9 * att.error.powf(-stepper.error_exponent()) } else { 5.0 };
-                    let grow = if last_rejected { 1.0 } else { 5.0 };
+                    let grow = if last_rejected || event.is_some() { 1.0 } else { 5.0 };
                     let h_next = h * factor.clamp(0.2, grow);
                     // A step cut short by a corner does not shrink the next one.
                     h = if last { h_next.max(h) } else { h_next };

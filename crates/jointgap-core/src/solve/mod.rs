@@ -1,6 +1,7 @@
 //! Assembly, integration and output of one run.
 
 pub mod assembly;
+pub mod contacts;
 pub mod dopri5;
 pub mod dynamics;
 pub mod integrate;
@@ -49,16 +50,23 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
+    let mut log = contacts::ImpactLog::new(&system);
     let status = if rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]).is_err() {
         Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
     } else {
-        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut stats)
+        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats)
     };
     if stats.method.is_empty() {
         stats.method = opts.method.name().to_string();
     }
     stats.rhs_evaluations = ode.evaluations;
     stats.wall_time = started.elapsed().as_secs_f64();
+    let impacts = system
+        .clearances
+        .iter()
+        .zip(log.impacts)
+        .map(|(c, impacts)| crate::output::JointImpacts { joint: c.name.clone(), impacts })
+        .collect();
     Ok(SimResult {
         time: rec.time.clone(),
         names: rec.names(),
@@ -66,5 +74,6 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
         stats,
         status,
         warnings: system.warnings.clone(),
+        impacts,
     })
 }

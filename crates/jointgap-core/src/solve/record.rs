@@ -1,13 +1,18 @@
 //! Output channels: which quantities exist (DESIGN.md naming) and how each sample is
 //! computed from a state by one full evaluation of the equations of motion.
 
+use super::contacts::{self, Mode};
 use super::dynamics::{accelerations, Singular, Workspace};
+use crate::contact::ClearanceRevolute;
 use crate::math::{cross, rotate, Vec2};
 use crate::model::JointKind;
 use crate::system::System;
 use crate::Error;
 
 const BODY_QUANTITIES: [&str; 9] = ["x", "y", "angle", "vx", "vy", "omega", "ax", "ay", "alpha"];
+/// Channels of a clearance joint after `fx fy` (the contact force on the journal body).
+const CLEARANCE_QUANTITIES: [&str; 8] =
+    ["fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
 
 /// Collects the chosen channels at sample times.
 pub struct Recorder {
@@ -33,8 +38,12 @@ pub fn channel_names(sys: &System) -> Vec<String> {
     for j in &sys.joints {
         names.push(format!("{}.fx", j.name));
         names.push(format!("{}.fy", j.name));
-        if j.kind != JointKind::Revolute {
-            names.push(format!("{}.moment", j.name));
+        match j.kind {
+            JointKind::Revolute => {}
+            JointKind::ClearanceRevolute => {
+                names.extend(CLEARANCE_QUANTITIES.iter().map(|q| format!("{}.{q}", j.name)));
+            }
+            JointKind::Prismatic | JointKind::Fixed => names.push(format!("{}.moment", j.name)),
         }
     }
     for d in &sys.drivers {
@@ -122,6 +131,31 @@ impl Recorder {
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
+            if let Some(k) = j.clearance {
+                let c = &sys.clearances[k];
+                let kin = contacts::kinematics(sys, k, q, v);
+                let state = &ws.contacts[k];
+                let (f_n, f_t) = c.contact_force(&kin, state.onset_for(&kin));
+                let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
+                let bearing_angle = sys.body_state(c.bearing, q, v).phi;
+                let e_local = rotate(-bearing_angle, kin.e);
+                let mode = if kin.penetration < 0.0 { Mode::FreeFlight } else { state.mode };
+                for x in [
+                    f.x,
+                    f.y,
+                    f_n,
+                    f_t,
+                    kin.penetration,
+                    kin.penetration_rate,
+                    e_local.x,
+                    e_local.y,
+                    kin.slip,
+                ] {
+                    put(x);
+                }
+                put(mode as u8 as f64);
+                continue;
+            }
             let (mut f, mut m) = (Vec2::zeros(), 0.0);
             let bi = sys.body_state(j.body_i, q, v);
             let bj = sys.body_state(j.body_j, q, v);
@@ -166,6 +200,9 @@ impl Recorder {
         }
         for f in &sys.forces {
             potential += f.potential_energy(|b| sys.body_state(b, q, v));
+        }
+        for (k, c) in sys.clearances.iter().enumerate() {
+            potential += c.normal.elastic_energy(contacts::kinematics(sys, k, q, v).penetration);
         }
         put(kinetic);
         put(potential);

@@ -1,0 +1,207 @@
+//! Clearance revolute joints: the journal (pin on body j) moves freely inside the
+//! bearing (hole on body i) and a contact force acts when it reaches the wall
+//! (PHYSICS.md section 2).
+
+pub mod friction;
+pub mod materials;
+pub mod normal;
+
+use crate::math::{cross, perp, rotate, Vec2};
+use crate::model::{Clearance, Joint};
+use crate::planar::BodyState;
+use crate::solve::contacts::ContactState;
+use crate::system::Resolver;
+use crate::Error;
+use friction::FrictionLaw;
+use normal::NormalForce;
+
+/// A checked clearance joint.
+#[derive(Debug, Clone)]
+pub struct ClearanceRevolute {
+    /// Joint name.
+    pub name: String,
+    /// Bearing body (`None`: ground).
+    pub bearing: Option<usize>,
+    /// Bearing centre in the bearing body frame [m].
+    pub s_bearing: Vec2,
+    /// Journal body.
+    pub journal: Option<usize>,
+    /// Journal centre in the journal body frame [m].
+    pub s_journal: Vec2,
+    /// Bearing radius [m].
+    pub r_bearing: f64,
+    /// Journal radius [m].
+    pub r_journal: f64,
+    /// Radial clearance [m].
+    pub clearance: f64,
+    /// Normal law with its stiffness.
+    pub normal: NormalForce,
+    /// Friction law.
+    pub friction: FrictionLaw,
+}
+
+/// Where the journal is in its bearing, and how fast it moves.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactKinematics {
+    /// Eccentricity `r_J - r_B`, global axes [m].
+    pub e: Vec2,
+    /// Penetration `|e| - c` [m]; negative in free flight.
+    pub penetration: f64,
+    /// Penetration rate `v . n` [m/s].
+    pub penetration_rate: f64,
+    /// Tangential slip `v . t` [m/s].
+    pub slip: f64,
+    /// Unit normal `e / |e|`, from bearing centre towards the journal.
+    pub n: Vec2,
+    /// Contact point on the journal, global [m].
+    pub point_journal: Vec2,
+    /// Contact point on the bearing, global [m].
+    pub point_bearing: Vec2,
+}
+
+/// Velocity of a global point `p` of a body.
+fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
+    b.v + perp(p - b.r) * b.omega
+}
+
+impl ClearanceRevolute {
+    /// Checks the joint's contact data; errors name the joint.
+    pub(crate) fn new(
+        j: &Joint,
+        c: &Clearance,
+        bearing: Option<usize>,
+        journal: Option<usize>,
+        res: &Resolver,
+    ) -> Result<Self, Error> {
+        let who = format!("joint '{}'", j.name);
+        let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
+            match v {
+                Some(x) if !(x.is_finite() && x > 0.0) => {
+                    Err(Error::Model(format!("{who}: {what} = {x} m must be positive")))
+                }
+                _ => Ok(v),
+            }
+        };
+        let (rb, rj, cl) = (
+            positive("bearing_radius", c.bearing_radius)?,
+            positive("journal_radius", c.journal_radius)?,
+            positive("clearance", c.clearance)?,
+        );
+        let (r_bearing, r_journal) = match (rb, rj, cl) {
+            (Some(b), Some(j), None) => (b, j),
+            (Some(b), None, Some(c)) => (b, b - c),
+            (None, Some(j), Some(c)) => (j + c, j),
+            (Some(b), Some(j), Some(c)) => {
+                if ((b - j) - c).abs() > 1e-9 * b {
+                    return Err(Error::Model(format!(
+                        "{who}: bearing_radius - journal_radius = {} m contradicts clearance = {c} m",
+                        b - j
+                    )));
+                }
+                (b, j)
+            }
+            _ => {
+                return Err(Error::Model(format!(
+                    "{who}: give two of bearing_radius, journal_radius and clearance"
+                )));
+            }
+        };
+        if r_journal <= 0.0 || r_journal >= r_bearing {
+            return Err(Error::Model(format!(
+                "{who}: journal radius {r_journal} m must be positive and below the bearing radius {r_bearing} m"
+            )));
+        }
+        let (stiffness, d_max_default) = match (c.stiffness, &c.bearing_material, &c.journal_material) {
+            (Some(k), _, _) => {
+                if !(k.is_finite() && k > 0.0) {
+                    return Err(Error::Model(format!("{who}: stiffness = {k} must be positive")));
+                }
+                let d_max = match &c.bearing_material {
+                    Some(m) => materials::resolve(&who, "bearing_material", m)?.1,
+                    None => None,
+                };
+                (k, d_max)
+            }
+            (None, Some(mb), Some(mj)) => {
+                let (bearing_mat, d_max) = materials::resolve(&who, "bearing_material", mb)?;
+                let (journal_mat, _) = materials::resolve(&who, "journal_material", mj)?;
+                (
+                    materials::journal_bearing_stiffness(&journal_mat, &bearing_mat, r_journal, r_bearing),
+                    d_max,
+                )
+            }
+            _ => {
+                return Err(Error::Model(format!(
+                    "{who}: give a stiffness or both bearing_material and journal_material"
+                )));
+            }
+        };
+        Ok(ClearanceRevolute {
+            name: j.name.clone(),
+            bearing,
+            s_bearing: res.point(&who, "point_i", bearing, &j.point_i)?,
+            journal,
+            s_journal: res.point(&who, "point_j", journal, &j.point_j)?,
+            r_bearing,
+            r_journal,
+            clearance: r_bearing - r_journal,
+            normal: NormalForce::new(&who, &c.normal_law, stiffness, d_max_default)?,
+            friction: FrictionLaw::new(&who, &c.friction)?,
+        })
+    }
+
+    /// Journal-in-bearing geometry and relative motion (`contact_journal_bearing`).
+    pub fn kinematics(&self, bearing: &BodyState, journal: &BodyState) -> ContactKinematics {
+        let centre_b = bearing.r + rotate(bearing.phi, self.s_bearing);
+        let centre_j = journal.r + rotate(journal.phi, self.s_journal);
+        let e = centre_j - centre_b;
+        let ecc = e.norm();
+        // Concentric: any normal will do; the force is zero there.
+        let n = if ecc > 1e-15 { e / ecc } else { Vec2::new(1.0, 0.0) };
+        let point_journal = centre_j + n * self.r_journal;
+        let point_bearing = centre_b + n * self.r_bearing;
+        let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
+        ContactKinematics {
+            e,
+            penetration: ecc - self.clearance,
+            penetration_rate: v.dot(&n),
+            slip: v.dot(&perp(n)),
+            n,
+            point_journal,
+            point_bearing,
+        }
+    }
+
+    /// Normal and tangential force [N] for given kinematics and impact onset speed.
+    pub fn contact_force(&self, k: &ContactKinematics, onset_speed: f64) -> (f64, f64) {
+        let f_n = self.normal.force(k.penetration, k.penetration_rate, onset_speed);
+        let f_t = if f_n > 0.0 { self.friction.force(k.slip, f_n) } else { 0.0 };
+        (f_n, f_t)
+    }
+
+    /// Force on the journal, global axes: `-F_N n + F_T t` [N].
+    pub fn journal_force(k: &ContactKinematics, f_n: f64, f_t: f64) -> Vec2 {
+        -k.n * f_n + perp(k.n) * f_t
+    }
+
+    /// Adds the contact forces to `qe`: the journal force at the journal's contact point,
+    /// the opposite on the bearing at its own.
+    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, state: &ContactState, qe: &mut [f64]) {
+        let k = self.kinematics(bearing, journal);
+        let (f_n, f_t) = self.contact_force(&k, state.onset_for(&k));
+        if f_n != 0.0 || f_t != 0.0 {
+            let f = Self::journal_force(&k, f_n, f_t);
+            add_force_at(qe, self.journal, journal, k.point_journal, f);
+            add_force_at(qe, self.bearing, bearing, k.point_bearing, -f);
+        }
+    }
+}
+
+/// Adds a force at a global point of a body.
+fn add_force_at(qe: &mut [f64], b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
+    if let Some(k) = b {
+        qe[3 * k] += f.x;
+        qe[3 * k + 1] += f.y;
+        qe[3 * k + 2] += cross(p - state.r, f);
+    }
+}

@@ -1,0 +1,150 @@
+//! Normal contact force laws (PHYSICS.md section 3).
+
+use crate::model::NormalLawSpec;
+use crate::Error;
+
+/// A checked normal law; `k` and `n` are the stiffness and exponent.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NormalLaw {
+    /// `K delta^n`.
+    Hertz,
+    /// `K delta^n + c delta_dot`.
+    KelvinVoigt {
+        /// Damping c [N s/m].
+        damping: f64,
+    },
+    /// `K delta^n (1 + h delta_dot / delta_dot(-))`: the hysteresis family (Hunt-Crossley,
+    /// Lankarani-Nikravesh, Gonthier, Flores), which differ only in the factor `h(r)`.
+    Hysteresis {
+        /// Damping factor h(r).
+        factor: f64,
+    },
+    /// `K delta^n + STEP(delta, 0, 0, d_max, c_max) delta_dot`.
+    AdamsImpact {
+        /// Full damping [N s/m].
+        c_max: f64,
+        /// Penetration of full damping [m].
+        d_max: f64,
+    },
+}
+
+/// A normal law with its stiffness and options.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalForce {
+    /// The law.
+    pub law: NormalLaw,
+    /// Stiffness K [N/m^n].
+    pub stiffness: f64,
+    /// Exponent n.
+    pub exponent: f64,
+    /// Pulling forces set to zero.
+    pub clip: bool,
+}
+
+/// Onset speeds below this [m/s] are raised to it in the hysteresis laws, whose damping
+/// grows as 1/onset speed and would be unbounded for a grazing contact.
+pub const MIN_ONSET_SPEED: f64 = 1e-4;
+
+/// Cubic STEP of ADAMS from `(x0, h0)` to `(x1, h1)`.
+pub fn step(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
+    let s = ((x - x0) / (x1 - x0)).clamp(0.0, 1.0);
+    h0 + (h1 - h0) * s * s * (3.0 - 2.0 * s)
+}
+
+impl NormalForce {
+    /// Checks a law; `who` names the joint. `d_max_default` comes from the material.
+    pub fn new(
+        who: &str,
+        spec: &NormalLawSpec,
+        stiffness: f64,
+        d_max_default: Option<f64>,
+    ) -> Result<Self, Error> {
+        let restitution = |r: f64| {
+            if r > 0.0 && r <= 1.0 {
+                Ok(r)
+            } else {
+                Err(Error::Model(format!("{who}: restitution = {r} must lie in (0, 1]")))
+            }
+        };
+        let (law, exponent, clip) = match *spec {
+            NormalLawSpec::Hertz { exponent } => (NormalLaw::Hertz, exponent, true),
+            NormalLawSpec::KelvinVoigt { exponent, damping, clip } => {
+                if !(damping.is_finite() && damping >= 0.0) {
+                    return Err(Error::Model(format!(
+                        "{who}: damping = {damping} N s/m must be zero or positive"
+                    )));
+                }
+                (NormalLaw::KelvinVoigt { damping }, exponent, clip)
+            }
+            NormalLawSpec::HuntCrossley { exponent, restitution: r, clip } => {
+                let r = restitution(r)?;
+                (NormalLaw::Hysteresis { factor: 1.5 * (1.0 - r) }, exponent, clip)
+            }
+            NormalLawSpec::LankaraniNikravesh { exponent, restitution: r, clip } => {
+                let r = restitution(r)?;
+                (NormalLaw::Hysteresis { factor: 0.75 * (1.0 - r * r) }, exponent, clip)
+            }
+            NormalLawSpec::Gonthier { exponent, restitution: r, clip } => {
+                let r = restitution(r)?;
+                (NormalLaw::Hysteresis { factor: (1.0 - r * r) / r }, exponent, clip)
+            }
+            NormalLawSpec::Flores { exponent, restitution: r, clip } => {
+                let r = restitution(r)?;
+                (NormalLaw::Hysteresis { factor: 8.0 * (1.0 - r) / (5.0 * r) }, exponent, clip)
+            }
+            NormalLawSpec::AdamsImpact { exponent, c_max, d_max, clip } => {
+                let d_max = d_max.or(d_max_default).ok_or_else(|| {
+                    Error::Model(format!(
+                        "{who}: adams_impact needs d_max (or a bearing material from the library)"
+                    ))
+                })?;
+                if !(d_max.is_finite() && d_max > 0.0) {
+                    return Err(Error::Model(format!("{who}: d_max = {d_max} m must be positive")));
+                }
+                if !(c_max.is_finite() && c_max >= 0.0) {
+                    return Err(Error::Model(format!(
+                        "{who}: c_max = {c_max} N s/m must be zero or positive"
+                    )));
+                }
+                (NormalLaw::AdamsImpact { c_max, d_max }, exponent, clip)
+            }
+        };
+        if !(exponent.is_finite() && exponent >= 1.0) {
+            return Err(Error::Model(format!("{who}: exponent = {exponent} must be at least 1")));
+        }
+        Ok(NormalForce { law, stiffness, exponent, clip })
+    }
+
+    /// Energy stored in the elastic part `K delta^n`: `K delta^(n+1) / (n+1)` [J].
+    pub fn elastic_energy(&self, delta: f64) -> f64 {
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.stiffness * delta.powf(self.exponent + 1.0) / (self.exponent + 1.0)
+        }
+    }
+
+    /// Normal force [N] (compressive positive) at penetration `delta` [m], rate
+    /// `delta_dot` [m/s], with `onset_speed` the approach speed of the current impact.
+    pub fn force(&self, delta: f64, delta_dot: f64, onset_speed: f64) -> f64 {
+        if delta <= 0.0 {
+            return 0.0;
+        }
+        let elastic = self.stiffness * delta.powf(self.exponent);
+        let f = match self.law {
+            NormalLaw::Hertz => elastic,
+            NormalLaw::KelvinVoigt { damping } => elastic + damping * delta_dot,
+            NormalLaw::Hysteresis { factor } => {
+                elastic * (1.0 + factor * delta_dot / onset_speed.max(MIN_ONSET_SPEED))
+            }
+            NormalLaw::AdamsImpact { c_max, d_max } => {
+                elastic + step(delta, 0.0, 0.0, d_max, c_max) * delta_dot
+            }
+        };
+        if self.clip {
+            f.max(0.0)
+        } else {
+            f
+        }
+    }
+}

@@ -1,0 +1,162 @@
+//! Clearance revolute joint: Hertz impact against the closed form, energy conservation
+//! across many impacts, and friction acting on both bodies with the right sign.
+
+use jointgap_core::{simulate, Method, Model, SimOptions, Status};
+use serde_json::{json, Value};
+
+const K: f64 = 3.136e10;
+const CLEARANCE: f64 = 0.5e-3;
+
+/// A free journal (body `pin`) in a bearing fixed to the ground at the origin.
+fn free_journal(velocity: [f64; 2], omega: f64, gravity: f64, law: Value, friction: Value) -> Model {
+    Model::from_json(
+        &json!({
+            "gravity": [0.0, -gravity],
+            "bodies": [{"name": "pin", "mass": 0.72, "inertia": 1e-5, "velocity": velocity, "omega": omega}],
+            "joints": [{
+                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin",
+                "clearance": {"bearing_radius": 7.5e-3, "clearance": CLEARANCE, "stiffness": K,
+                              "normal_law": law, "friction": friction}
+            }]
+        })
+        .to_string(),
+    )
+    .unwrap()
+}
+
+/// Peak penetration `(5 m v0^2 / (4 K))^(2/5)` and duration `2.94 delta_max / v0`
+/// (PHYSICS.md section 6), within 0.5 %; the rebound is elastic.
+#[test]
+fn hertz_impact_matches_closed_form() {
+    let (m, v0) = (0.72, 0.5);
+    let model = free_journal([v0, 0.0], 0.0, 0.0, json!({"type": "hertz"}), json!({"type": "none"}));
+    let t_end = 1.5 * CLEARANCE / v0;
+    let opts = SimOptions {
+        rate: Some(2e7),
+        rtol: 1e-9,
+        atol: 1e-13,
+        method: Method::Dopri5,
+        ..SimOptions::new(t_end)
+    };
+    let res = simulate(&model, &opts).unwrap();
+    assert_eq!(res.status, Status::Finished);
+    let impacts = &res.impacts[0].impacts;
+    assert_eq!(impacts.len(), 1, "{impacts:?}");
+    let delta_max = (5.0 * m * v0 * v0 / (4.0 * K)).powf(0.4);
+    let pen = res.channel("gap.penetration").unwrap().iter().copied().fold(f64::MIN, f64::max);
+    assert!((pen / delta_max - 1.0).abs() < 5e-3, "peak penetration {pen:e} vs {delta_max:e}");
+    let imp = &impacts[0];
+    assert!((imp.onset_time - CLEARANCE / v0).abs() < 1e-9, "onset at {}", imp.onset_time);
+    assert!((imp.onset_speed - v0).abs() < 1e-6 * v0);
+    let duration = imp.duration.expect("separated");
+    assert!((duration / (2.94 * delta_max / v0) - 1.0).abs() < 5e-3, "duration {duration:e}");
+    let peak_force = K * delta_max.powf(1.5);
+    assert!(
+        (imp.peak_force / peak_force - 1.0).abs() < 5e-3,
+        "peak force {} vs {peak_force}",
+        imp.peak_force
+    );
+    let vx = *res.channel("pin.vx").unwrap().last().unwrap();
+    assert!((vx + v0).abs() < 1e-6 * v0, "rebound {vx}");
+}
+
+/// Elastic contact without friction conserves kinetic plus contact energy over many
+/// impacts of an oblique, spinning journal.
+#[test]
+fn elastic_contact_conserves_energy_over_many_impacts() {
+    let model = free_journal([0.3, 0.17], 5.0, 0.0, json!({"type": "hertz"}), json!({"type": "none"}));
+    let opts = SimOptions {
+        rate: Some(1e5),
+        rtol: 1e-10,
+        atol: 1e-14,
+        method: Method::Dopri5,
+        ..SimOptions::new(0.05)
+    };
+    let res = simulate(&model, &opts).unwrap();
+    assert_eq!(res.status, Status::Finished);
+    assert!(res.impacts[0].impacts.len() >= 15, "{} impacts", res.impacts[0].impacts.len());
+    let ke = res.channel("system.kinetic_energy").unwrap();
+    let pe = res.channel("system.potential_energy").unwrap();
+    let e0 = ke[0] + pe[0];
+    let drift = ke.iter().zip(pe).map(|(k, p)| ((k + p) / e0 - 1.0).abs()).fold(0.0, f64::max);
+    assert!(drift < 1e-6, "energy drift {drift:e}");
+    // Without friction the journal's spin never changes.
+    assert!(res.channel("pin.omega").unwrap().iter().all(|w| (w - 5.0).abs() < 1e-9));
+}
+
+/// A heavy spinning journal resting in its bearing: friction opposes the slip, its
+/// moment `R_J F_T` is the only torque on the journal, and while sliding fast the
+/// ADAMS law gives |F_T| = mu_d F_N.
+#[test]
+fn coulomb_friction_opposes_slip_and_spins_the_journal_down() {
+    let law = json!({"type": "adams_impact", "c_max": 27960.0, "d_max": 1e-5});
+    let friction = json!({"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4, "v_d": 0.01016});
+    let model = free_journal([0.0, 0.0], 40.0, 9.81, law, friction);
+    let opts = SimOptions { rate: Some(1e4), rtol: 1e-8, atol: 1e-12, ..SimOptions::new(0.3) };
+    let res = simulate(&model, &opts).unwrap();
+    assert_eq!(res.status, Status::Finished, "{:?}", res.stats);
+    let (fn_, ft, slip) =
+        (res.channel("gap.fn").unwrap(), res.channel("gap.ft").unwrap(), res.channel("gap.slip").unwrap());
+    let alpha = res.channel("pin.alpha").unwrap();
+    let (r_j, inertia) = (7.0e-3, 1e-5);
+    let mut sliding = 0;
+    for i in 0..res.time.len() {
+        assert!(ft[i] * slip[i] <= 0.0, "friction helps the slip at t = {}", res.time[i]);
+        assert!(
+            (alpha[i] - r_j * ft[i] / inertia).abs() < 1e-6 * (1.0 + alpha[i].abs()),
+            "moment at t = {}",
+            res.time[i]
+        );
+        if res.time[i] > 0.05 && slip[i].abs() > 0.02 && fn_[i] > 0.0 {
+            sliding += 1;
+            assert!((ft[i].abs() / fn_[i] - 0.05).abs() < 1e-9, "mu at t = {}", res.time[i]);
+        }
+    }
+    assert!(sliding > 100, "only {sliding} sliding samples");
+}
+
+#[test]
+fn bad_clearance_data_is_named() {
+    let law = json!({"type": "hertz"});
+    let cases = [
+        (
+            json!({"bearing_radius": 7e-3, "journal_radius": 7.5e-3, "stiffness": K, "normal_law": law}),
+            "below the bearing radius",
+        ),
+        (
+            json!({"bearing_radius": 7.5e-3, "clearance": -1e-4, "stiffness": K, "normal_law": law}),
+            "clearance = -0.0001 m must be positive",
+        ),
+        (
+            json!({"bearing_radius": 7.5e-3, "clearance": 5e-4, "normal_law": {"type": "flores", "restitution": 1.2}, "stiffness": K}),
+            "restitution = 1.2",
+        ),
+        (
+            json!({"bearing_radius": 7.5e-3, "clearance": 5e-4, "bearing_material": "unobtainium", "journal_material": "steel", "normal_law": law}),
+            "'unobtainium' is not in the material library",
+        ),
+        (
+            json!({"bearing_radius": 7.5e-3, "clearance": 5e-4, "stiffness": K, "normal_law": {"type": "adams_impact", "c_max": 1.0, "d_max": 0.0}}),
+            "d_max = 0 m must be positive",
+        ),
+    ];
+    for (clearance, expected) in cases {
+        let model = json!({
+            "bodies": [{"name": "pin", "mass": 1.0, "inertia": 1e-5}],
+            "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin", "clearance": clearance}]
+        });
+        let err = simulate(&Model::from_json(&model.to_string()).unwrap(), &SimOptions::new(0.01))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("joint 'gap'") && err.contains(expected), "{err}\n expected {expected}");
+    }
+    let model = json!({
+        "bodies": [{"name": "pin", "mass": 1.0, "inertia": 1e-5}],
+        "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "pin", "body_j": "pin",
+                    "clearance": {"bearing_radius": 7.5e-3, "clearance": 5e-4, "stiffness": K, "normal_law": law}}]
+    });
+    let err = simulate(&Model::from_json(&model.to_string()).unwrap(), &SimOptions::new(0.01))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("joint 'gap': connects body 'pin' to itself"), "{err}");
+}
