@@ -94,13 +94,15 @@ struct Outcome {
     drift_end: f64,
 }
 
-/// Steps `s` to its stop time, calling `sample(t, y)` at each of `times` passed on the way.
+/// Steps `s` to its stop time, calling `sample(t, y)` at each of `times` passed on the way;
+/// returns the end state and the counts of steps, error-test failures, Newton failures
+/// and LU setups.
 fn drive<'a, Eqn, S>(
     mut s: S,
     stop: f64,
     times: &[f64],
     sample: &mut impl FnMut(f64, &[f64]),
-) -> Result<(Vec<f64>, diffsol::OdeSolverStatistics), DiffsolError>
+) -> Result<(Vec<f64>, [usize; 4]), DiffsolError>
 where
     Eqn: OdeEquations<T = f64> + 'a,
     S: OdeSolverMethod<'a, Eqn>,
@@ -114,7 +116,14 @@ where
             k += 1;
         }
         if matches!(reason, OdeSolverStopReason::TstopReached) {
-            return Ok((s.state().y.clone_as_vec(), s.get_statistics().clone()));
+            let st = s.get_statistics();
+            let counts = [
+                st.number_of_steps,
+                st.number_of_error_test_failures,
+                st.number_of_nonlinear_solver_fails,
+                st.number_of_linear_solver_setups,
+            ];
+            return Ok((s.state().y.clone_as_vec(), counts));
         }
     }
 }
@@ -188,10 +197,10 @@ fn run(model: &Model, which: Solver, rtol: f64, dense: bool) -> Result<Outcome, 
             Solver::Tsit45 => drive(problem.tsit45()?, b, &times, &mut on_sample)?,
         };
         y = y_end;
-        out.steps += st.number_of_steps;
-        out.rejected += st.number_of_error_test_failures;
-        out.newton_fails += st.number_of_nonlinear_solver_fails;
-        out.lu_setups += st.number_of_linear_solver_setups;
+        out.steps += st[0];
+        out.rejected += st[1];
+        out.newton_fails += st[2];
+        out.lu_setups += st[3];
     }
     out.rhs = cell.borrow().ode.evaluations;
     out.wall = started.elapsed().as_secs_f64();

@@ -113,6 +113,7 @@ fn driver_on_a_locked_joint_is_an_error() {
         body_j: "crank".into(),
         point_j: jointgap_core::model::PointRef::Named("O".into()),
         axis: None,
+        clearance: None,
     });
     let err = simulate(&model, &SimOptions::new(0.1)).unwrap_err().to_string();
     assert!(err.contains("driver 'motor'") && err.contains("cannot move"), "{err}");
