@@ -41,6 +41,7 @@ fn simulate<'py>(
         "stats": result.stats,
         "status": result.status,
         "warnings": result.warnings,
+        "impacts": result.impacts,
     });
     let n = result.time.len();
     let flat: Vec<f64> = result.data.iter().flatten().copied().collect();
