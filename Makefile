@@ -43,6 +43,7 @@ lint: install
 	cargo clippy --workspace --all-targets -- -D warnings
 	$(VENV)/bin/ruff check python tests benchmarks
 	$(VENV)/bin/ruff format --check python tests benchmarks
+	$(VENV)/bin/mypy --strict python/jointgap
 
 clean:
 	rm -rf $(VENV) target demo-output out
