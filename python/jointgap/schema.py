@@ -16,6 +16,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Any
 
 from . import units as u
@@ -144,7 +145,12 @@ _ROTATION_OR_TRANSLATION = (u.ANGLE, u.LENGTH)
 
 _JOINT_COMMON = [
     _name(),
-    Param("type", "choice", required=True, doc="revolute, prismatic or fixed"),
+    Param(
+        "type",
+        "choice",
+        required=True,
+        doc="revolute, prismatic, fixed or clearance_revolute",
+    ),
     Param("body_i", "ref", required=True, doc="first body, or ground"),
     Param("point_i", "point", u.LENGTH, default=(0.0, 0.0), doc="joint point on body_i"),
     Param("body_j", "ref", required=True, doc="second body (reactions are forces on it)"),
@@ -164,6 +170,55 @@ _SPEED = Param(
 )
 _RAMP = Param("ramp_time", "scalar", u.TIME, required=True, bound=">0", doc="ramp duration")
 _TIMES = Param("time", "list", u.TIME, required=True, doc="strictly increasing times")
+
+_EXPONENT = Param(
+    "exponent", "scalar", u.DIMENSIONLESS, default=1.5, doc="exponent n of the penetration"
+)
+_CLIP = Param("clip", "bool", default=True, doc="set pulling (negative) forces to zero")
+_RESTITUTION = Param(
+    "restitution", "scalar", u.DIMENSIONLESS, required=True, doc="coefficient of restitution"
+)
+
+
+def _law(*params: Param) -> list[Param]:
+    return [Param("type", "choice", required=True), *params]
+
+
+CLEARANCE_KEYS = (
+    "bearing_radius",
+    "journal_radius",
+    "clearance",
+    "stiffness",
+    "bearing_material",
+    "journal_material",
+    "normal_law",
+    "friction",
+)
+"""The keys of a clearance_revolute joint that the engine reads nested in ``clearance``."""
+
+_CLEARANCE = [
+    Param("bearing_radius", "scalar", u.LENGTH, doc="radius of the hole (on body_i)"),
+    Param("journal_radius", "scalar", u.LENGTH, doc="radius of the pin (on body_j)"),
+    Param(
+        "clearance",
+        "scalar",
+        u.LENGTH,
+        doc="radial clearance; give two of bearing_radius, journal_radius, clearance",
+    ),
+    Param(
+        "stiffness",
+        "contact_stiffness",
+        doc="contact stiffness K [N/m^n], n the law's exponent; by default from the materials",
+    ),
+    Param(
+        "bearing_material",
+        "material",
+        doc="library name (steel, brass, ...) or { youngs_modulus, poisson_ratio }",
+    ),
+    Param("journal_material", "material", doc="as bearing_material"),
+    Param("normal_law", "normal_law", required=True, doc="normal force law, a table with a type"),
+    Param("friction", "friction", doc="friction law, a table with a type; none by default"),
+]
 
 # Element kind -> fields, or -> {type: fields} for elements with a ``type``.
 ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
@@ -223,6 +278,7 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             ),
         ],
         "fixed": _JOINT_COMMON,
+        "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE],
     },
     "driver": [
         _name(),
@@ -328,6 +384,52 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             ),
         ],
     },
+    "material": [
+        Param("youngs_modulus", "scalar", u.PRESSURE, required=True, doc="Young's modulus"),
+        Param("poisson_ratio", "scalar", u.DIMENSIONLESS, required=True, doc="Poisson's ratio"),
+    ],
+    "normal_law": {
+        "hertz": _law(_EXPONENT),
+        "kelvin_voigt": _law(
+            _EXPONENT,
+            Param("damping", "scalar", u.DAMPING, required=True, doc="damping c"),
+            _CLIP,
+        ),
+        "hunt_crossley": _law(_EXPONENT, _RESTITUTION, _CLIP),
+        "lankarani_nikravesh": _law(_EXPONENT, _RESTITUTION, _CLIP),
+        "gonthier": _law(_EXPONENT, _RESTITUTION, _CLIP),
+        "flores": _law(_EXPONENT, _RESTITUTION, _CLIP),
+        "adams_impact": _law(
+            _EXPONENT,
+            Param("c_max", "scalar", u.DAMPING, required=True, doc="full damping coefficient"),
+            Param(
+                "d_max",
+                "scalar",
+                u.LENGTH,
+                doc="penetration of full damping; by default the bearing material's (library)",
+            ),
+            _CLIP,
+        ),
+    },
+    "friction": {
+        "none": _law(),
+        "coulomb": _law(
+            Param("mu_s", "scalar", u.DIMENSIONLESS, required=True, doc="static coefficient"),
+            Param("mu_d", "scalar", u.DIMENSIONLESS, required=True, doc="dynamic coefficient"),
+            Param("v_s", "scalar", u.SPEED, required=True, doc="stiction transition speed"),
+            Param("v_d", "scalar", u.SPEED, required=True, doc="friction transition speed"),
+        ),
+        "modified_coulomb": _law(
+            Param("mu", "scalar", u.DIMENSIONLESS, required=True, doc="friction coefficient"),
+            Param("v_0", "scalar", u.SPEED, required=True, doc="no friction below this slip"),
+            Param("v_1", "scalar", u.SPEED, required=True, doc="full friction from this slip"),
+        ),
+        "viscous_coulomb": _law(
+            Param("mu", "scalar", u.DIMENSIONLESS, required=True, doc="friction coefficient"),
+            Param("v_s", "scalar", u.SPEED, required=True, doc="regularisation speed of tanh"),
+            Param("viscous", "scalar", u.DAMPING, required=True, doc="viscous coefficient"),
+        ),
+    },
     "shape": {
         "bar": [
             Param("type", "choice", required=True),
@@ -348,7 +450,7 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
 }
 
 # Number of constraint equations of each joint type (for degree-of-freedom counts).
-JOINT_EQUATIONS = {"revolute": 2, "prismatic": 2, "fixed": 3}
+JOINT_EQUATIONS = {"revolute": 2, "prismatic": 2, "fixed": 3, "clearance_revolute": 0}
 # The joint coordinate a driver moves, per joint type.
 DRIVEN_MOTION = {"revolute": "rotation", "prismatic": "translation"}
 
@@ -400,12 +502,36 @@ def convert_element(
     name = raw.get("name") if isinstance(raw.get("name"), str) else None
     ctx = _Context(kind if label is None else label, name, index)
     motions: set[str] = set()
+    if kind == "joint" and isinstance(raw, Mapping):
+        raw = _flatten_clearance(raw, ctx)
     out = _convert_table(kind, raw, ctx, motions)
+    if kind == "joint" and out.get("type") == "clearance_revolute":
+        nested = {k: out.pop(k) for k in CLEARANCE_KEYS if k in out}
+        out["clearance"] = nested
     if len(motions) > 1:
         raise ctx.error("mixes angular units (rad, deg, rpm) and linear units (m, m/s)")
     if kind == "body" and "shape" in out:
         _check_shape_points(out, ctx)
     return out, (motions.pop() if motions else None)
+
+
+def _flatten_clearance(raw: Mapping[str, Any], ctx: _Context) -> Mapping[str, Any]:
+    """A joint's nested ``clearance`` table (the engine's form, as in summary.json) as the
+    flat keys of a model file."""
+    nested = raw.get("clearance")
+    if not isinstance(nested, Mapping):
+        return raw  # absent, or the flat radial clearance
+    flat = {k: v for k, v in raw.items() if k != "clearance"}
+    for key, value in nested.items():
+        if key not in CLEARANCE_KEYS:
+            raise ctx.error(
+                f"unknown key 'clearance.{key}' (allowed: {', '.join(CLEARANCE_KEYS)})",
+                f"clearance.{key}",
+            )
+        if flat.get(key) is not None:
+            raise ctx.error(f"{key} is given twice (flat and in clearance)", str(key))
+        flat[key] = value
+    return flat
 
 
 def _check_shape_points(body: Mapping[str, Any], ctx: _Context) -> None:
@@ -454,7 +580,29 @@ def _convert_table(
             if p.default is None:
                 continue
             value = p.default
+        if p.kind == "contact_stiffness":
+            continue  # after the normal law, whose exponent gives its unit
         out[p.key] = _convert_value(p, value, ctx, motions)
+    stiffness = raw.get("stiffness") if "stiffness" in allowed else None
+    if stiffness is not None and kind == "joint":
+        out = _with_stiffness(out, stiffness, ctx)
+    return out
+
+
+def _with_stiffness(out: dict[str, Any], value: Any, ctx: _Context) -> dict[str, Any]:
+    """Converts a contact stiffness [N/m^n], n the normal law's exponent."""
+    law = out.get("normal_law", {})
+    n = law.get("exponent", 1.5) if isinstance(law, Mapping) else 1.5
+    try:
+        power = Fraction(str(float(n))).limit_denominator(1000)
+    except (ValueError, OverflowError):
+        power = Fraction(3, 2)
+    dim = u.FORCE / u.LENGTH**power
+    try:
+        k = u.to_si(value, dim)
+    except UnitError as exc:
+        raise ctx.error(f"{ctx.label('stiffness')} {exc}", "stiffness") from None
+    out["stiffness"] = k
     return out
 
 
@@ -495,7 +643,15 @@ def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> An
         return [_scalar(p, v, ctx, f"{key}[{i}]", motions) for i, v in enumerate(value)]
     if p.kind in ("scalar_signal", "vector_signal"):
         return _signal(p, value, ctx, key, motions)
-    if p.kind in ("shape", "profile"):
+    if p.kind == "bool":
+        if not isinstance(value, bool):
+            raise ctx.error(f"{key} must be true or false, got {value!r}", p.key)
+        return value
+    if p.kind == "material" and isinstance(value, str):
+        if not value:
+            raise ctx.error(f"{key} must be a library name or a table, got {value!r}", p.key)
+        return value
+    if p.kind in ("shape", "profile", "material", "normal_law", "friction"):
         if hasattr(value, "to_dict"):
             value = value.to_dict()
         return _convert_table(p.kind, value, ctx.nested(p.key), motions)
@@ -577,6 +733,9 @@ _TITLES = {
     "profile": 'profile = {{ type = "{}", ... }}',
     "force": '[[force]] type = "{}"',
     "shape": 'shape = {{ type = "{}", ... }}',
+    "material": "bearing_material = {{ ... }}, journal_material = {{ ... }}",
+    "normal_law": 'normal_law = {{ type = "{}", ... }}',
+    "friction": 'friction = {{ type = "{}", ... }}',
 }
 
 
@@ -597,6 +756,8 @@ def reference_markdown() -> str:
 
 
 def _unit_text(p: Param) -> str:
+    if p.kind == "contact_stiffness":
+        return "N/m^n"
     if p.dim is None or p.dim == u.DIMENSIONLESS:
         return "-"
     dims = p.dim if isinstance(p.dim, tuple) else (p.dim,)
@@ -608,6 +769,8 @@ def _default_text(p: Param) -> str:
         return "required"
     if p.default is None:
         return "optional"
+    if isinstance(p.default, bool):
+        return "true" if p.default else "false"
     if isinstance(p.default, tuple):
         return "[" + ", ".join(f"{v:g}" for v in p.default) + "]"
     if isinstance(p.default, dict):
