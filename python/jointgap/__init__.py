@@ -12,7 +12,7 @@ Quantities are SI numbers or strings with units (``"300 rpm"``, ``"15 mm"``); se
 :mod:`jointgap.units`. Output channels are named ``<element>.<quantity>``.
 """
 
-from . import profiles, units
+from . import laws, profiles, units
 from .io import load, loads
 from .model import Model
 from .profiles import constant_speed, linear_ramp, smooth_ramp, table_angle, table_speed
@@ -28,6 +28,7 @@ __all__ = [
     "Result",
     "channel_unit",
     "constant_speed",
+    "laws",
     "linear_ramp",
     "load",
     "loads",

@@ -81,7 +81,13 @@ class SourceMap:
         if span is None:
             return None
         start, end = span
-        for part in reversed(key.split(".") if key else []):
+        parts = key.split(".") if key else []
+        if len(parts) > 1:  # an inline table: the line with both keys
+            outer, inner = (re.escape(p) for p in (parts[0], parts[-1]))
+            found = self._find(rf"(?<![\w\-]){outer}\s*=.*(?<![\w\-]){inner}\s*=", start, end)
+            if found is not None:
+                return found + 1
+        for part in reversed(parts):
             found = self._find(rf"(?<![\w\-])[\"']?{re.escape(part)}[\"']?\s*=", start, end)
             if found is not None:
                 return found + 1

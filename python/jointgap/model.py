@@ -27,6 +27,7 @@ from collections.abc import Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
 
+from .laws import Law
 from .profiles import Profile
 from .schema import (
     DRIVEN_MOTION,
@@ -252,6 +253,63 @@ class Model:
         }
         return self._add("joint", raw)
 
+    def add_clearance_revolute(
+        self,
+        name: str,
+        bearing_body: str,
+        journal_body: str,
+        point_bearing: PointRef | None = None,
+        point_journal: PointRef | None = None,
+        *,
+        bearing_radius: Quantity | None = None,
+        journal_radius: Quantity | None = None,
+        clearance: Quantity | None = None,
+        stiffness: Quantity | None = None,
+        bearing_material: str | Mapping[str, Any] | None = None,
+        journal_material: str | Mapping[str, Any] | None = None,
+        normal_law: Law | Mapping[str, Any],
+        friction: Law | Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Adds a revolute joint with radial clearance: no constraint, a contact force
+        between the bearing (a hole in ``bearing_body`` centred at ``point_bearing``) and
+        the journal (a pin on ``journal_body`` centred at ``point_journal``). In a model
+        file the bearing is ``body_i``/``point_i`` and the journal ``body_j``/``point_j``.
+
+        Args:
+            name: unique name; channels ``<name>.fx fy fn ft penetration
+                penetration_rate ex ey slip mode`` and the impact list of the result.
+            bearing_body, journal_body: the two bodies (either may be ``ground``).
+            point_bearing, point_journal: point names or local vectors [m], default
+                (0, 0).
+            bearing_radius, journal_radius, clearance: two of the three [m].
+            stiffness: contact stiffness K [N/m^n], n the normal law's exponent; by
+                default computed from the two materials and the radii.
+            bearing_material, journal_material: a library name (``"steel"``,
+                ``"brass"``, ...) or ``{"youngs_modulus": .., "poisson_ratio": ..}``
+                (:func:`jointgap.laws.material`).
+            normal_law: e.g. ``laws.adams_impact("27960 N*s/m", "0.01 mm")`` or the
+                same as a dict with a ``type``.
+            friction: e.g. ``laws.coulomb(0.08, 0.05, "0.1 mm/s", "10.16 mm/s")``;
+                frictionless by default.
+        """
+        raw = {
+            "name": name,
+            "type": "clearance_revolute",
+            "body_i": bearing_body,
+            "point_i": point_bearing,
+            "body_j": journal_body,
+            "point_j": point_journal,
+            "bearing_radius": bearing_radius,
+            "journal_radius": journal_radius,
+            "clearance": clearance,
+            "stiffness": stiffness,
+            "bearing_material": bearing_material,
+            "journal_material": journal_material,
+            "normal_law": normal_law,
+            "friction": friction,
+        }
+        return self._add("joint", raw)
+
     def add_driver(
         self,
         name: str,
@@ -468,7 +526,17 @@ class Model:
         if index is not None:
             first = problem.split(" ", 1)[0].strip("':,")
             key = first if first in self._keys_of(kind, index) else None
+            if key is None and kind == "joint":
+                key = self._clearance_key(index, first)
         return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
+
+    def _clearance_key(self, index: int, word: str) -> str | None:
+        """``normal_law.restitution`` for an engine error about a clearance joint's law."""
+        clearance = self._elements["joint"][index].get("clearance") or {}
+        for table in ("normal_law", "friction"):
+            if word in (clearance.get(table) or {}):
+                return f"{table}.{word}"
+        return None
 
     def _keys_of(self, kind: str, index: int) -> list[str]:
         element = self._elements[kind][index]
