@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from .model import Model
-from .results import RESULTS_CSV, SUMMARY_JSON, Result, channel_unit
+from .results import IMPACTS_CSV, RESULTS_CSV, SUMMARY_JSON, Result, channel_unit
 from .run import DEFAULT_OPTIONS, METHODS
 from .schema import JOINT_EQUATIONS, ModelError
 
@@ -46,6 +46,8 @@ Simulate a model from t = 0 to --t-end and write
                     (SI units) in model order
   OUT/summary.json  the model, the options, run statistics and status: the run can
                     be repeated from it
+  OUT/impacts.csv   for a model with clearance joints: one row per impact (joint,
+                    onset_time, onset_speed, peak_force, max_penetration, duration)
 and print a short summary with the peaks of the main channels.
 """
 
@@ -214,6 +216,8 @@ def _run(args: argparse.Namespace) -> int:
     )
     result.save(out)
     written = [out / RESULTS_CSV, out / SUMMARY_JSON]
+    if result.impacts:
+        written.append(out / IMPACTS_CSV)
     notes = []
     if args.plot:
         from .plots import save_figure
@@ -253,10 +257,29 @@ def _summary(model: Model, path: str, result: Result, written: list[Path]) -> st
             v = result[c]
             unit = channel_unit(c)
             lines.append(f"           {c:<26} {v.min():>14.6g} {v.max():>14.6g}  {unit}")
+    lines += _impact_lines(result)
     for warning in result.warnings:
         lines.append(f"warning    {warning}")
     lines.append("written    " + ", ".join(str(p) for p in written))
     return "\n".join(lines)
+
+
+def _impact_lines(result: Result) -> list[str]:
+    """Per clearance joint: impacts, peak contact force, max penetration, onset speeds."""
+    lines = []
+    for joint, impacts in result.impacts.items():
+        head = f"impacts    {joint}: {len(impacts)}"
+        if not impacts:
+            lines.append(head)
+            continue
+        force = max(i.peak_force for i in impacts)
+        depth = max(i.max_penetration for i in impacts)
+        speeds = [i.onset_speed for i in impacts]
+        lines.append(
+            f"{head}, peak force {force:.6g} N, max penetration {depth:.4g} m, "
+            f"onset speed mean {sum(speeds) / len(speeds):.4g} m/s, max {max(speeds):.4g} m/s"
+        )
+    return lines
 
 
 def main_channels(result: Result) -> list[str]:

@@ -26,10 +26,67 @@ import numpy as np
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped]
 
-__all__ = ["Result", "channel_unit", "RESULTS_CSV", "SUMMARY_JSON"]
+__all__ = ["Result", "Impact", "channel_unit", "RESULTS_CSV", "SUMMARY_JSON", "IMPACTS_CSV"]
 
 RESULTS_CSV = "results.csv"
 SUMMARY_JSON = "summary.json"
+IMPACTS_CSV = "impacts.csv"
+IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
+"""Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One impact of a clearance joint, from the located contact onset to separation.
+
+    Attributes:
+        joint: the clearance joint.
+        onset_time: time of the contact onset [s].
+        onset_speed: penetration rate at onset, the approach speed [m/s].
+        peak_force: largest normal force during the contact [N].
+        max_penetration: largest penetration during the contact [m].
+        duration: time from onset to separation [s]; NaN if still in contact at the end.
+    """
+
+    joint: str
+    onset_time: float
+    onset_speed: float
+    peak_force: float
+    max_penetration: float
+    duration: float
+
+    @classmethod
+    def from_dict(cls, joint: str, d: Mapping[str, Any]) -> Impact:
+        """From the engine's summary entry (``duration`` null while in contact)."""
+
+        def num(key: str) -> float:
+            v = d.get(key)
+            return math.nan if v is None else float(v)
+
+        return cls(
+            joint,
+            num("onset_time"),
+            num("onset_speed"),
+            num("peak_force"),
+            num("max_penetration"),
+            num("duration"),
+        )
+
+
+def _impacts(value: Any) -> dict[str, list[Impact]]:
+    """The engine's ``[{joint, impacts: [...]}]`` (or a dict joint -> list) as a dict
+    joint -> list of Impact."""
+    if isinstance(value, Mapping):
+        items = list(value.items())
+    else:
+        items = [(entry["joint"], entry.get("impacts", [])) for entry in value or []]
+    out: dict[str, list[Impact]] = {}
+    for joint, impacts in items:
+        out[str(joint)] = [
+            i if isinstance(i, Impact) else Impact.from_dict(str(joint), i) for i in impacts
+        ]
+    return out
+
 
 _UNITS = {
     "x": "m",
@@ -80,6 +137,8 @@ class Result:
         warnings: the engine's non-fatal notes.
         model: the model that ran (SI dictionary, :meth:`jointgap.Model.to_dict`).
         options: the run options, every one written out.
+        impacts: per clearance joint (in model order), its impacts in time order; see
+            :meth:`impacts_frame` for one table.
     """
 
     time: np.ndarray
@@ -91,8 +150,10 @@ class Result:
     warnings: list[str] = field(default_factory=list)
     model: dict[str, Any] = field(default_factory=dict)
     options: dict[str, Any] = field(default_factory=dict)
+    impacts: dict[str, list[Impact]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "impacts", _impacts(self.impacts))
         time = np.array(self.time, dtype=float)
         data = np.array(self.data, dtype=float).reshape(len(self.channels), len(time))
         time.flags.writeable = False
@@ -154,6 +215,25 @@ class Result:
             table = np.vstack([self.time[None, :], self.data]).T
             writer.writerows([repr(float(v)) for v in row] for row in table)
 
+    def impacts_frame(self) -> pd.DataFrame:
+        """Every impact of every clearance joint, one row each, columns ``joint,
+        onset_time, onset_speed, peak_force, max_penetration, duration`` (SI)."""
+        import pandas as pd
+
+        rows = [
+            [getattr(i, c) for c in IMPACT_COLUMNS] for lst in self.impacts.values() for i in lst
+        ]
+        return pd.DataFrame(rows, columns=list(IMPACT_COLUMNS))
+
+    def impacts_to_csv(self, path: str | PathLike[str]) -> None:
+        """Writes :meth:`impacts_frame` as CSV, shortest exact floats."""
+        with open(path, "w", newline="") as f:
+            writer = csv.writer(f, lineterminator="\n")
+            writer.writerow(IMPACT_COLUMNS)
+            for lst in self.impacts.values():
+                for i in lst:
+                    writer.writerow([i.joint, *(repr(getattr(i, c)) for c in IMPACT_COLUMNS[1:])])
+
     def summary(self) -> dict[str, Any]:
         """What ``summary.json`` holds: model, options, stats, status, message, warnings."""
         return {
@@ -167,10 +247,13 @@ class Result:
         }
 
     def save(self, directory: str | PathLike[str]) -> Path:
-        """Writes ``results.csv`` and ``summary.json`` into ``directory`` (created)."""
+        """Writes ``results.csv`` and ``summary.json`` into ``directory`` (created), and
+        ``impacts.csv`` when the model has clearance joints."""
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
         self.to_csv(out / RESULTS_CSV)
+        if self.impacts:
+            self.impacts_to_csv(out / IMPACTS_CSV)
         with open(out / SUMMARY_JSON, "w") as f:
             json.dump(_jsonable(self.summary()), f, indent=2)
             f.write("\n")
@@ -189,6 +272,16 @@ class Result:
         if header[:1] != ["time"]:
             raise ValueError(f"{folder / RESULTS_CSV}: the first column must be 'time'")
         rows = rows.reshape(-1, len(header))
+        impacts: dict[str, list[Impact]] = {
+            j["name"]: []
+            for j in summary.get("model", {}).get("joints", [])
+            if j.get("type") == "clearance_revolute"
+        }
+        if (folder / IMPACTS_CSV).exists():
+            with open(folder / IMPACTS_CSV, newline="") as f:
+                for row in csv.DictReader(f):
+                    impact = Impact(row["joint"], *(float(row[c]) for c in IMPACT_COLUMNS[1:]))
+                    impacts.setdefault(impact.joint, []).append(impact)
         return cls(
             time=rows[:, 0],
             channels=header[1:],
@@ -199,6 +292,7 @@ class Result:
             warnings=summary.get("warnings", []),
             model=summary.get("model", {}),
             options=summary.get("options", {}),
+            impacts=impacts,
         )
 
 

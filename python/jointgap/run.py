@@ -104,4 +104,5 @@ def simulate(model: Mapping[str, Any], options: Mapping[str, Any]) -> Result:
         warnings=list(summary.get("warnings", [])),
         model=dict(model),
         options=dict(options),
+        impacts=summary.get("impacts", []),
     )
