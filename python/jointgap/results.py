@@ -105,7 +105,8 @@ _UNITS = {
     "torque": "N*m",
     "kinetic_energy": "J",
     "potential_energy": "J",
-    "constraint_error": "m",
+    # Largest residual over rows that mix lengths and angles.
+    "constraint_error": "m or rad",
     "fn": "N",
     "ft": "N",
     "penetration": "m",

@@ -318,8 +318,9 @@ pub struct Driver {
     pub joint: String,
     /// Motion of the joint coordinate relative to its initial value.
     pub profile: Profile,
-    /// Joint coordinate at t = 0 [rad or m]; by default the value of the approximate
-    /// initial placement.
+    /// Joint coordinate from which the profile's displacement is measured [rad or m];
+    /// by default its value at the approximate initial placement. The coordinate at
+    /// t = 0 is this plus the profile's displacement at t = 0 (zero for the ramps).
     #[serde(default)]
     pub initial: Option<f64>,
 }
