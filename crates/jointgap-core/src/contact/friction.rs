@@ -1,97 +1,64 @@
 //! Friction laws: tangential force from the slip speed and the normal force
-//! (PHYSICS.md section 4).
+//! (PHYSICS.md section 4). The model's `FrictionSpec` is the law; this module checks its
+//! values and evaluates it.
 
 use super::normal::step;
 use crate::model::FrictionSpec;
 use crate::Error;
 
-/// A checked friction law.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum FrictionLaw {
-    /// No tangential force.
-    None,
-    /// ADAMS-style Coulomb with stiction.
-    Coulomb {
-        /// Static coefficient.
-        mu_s: f64,
-        /// Dynamic coefficient.
-        mu_d: f64,
-        /// Stiction transition speed [m/s].
-        v_s: f64,
-        /// Friction transition speed [m/s].
-        v_d: f64,
-    },
-    /// Ambrosio's modified Coulomb.
-    ModifiedCoulomb {
-        /// Coefficient.
-        mu: f64,
-        /// No friction below [m/s].
-        v_0: f64,
-        /// Full friction from [m/s].
-        v_1: f64,
-    },
-    /// Smoothed Coulomb plus viscous.
-    ViscousCoulomb {
-        /// Coefficient.
-        mu: f64,
-        /// Regularisation speed [m/s].
-        v_s: f64,
-        /// Viscous coefficient [N s/m].
-        viscous: f64,
-    },
+/// Checks a friction law's values; `who` names the joint.
+pub fn check(who: &str, spec: &FrictionSpec) -> Result<(), Error> {
+    let coef = |name: &str, v: f64| {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::Model(format!("{who}: friction {name} = {v} must be zero or positive")))
+        }
+    };
+    let speed = |name: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::Model(format!("{who}: friction {name} = {v} m/s must be positive")))
+        }
+    };
+    match *spec {
+        FrictionSpec::None => {}
+        FrictionSpec::Coulomb { mu_s, mu_d, v_s, v_d } => {
+            coef("mu_s", mu_s)?;
+            coef("mu_d", mu_d)?;
+            let (v_s, v_d) = (speed("v_s", v_s)?, speed("v_d", v_d)?);
+            if v_s >= v_d {
+                return Err(Error::Model(format!(
+                    "{who}: friction v_s = {v_s} m/s must be below v_d = {v_d} m/s"
+                )));
+            }
+        }
+        FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
+            coef("mu", mu)?;
+            let (v_0, v_1) = (coef("v_0", v_0)?, speed("v_1", v_1)?);
+            if v_0 >= v_1 {
+                return Err(Error::Model(format!(
+                    "{who}: friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s"
+                )));
+            }
+        }
+        FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {
+            coef("mu", mu)?;
+            speed("v_s", v_s)?;
+            coef("viscous", viscous)?;
+        }
+    }
+    Ok(())
 }
 
-impl FrictionLaw {
-    /// Checks a law; `who` names the joint.
-    pub fn new(who: &str, spec: &FrictionSpec) -> Result<Self, Error> {
-        let coef = |name: &str, v: f64| {
-            if v.is_finite() && v >= 0.0 {
-                Ok(v)
-            } else {
-                Err(Error::Model(format!("{who}: friction {name} = {v} must be zero or positive")))
-            }
-        };
-        let speed = |name: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(Error::Model(format!("{who}: friction {name} = {v} m/s must be positive")))
-            }
-        };
-        Ok(match *spec {
-            FrictionSpec::None => FrictionLaw::None,
-            FrictionSpec::Coulomb { mu_s, mu_d, v_s, v_d } => {
-                let (v_s, v_d) = (speed("v_s", v_s)?, speed("v_d", v_d)?);
-                if v_s >= v_d {
-                    return Err(Error::Model(format!(
-                        "{who}: friction v_s = {v_s} m/s must be below v_d = {v_d} m/s"
-                    )));
-                }
-                FrictionLaw::Coulomb { mu_s: coef("mu_s", mu_s)?, mu_d: coef("mu_d", mu_d)?, v_s, v_d }
-            }
-            FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
-                let (v_0, v_1) = (coef("v_0", v_0)?, speed("v_1", v_1)?);
-                if v_0 >= v_1 {
-                    return Err(Error::Model(format!(
-                        "{who}: friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s"
-                    )));
-                }
-                FrictionLaw::ModifiedCoulomb { mu: coef("mu", mu)?, v_0, v_1 }
-            }
-            FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => FrictionLaw::ViscousCoulomb {
-                mu: coef("mu", mu)?,
-                v_s: speed("v_s", v_s)?,
-                viscous: coef("viscous", viscous)?,
-            },
-        })
-    }
-
+impl FrictionSpec {
     /// Tangential force [N] along the tangent `t`, opposing the slip `v_t` [m/s], for a
     /// normal force `f_n` >= 0 [N].
     pub fn force(&self, v_t: f64, f_n: f64) -> f64 {
         match *self {
-            FrictionLaw::None => 0.0,
-            FrictionLaw::Coulomb { mu_s, mu_d, v_s, v_d } => {
+            FrictionSpec::None => 0.0,
+            FrictionSpec::Coulomb { mu_s, mu_d, v_s, v_d } => {
                 let a = v_t.abs();
                 let mu = if a <= v_s {
                     step(v_t, -v_s, -mu_s, v_s, mu_s)
@@ -102,7 +69,7 @@ impl FrictionLaw {
                 };
                 -mu * f_n
             }
-            FrictionLaw::ModifiedCoulomb { mu, v_0, v_1 } => {
+            FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
                 let a = v_t.abs();
                 let c_d = if a <= v_0 {
                     0.0
@@ -113,7 +80,7 @@ impl FrictionLaw {
                 };
                 -mu * c_d * f_n * v_t.signum()
             }
-            FrictionLaw::ViscousCoulomb { mu, v_s, viscous } => {
+            FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {
                 if f_n > 0.0 {
                     -mu * f_n * (v_t / v_s).tanh() - viscous * v_t
                 } else {
@@ -131,7 +98,7 @@ mod tests {
     /// The ADAMS law: mu_d when sliding fast, mu_s at v_s, zero at rest, odd in v_t.
     #[test]
     fn coulomb_levels_and_sign() {
-        let law = FrictionLaw::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 };
+        let law = FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 };
         assert!((law.force(0.5, 100.0) + 5.0).abs() < 1e-12);
         assert!((law.force(-0.5, 100.0) - 5.0).abs() < 1e-12);
         assert!((law.force(1e-4, 100.0) + 8.0).abs() < 1e-12);
@@ -144,9 +111,16 @@ mod tests {
 
     #[test]
     fn modified_coulomb_ramps_between_speeds() {
-        let law = FrictionLaw::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 };
+        let law = FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 };
         assert_eq!(law.force(5e-5, 10.0), 0.0);
         assert!((law.force(5.5e-4, 10.0) + 0.5).abs() < 1e-12);
         assert!((law.force(-1.0, 10.0) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn bad_values_name_the_joint() {
+        let bad = FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 0.02, v_d: 0.01 };
+        let e = check("joint 'gap'", &bad).unwrap_err().to_string();
+        assert!(e.contains("joint 'gap': friction v_s = 0.02 m/s must be below v_d = 0.01 m/s"), "{e}");
     }
 }

@@ -7,12 +7,11 @@ pub mod materials;
 pub mod normal;
 
 use crate::math::{cross, perp, rotate, Vec2};
-use crate::model::{Clearance, Joint};
+use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::planar::BodyState;
 use crate::solve::contacts::ContactState;
 use crate::system::Resolver;
 use crate::Error;
-use friction::FrictionLaw;
 use normal::NormalForce;
 
 /// A checked clearance joint.
@@ -36,8 +35,8 @@ pub struct ClearanceRevolute {
     pub clearance: f64,
     /// Normal law with its stiffness.
     pub normal: NormalForce,
-    /// Friction law.
-    pub friction: FrictionLaw,
+    /// Friction law (checked).
+    pub friction: FrictionSpec,
 }
 
 /// Where the journal is in its bearing, and how fast it moves.
@@ -146,7 +145,10 @@ impl ClearanceRevolute {
             r_journal,
             clearance: r_bearing - r_journal,
             normal: NormalForce::new(&who, &c.normal_law, stiffness, d_max_default)?,
-            friction: FrictionLaw::new(&who, &c.friction)?,
+            friction: {
+                friction::check(&who, &c.friction)?;
+                c.friction.clone()
+            },
         })
     }
 
