@@ -27,12 +27,12 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Median wall time [s] of at least 7 runs (one warm-up first), more while under 0.5 s.
+/// Median wall time [s] of at least 7 runs (one warm-up first), more while under 1 s.
 fn timed_runs(model: &Model, opts: &SimOptions) -> (f64, SimResult) {
     let res = simulate(model, opts).unwrap();
     let mut times = Vec::new();
     let started = Instant::now();
-    while times.len() < 7 || (times.len() < 51 && started.elapsed().as_secs_f64() < 0.5) {
+    while times.len() < 7 || (times.len() < 51 && started.elapsed().as_secs_f64() < 1.0) {
         let t = Instant::now();
         black_box(simulate(model, opts).unwrap());
         times.push(t.elapsed().as_secs_f64());
@@ -174,6 +174,13 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let c_constraints = ns_per_call(|| constraints(sys, black_box(t), q, v, &mut ode.ws));
     let c_forces = ns_per_call(|| applied_forces(sys, black_box(t), q, v, &mut ode.ws));
     let c_accel = ns_per_call(|| accelerations(sys, black_box(t), q, v, &mut ode.ws).unwrap());
+    // Reference for the augmented solve: a plain Cholesky factor + solve of the same Schur
+    // complement (what `accelerations` adds to it: regularisation, refinement, allocation).
+    let (schur, rhs) = (ode.ws.schur.clone(), ode.ws.lambda.clone());
+    let c_cholesky = ns_per_call(|| {
+        black_box(nalgebra::Cholesky::new(black_box(schur.clone())).unwrap().solve(&rhs));
+    });
+    let c_prepare = ns_per_call(|| drop(black_box(jointgap_core::solve::prepare(model).unwrap())));
     let c_violation = ns_per_call(|| {
         black_box(violation(sys, black_box(t), q, v, &mut ode.ws));
     });
@@ -240,10 +247,14 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     writeln!(md, "Median of 7 batches of repeated calls on one state (warm caches).\n").unwrap();
     writeln!(md, "| stage | ns per call |").unwrap();
     writeln!(md, "|---|---:|").unwrap();
-    let rows: [(String, f64); 13] = [
+    let rows: [(String, f64); 15] = [
         ("`dynamics::constraints`".into(), c_constraints),
         ("`dynamics::applied_forces`".into(), c_forces),
         ("`dynamics::accelerations` (augmented solve, = one RHS)".into(), c_accel),
+        (
+            format!("reference: nalgebra Cholesky factor + solve, {0}x{0} Schur complement", schur.nrows()),
+            c_cholesky,
+        ),
         ("`dynamics::violation` (every accepted step)".into(), c_violation),
         ("`dynamics::project` (1e-9 m drift)".into(), c_project),
         ("`ode::hermite5` (per sample)".into(), c_hermite),
@@ -254,6 +265,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         ("`Sdirk4::attempt`, h changed (LU refactored)".into(), c_sdirk_new_h),
         (format!("`Sdirk4::attempt`, fresh stepper ({rhs_fresh} RHS, Jacobian + LU)"), c_sdirk_fresh),
         ("`Sdirk4` Jacobian + LU (fresh minus same h)".into(), c_sdirk_fresh - c_sdirk_same_h),
+        ("`solve::prepare` (compile + assembly, once per run)".into(), c_prepare),
     ];
     for (name, ns) in &rows {
         writeln!(md, "| {name} | {ns:.0} |").unwrap();
@@ -273,8 +285,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     )
     .unwrap();
     writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|").unwrap();
-    for (_, rtol, label, wall, res) in runs.iter().filter(|r| r.2.starts_with("all")) {
-        let _ = label;
+    for (_, rtol, _, wall, res) in runs.iter().filter(|r| r.2.starts_with("all")) {
         let s = &res.stats;
         let rhs = s.rhs_evaluations as f64 * c_accel * 1e-6;
         let out = res.time.len() as f64 * (c_push_all + c_hermite) * 1e-6;
