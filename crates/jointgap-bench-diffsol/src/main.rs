@@ -8,25 +8,28 @@
 //! a forward-difference Jacobian-vector product. diffsol knows nothing of the ramp's
 //! corner at 0.2 s: each run is two solves, [0, 0.2] and [0.2, 1], the second started
 //! afresh from the first's end state (jointgap's integrator does the same at corners).
-//! diffsol does not project onto the constraints; the drift is reported.
+//! diffsol does not project onto the constraints: the drift is reported, and variants
+//! apply jointgap's projection between steps.
 
 #[path = "../../jointgap-core/tests/common.rs"]
 mod common;
 
 use std::cell::RefCell;
+use std::error::Error;
 use std::fmt::Write as _;
 use std::time::Instant;
 
 use diffsol::{
-    DiffsolError, NalgebraLU, NalgebraMat, OdeBuilder, OdeEquations, OdeSolverMethod, OdeSolverStopReason,
-    Vector,
+    NalgebraLU, NalgebraMat, OdeBuilder, OdeEquations, OdeSolverMethod, OdeSolverStopReason, Vector,
 };
-use jointgap_core::solve::dynamics::{accelerations, constraints, Workspace};
+use jointgap_core::solve::dynamics::{accelerations, constraints, project, violation, Workspace};
 use jointgap_core::solve::ode::Ode;
 use jointgap_core::{simulate, solve, Method, Model, SimOptions, SimResult};
 
 const T_END: f64 = 1.0;
 const RATE: f64 = 10_000.0;
+/// Step budget of one solve.
+const MAX_STEPS: usize = 100_000;
 
 #[derive(Clone, Copy, Debug)]
 enum Solver {
@@ -92,9 +95,11 @@ struct Outcome {
     err_ax: f64,
     err_x_end: f64,
     drift_end: f64,
+    projections: usize,
 }
 
-/// Steps `s` to its stop time, calling `sample(t, y)` at each of `times` passed on the way;
+/// Steps `s` to its stop time, calling `sample(t, y)` at each of `times` passed on the way
+/// and `fix(t, y, dy)` after each step (it may project `y` and then sets `dy = f(y)`);
 /// returns the end state and the counts of steps, error-test failures, Newton failures
 /// and LU setups.
 fn drive<'a, Eqn, S>(
@@ -102,7 +107,8 @@ fn drive<'a, Eqn, S>(
     stop: f64,
     times: &[f64],
     sample: &mut impl FnMut(f64, &[f64]),
-) -> Result<(Vec<f64>, [usize; 4]), DiffsolError>
+    fix: &mut impl FnMut(f64, &mut [f64], &mut [f64]) -> bool,
+) -> Result<(Vec<f64>, [usize; 4]), Box<dyn Error>>
 where
     Eqn: OdeEquations<T = f64> + 'a,
     S: OdeSolverMethod<'a, Eqn>,
@@ -110,10 +116,21 @@ where
     s.set_stop_time(stop)?;
     let mut k = 0;
     loop {
+        if s.get_statistics().number_of_steps >= MAX_STEPS {
+            return Err(format!("gave up after {MAX_STEPS} steps at t = {:.4} s", s.state().t).into());
+        }
         let reason = s.step()?;
         while k < times.len() && times[k] <= s.state().t {
             sample(times[k], &s.interpolate(times[k])?.clone_as_vec());
             k += 1;
+        }
+        let (t, mut y) = (s.state().t, s.state().y.clone_as_vec());
+        let mut dy = vec![0.0; y.len()];
+        if !matches!(reason, OdeSolverStopReason::TstopReached) && fix(t, &mut y, &mut dy) {
+            let ctx = s.state().y.context().clone();
+            let st = s.state_mut();
+            st.y.copy_from(&Eqn::V::from_slice(&y, ctx.clone()));
+            st.dy.copy_from(&Eqn::V::from_slice(&dy, ctx));
         }
         if matches!(reason, OdeSolverStopReason::TstopReached) {
             let st = s.get_statistics();
@@ -128,8 +145,15 @@ where
     }
 }
 
-/// One run: prepare, two solves, slider acceleration at each sample from the state.
-fn run(model: &Model, which: Solver, rtol: f64, dense: bool) -> Result<Outcome, DiffsolError> {
+/// One run: prepare, two solves, slider acceleration at each sample from the state;
+/// with `projecting`, jointgap's projection after each step where the drift shows.
+fn run(
+    model: &Model,
+    which: Solver,
+    rtol: f64,
+    dense: bool,
+    projecting: bool,
+) -> Result<Outcome, Box<dyn Error>> {
     let started = Instant::now();
     let prepared = solve::prepare(model).expect("model assembles");
     let sys = &prepared.system;
@@ -164,6 +188,20 @@ fn run(model: &Model, which: Solver, rtol: f64, dense: bool) -> Result<Outcome, 
             out.drift_end = ws.c.amax();
         }
     };
+    // jointgap's rule (solve::integrate): project when the drift exceeds 1e-2 atol.
+    let mut projections = 0;
+    let mut fix = |t: f64, y: &mut [f64], dy: &mut [f64]| {
+        let mut e = cell.borrow_mut();
+        let (q, v) = y.split_at_mut(n);
+        let (pos, vel) = violation(sys, t, q, v, &mut e.ode.ws);
+        if !projecting || (pos <= 1e-4 * rtol && vel <= 1e-4 * rtol) {
+            return false;
+        }
+        project(sys, t, q, v, &mut e.ode.ws).expect("projection converges");
+        e.rhs(t, y, dy);
+        projections += 1;
+        true
+    };
     let mut y = [prepared.initial.q.as_slice(), prepared.initial.v.as_slice()].concat();
     if dense {
         record(0.0, &y, 0.0);
@@ -191,10 +229,14 @@ fn run(model: &Model, which: Solver, rtol: f64, dense: bool) -> Result<Outcome, 
             .build()?;
         let mut on_sample = |t: f64, y: &[f64]| record(t, y, piece);
         let (y_end, st) = match which {
-            Solver::Bdf => drive(problem.bdf::<NalgebraLU<f64>>()?, b, &times, &mut on_sample)?,
-            Solver::TrBdf2 => drive(problem.tr_bdf2::<NalgebraLU<f64>>()?, b, &times, &mut on_sample)?,
-            Solver::Esdirk34 => drive(problem.esdirk34::<NalgebraLU<f64>>()?, b, &times, &mut on_sample)?,
-            Solver::Tsit45 => drive(problem.tsit45()?, b, &times, &mut on_sample)?,
+            Solver::Bdf => drive(problem.bdf::<NalgebraLU<f64>>()?, b, &times, &mut on_sample, &mut fix)?,
+            Solver::TrBdf2 => {
+                drive(problem.tr_bdf2::<NalgebraLU<f64>>()?, b, &times, &mut on_sample, &mut fix)?
+            }
+            Solver::Esdirk34 => {
+                drive(problem.esdirk34::<NalgebraLU<f64>>()?, b, &times, &mut on_sample, &mut fix)?
+            }
+            Solver::Tsit45 => drive(problem.tsit45()?, b, &times, &mut on_sample, &mut fix)?,
         };
         y = y_end;
         out.steps += st[0];
@@ -203,6 +245,7 @@ fn run(model: &Model, which: Solver, rtol: f64, dense: bool) -> Result<Outcome, 
         out.lu_setups += st[3];
     }
     out.rhs = cell.borrow().ode.evaluations;
+    out.projections = projections;
     out.wall = started.elapsed().as_secs_f64();
     Ok(out)
 }
@@ -212,12 +255,12 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-/// Median over at least 5 runs (more while under 1 s), after one warm-up.
+/// Median over at least 3 runs (more while under 1 s), after one warm-up.
 fn repeat<T>(mut f: impl FnMut() -> (f64, T)) -> (f64, T) {
     let (_, first) = f();
     let mut walls = Vec::new();
     let started = Instant::now();
-    while walls.len() < 5 || (walls.len() < 31 && started.elapsed().as_secs_f64() < 1.0) {
+    while walls.len() < 3 || (walls.len() < 31 && started.elapsed().as_secs_f64() < 1.0) {
         walls.push(f().0);
     }
     (median(walls), first)
@@ -249,64 +292,74 @@ fn jointgap_row(model: &Model, method: Method, rtol: f64, dense: bool) -> String
     let err_x_end = (x.last().unwrap() - common::slider_closed_form(T_END).0).abs();
     let drift = res.channel("system.constraint_error").unwrap().last().unwrap();
     format!(
-        "| jointgap {} | {rtol:.0e} | {:.2} | {} | {} | - | {} | {} Jacobians | {err_ax:.2e} | {err_x_end:.1e} | {drift:.1e} |",
+        "| jointgap {} | {rtol:.0e} | {:.2} | {} | {} | - | {} | {} Jacobians | {} | {err_ax:.2e} | {err_x_end:.1e} | {drift:.1e} |",
         method.name(),
         wall * 1e3,
         s.accepted_steps,
         s.rejected_steps,
         s.rhs_evaluations,
-        s.jacobian_evaluations
+        s.jacobian_evaluations,
+        s.projections
     )
 }
 
 fn main() {
     let model = common::slider_crank(9.81);
     let mut md = String::new();
-    writeln!(md, "## diffsol {} on jointgap's right-hand side\n", diffsol_version()).unwrap();
+    writeln!(md, "## diffsol 0.18 on jointgap's right-hand side\n").unwrap();
     writeln!(
         md,
         "Ideal slider-crank, 1 s, atol = rtol x 1e-2 (diffsol: the same scalar atol for every \
-         state). Wall: median of >= 5 runs, each including `prepare` (compile + assembly). diffsol \
+         state). Wall: median of >= 3 runs, each including `prepare` (compile + assembly). diffsol \
          runs are two solves split at the ramp corner (0.2 s); its Jacobian is dense, from \
-         forward-difference Jacobian-vector products (one RHS per column, f(x) reused); it does \
-         not project, so the constraint drift at 1 s is shown. jointgap rows record `slider.*`. \
-         err ax: max |slider ax - closed form| over the samples, computed from the state with \
-         `accelerations` for diffsol. 'steps' are accepted steps; 'rej.' error-test failures; \
-         'Newton fails' diffsol's nonlinear-solver failures; 'LU' diffsol's Jacobian/LU setups.\n"
+         forward-difference Jacobian-vector products (one RHS per column, f(x) reused). Plain \
+         diffsol does not project, so the constraint drift at 1 s is shown; '+ projection' rows \
+         apply jointgap's `project` after each step where the drift exceeds 1e-2 atol (through \
+         `state_mut`, which restarts BDF at order 1). jointgap rows record `slider.*`. err ax: \
+         max |slider ax - closed form| over the samples, computed from the state with \
+         `accelerations` for diffsol. 'steps': accepted steps; 'rej.': error-test failures; \
+         'Newton fails': diffsol's nonlinear-solver failures; 'LU': diffsol's Jacobian/LU setups.\n"
     )
     .unwrap();
+    let solvers = [Solver::Bdf, Solver::TrBdf2, Solver::Esdirk34, Solver::Tsit45];
     for (dense, title) in
         [(true, "10 kHz samples (each with an `accelerations` call)"), (false, "state at 1 s only")]
     {
         writeln!(md, "### Output: {title}\n").unwrap();
-        writeln!(md, "| solver | rtol | wall [ms] | steps | rej. | Newton fails | RHS | LU / Jacobians | max err ax [m/s^2] | err x(1 s) [m] | drift at 1 s [m] |").unwrap();
-        writeln!(md, "|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|").unwrap();
+        writeln!(md, "| solver | rtol | wall [ms] | steps | rej. | Newton fails | RHS | LU / Jacobians | proj. | max err ax [m/s^2] | err x(1 s) [m] | drift at 1 s [m] |").unwrap();
+        writeln!(md, "|---|---|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|").unwrap();
         for rtol in [1e-6, 1e-9] {
             for m in [Method::Dopri5, Method::Sdirk4] {
                 writeln!(md, "{}", jointgap_row(&model, m, rtol, dense)).unwrap();
             }
-            for which in [Solver::Bdf, Solver::TrBdf2, Solver::Esdirk34, Solver::Tsit45] {
-                let name = format!("diffsol {which:?}");
-                let (wall, first) = repeat(|| match run(&model, which, rtol, dense) {
-                    Ok(o) => (o.wall, Ok(o)),
-                    Err(e) => (f64::NAN, Err(e.to_string())),
-                });
-                let line = match first {
-                    Ok(o) => format!(
-                        "| {name} | {rtol:.0e} | {:.2} | {} | {} | {} | {} | {} LU | {:.2e} | {:.1e} | {:.1e} |",
-                        wall * 1e3,
-                        o.steps,
-                        o.rejected,
-                        o.newton_fails,
-                        o.rhs,
-                        o.lu_setups,
-                        o.err_ax,
-                        o.err_x_end,
-                        o.drift_end
-                    ),
-                    Err(e) => format!("| {name} | {rtol:.0e} | failed: {e} | | | | | | | | |"),
-                };
-                writeln!(md, "{line}").unwrap();
+            let variants = if dense { vec![false] } else { vec![false, true] };
+            for projecting in variants {
+                for which in solvers {
+                    let name = format!("diffsol {which:?}{}", if projecting { " + projection" } else { "" });
+                    let line = match run(&model, which, rtol, dense, projecting) {
+                        Err(e) => format!("| {name} | {rtol:.0e} | failed: {e} | | | | | | | | | |"),
+                        Ok(o) => {
+                            let (wall, ()) = repeat(|| {
+                                (run(&model, which, rtol, dense, projecting).map_or(f64::NAN, |o| o.wall), ())
+                            });
+                            format!(
+                                "| {name} | {rtol:.0e} | {:.2} | {} | {} | {} | {} | {} LU | {} | {:.2e} | {:.1e} | {:.1e} |",
+                                wall * 1e3,
+                                o.steps,
+                                o.rejected,
+                                o.newton_fails,
+                                o.rhs,
+                                o.lu_setups,
+                                o.projections,
+                                o.err_ax,
+                                o.err_x_end,
+                                o.drift_end
+                            )
+                        }
+                    };
+                    eprintln!("{line}");
+                    writeln!(md, "{line}").unwrap();
+                }
             }
         }
         writeln!(md).unwrap();
@@ -316,8 +369,4 @@ fn main() {
     std::fs::create_dir_all(dir).unwrap();
     std::fs::write(format!("{dir}/diffsol.md"), &md).unwrap();
     eprintln!("wrote benchmarks/output/diffsol.md");
-}
-
-fn diffsol_version() -> &'static str {
-    "0.18"
 }
