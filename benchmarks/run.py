@@ -49,9 +49,11 @@ def machine() -> str:
     commit = subprocess.run(
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT
     ).stdout.strip()
+    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
     return (
-        f"Machine: {cpu}, nproc = {nproc}; Python {platform.python_version()}, "
-        f"jointgap {jointgap.__version__}, commit {commit or 'unknown'}."
+        f"Machine: {cpu}, nproc = {nproc}, load average {load} (1, 5, 15 min) when the "
+        f"Python part ran; Python {platform.python_version()}, jointgap "
+        f"{jointgap.__version__}, commit {commit or 'unknown'}."
     )
 
 
@@ -113,8 +115,9 @@ def main() -> None:
         "# jointgap benchmarks\n",
         machine(),
         "\nFigures are from one run of `make bench` on this machine: read them as ratios "
-        "(method against method, stage against stage), not as absolute speeds; repeated "
-        "runs of the same configuration differ by up to about 10 %.\n",
+        "(method against method, stage against stage), not as absolute speeds. The machine "
+        "is shared; the dopri5 and auto rows do the same computation, so their difference "
+        "shows the noise (10-30 % was seen between runs of the same configuration).\n",
     ]
     for name, how in (
         ("bench_ideal.md", "cargo run --release -p jointgap-core --example bench_ideal"),
