@@ -35,6 +35,7 @@ test-python: install
 ## bench: speed and accuracy figures (benchmarks/output/)
 bench: install
 	cargo run --release -p jointgap-core --example bench_ideal
+	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/run.py
 
 ## lint: rustfmt, clippy, ruff
