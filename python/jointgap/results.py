@@ -140,6 +140,9 @@ class Result:
         options: the run options, every one written out.
         impacts: per clearance joint (in model order), its impacts in time order; see
             :meth:`impacts_frame` for one table.
+        clearances: per clearance joint, its contact data as the engine resolved them
+            (SI): ``bearing_radius``, ``journal_radius``, ``clearance``, ``stiffness``
+            (computed from the materials when the model does not give it), ``exponent``.
     """
 
     time: np.ndarray
@@ -152,9 +155,11 @@ class Result:
     model: dict[str, Any] = field(default_factory=dict)
     options: dict[str, Any] = field(default_factory=dict)
     impacts: dict[str, list[Impact]] = field(default_factory=dict)
+    clearances: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "impacts", _impacts(self.impacts))
+        object.__setattr__(self, "clearances", _clearances(self.clearances))
         time = np.array(self.time, dtype=float)
         data = np.array(self.data, dtype=float).reshape(len(self.channels), len(time))
         time.flags.writeable = False
@@ -245,6 +250,7 @@ class Result:
             "message": self.message,
             "warnings": self.warnings,
             "channels": self.channels,
+            "clearances": self.clearances,
         }
 
     def save(self, directory: str | PathLike[str]) -> Path:
@@ -294,7 +300,17 @@ class Result:
             model=summary.get("model", {}),
             options=summary.get("options", {}),
             impacts=impacts,
+            clearances=summary.get("clearances", {}),
         )
+
+
+def _clearances(value: Any) -> dict[str, dict[str, float]]:
+    """The engine's list of ``{"joint": .., ...}`` (or a saved dict) keyed by joint."""
+    if isinstance(value, Mapping):
+        return {str(k): {q: float(x) for q, x in v.items()} for k, v in value.items()}
+    return {
+        str(d["joint"]): {q: float(x) for q, x in d.items() if q != "joint"} for d in value
+    }
 
 
 def _jsonable(value: Any) -> Any:

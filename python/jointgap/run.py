@@ -105,4 +105,5 @@ def simulate(model: Mapping[str, Any], options: Mapping[str, Any]) -> Result:
         model=dict(model),
         options=dict(options),
         impacts=summary.get("impacts", []),
+        clearances=summary.get("clearances", []),
     )

@@ -18,7 +18,7 @@ pub mod solve;
 pub mod system;
 
 pub use model::Model;
-pub use output::{Impact, JointImpacts, RunStats, SimResult, Status};
+pub use output::{ClearanceData, Impact, JointImpacts, RunStats, SimResult, Status};
 pub use solve::{simulate, Method, SimOptions};
 pub use system::System;
 

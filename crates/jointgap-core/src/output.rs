@@ -62,6 +62,24 @@ pub struct JointImpacts {
     pub impacts: Vec<Impact>,
 }
 
+/// A clearance joint's contact data as the engine resolved them: the radii it was not
+/// given and the stiffness computed from the materials, which calibration and plots need.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ClearanceData {
+    /// Joint name.
+    pub joint: String,
+    /// Bearing radius R_B [m].
+    pub bearing_radius: f64,
+    /// Journal radius R_J [m].
+    pub journal_radius: f64,
+    /// Radial clearance c = R_B - R_J [m].
+    pub clearance: f64,
+    /// Contact stiffness K [N/m^n].
+    pub stiffness: f64,
+    /// Exponent n of the normal law.
+    pub exponent: f64,
+}
+
 /// The outcome of a run: `data[k][i]` is channel `names[k]` at `time[i]`.
 #[derive(Debug, Clone, Serialize)]
 pub struct SimResult {
@@ -79,6 +97,8 @@ pub struct SimResult {
     pub warnings: Vec<String>,
     /// Impacts of each clearance joint, in model order.
     pub impacts: Vec<JointImpacts>,
+    /// Contact data of each clearance joint, in model order.
+    pub clearances: Vec<ClearanceData>,
 }
 
 impl SimResult {

@@ -42,6 +42,7 @@ fn simulate<'py>(
         "status": result.status,
         "warnings": result.warnings,
         "impacts": result.impacts,
+        "clearances": result.clearances,
     });
     let n = result.time.len();
     let flat: Vec<f64> = result.data.iter().flatten().copied().collect();

@@ -8,6 +8,7 @@ pub mod normal;
 
 use crate::math::{cross, perp, rotate, Vec2};
 use crate::model::{Clearance, FrictionSpec, Joint};
+use crate::output::ClearanceData;
 use crate::planar::BodyState;
 use crate::solve::contacts::ContactState;
 use crate::system::Resolver;
@@ -64,6 +65,18 @@ fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
 }
 
 impl ClearanceRevolute {
+    /// The resolved contact data reported with a run's result.
+    pub fn data(&self) -> ClearanceData {
+        ClearanceData {
+            joint: self.name.clone(),
+            bearing_radius: self.r_bearing,
+            journal_radius: self.r_journal,
+            clearance: self.clearance,
+            stiffness: self.normal.stiffness,
+            exponent: self.normal.exponent,
+        }
+    }
+
     /// Checks the joint's contact data; errors name the joint.
     pub(crate) fn new(
         j: &Joint,

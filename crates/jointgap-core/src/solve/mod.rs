@@ -13,6 +13,7 @@ pub mod stepper;
 
 pub use options::{Method, SimOptions};
 
+use crate::contact::ClearanceRevolute;
 use crate::output::{RunStats, SimResult, Status};
 use crate::system::System;
 use crate::{Error, Model};
@@ -67,6 +68,7 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
         .zip(log.impacts)
         .map(|(c, impacts)| crate::output::JointImpacts { joint: c.name.clone(), impacts })
         .collect();
+    let clearances = system.clearances.iter().map(ClearanceRevolute::data).collect();
     Ok(SimResult {
         time: rec.time.clone(),
         names: rec.names(),
@@ -75,5 +77,6 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
         status,
         warnings: system.warnings.clone(),
         impacts,
+        clearances,
     })
 }
