@@ -117,7 +117,7 @@ def test_cli_run_writes_results_and_impacts(examples, tmp_path, capsys, engine) 
     assert len(rows) >= 1 and all(r["joint"] == "rod_slider" for r in rows)
     assert all(float(r["peak_force"]) > 0 and float(r["max_penetration"]) > 0 for r in rows)
     printed = capsys.readouterr().out
-    assert f"impacts    rod_slider: {len(rows)}, peak force" in printed
+    assert f"contact    rod_slider: {len(rows)} impacts; free flight" in printed
     assert "max penetration" in printed and "onset speed mean" in printed
     again = jointgap.Result.load(out)
     assert len(again.impacts["rod_slider"]) == len(rows)

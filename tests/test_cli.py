@@ -185,3 +185,48 @@ def test_figures_label_their_axes_with_units(examples, engine) -> None:
     pendulum = jointgap.load(examples / "pendulum.toml").simulate(0.5, rate=100)
     labels = [ax.get_ylabel() for ax in figure(pendulum).axes]
     assert labels == ["x [m]", "y [m]", "angle [deg]"]
+
+
+def test_run_with_ideal_counterpart_then_plot(tmp_path, capsys, engine) -> None:
+    """The founding case with its ideal counterpart: contact statistics and deviation in
+    the summary and as tables, the figure set, and `jointgap plot` redoing the figures
+    from the saved folders (the ideal/ folder found by itself)."""
+    out = tmp_path / "founding"
+    status = main(
+        [
+            "run",
+            "examples/slider_crank_clearance.toml",
+            "--t-end",
+            "0.3",
+            "--rate",
+            "5000",
+            "--out",
+            str(out),
+            "--ideal",
+            "examples/slider_crank_ideal.toml",
+            "--plot",
+            "--format",
+            "png",
+            "pdf",
+        ]
+    )
+    text = capsys.readouterr().out
+    assert status == 0, text
+    assert "contact    rod_slider:" in text and "impacts; free flight" in text
+    assert "slider.ax vs ideal: RMS" in text and "motor.torque vs ideal" in text
+    with open(out / "contact_statistics.csv") as f:
+        row = next(csv.DictReader(f))
+    with open(out / "impacts.csv") as f:
+        assert int(row["impacts"]) == len(list(csv.DictReader(f)))
+    with open(out / "deviation.csv") as f:
+        assert [r["channel"] for r in csv.DictReader(f)] == ["slider.ax", "motor.torque"]
+    assert (out / "ideal" / "results.csv").exists()
+    for stem in ("figure", "slider_acceleration", "motor_torque", "orbit_rod_slider"):
+        assert (out / f"{stem}.png").stat().st_size > 0
+        assert (out / f"{stem}.pdf").stat().st_size > 0
+    assert not (out / "figure.svg").exists()
+    figures = tmp_path / "figures"
+    assert main(["plot", str(out), "--out", str(figures), "--format", "svg"]) == 0
+    assert "contact_force_rod_slider.svg" in capsys.readouterr().out
+    svg = (figures / "slider_acceleration.svg").read_text()
+    assert "ideal" in svg and "clearance" in svg

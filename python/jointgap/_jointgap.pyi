@@ -9,6 +9,13 @@ def check_model(model_json: str) -> list[str]:
     Raises ValueError naming the offending element: ``<kind> '<name>': <problem>``.
     """
 
+def clearance_data(model_json: str) -> str:
+    """Each clearance joint's resolved contact data as a JSON list of ``{"joint",
+    "bearing_radius", "journal_radius", "clearance", "stiffness", "exponent"}`` (SI).
+
+    Raises ValueError naming the offending element.
+    """
+
 def simulate(
     model_json: str, options_json: str
 ) -> tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str]:
@@ -16,6 +23,7 @@ def simulate(
 
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
     holds ``stats``, ``status`` (``{"status": "finished"}`` or ``{"status": "failed",
-    "time": t, "reason": ...}``) and ``warnings``. Raises ValueError for an invalid model
+    "time": t, "reason": ...}``), ``warnings``, ``impacts`` (per clearance joint) and
+    ``clearances`` (as :func:`clearance_data`). Raises ValueError for an invalid model
     or invalid options.
     """

@@ -1,10 +1,15 @@
-"""The ``jointgap`` command: run and check model files.
+"""The ``jointgap`` command: check, run, plot, calibrate and converge model files.
 
-    jointgap run examples/slider_crank_ideal.toml --t-end 0.5 --rate 10000 --out out --plot
-    jointgap check examples/slider_crank_ideal.toml
+    jointgap check examples/slider_crank_clearance.toml
+    jointgap run examples/slider_crank_clearance.toml --t-end 0.5 --rate 10000 --out out \
+        --ideal examples/slider_crank_ideal.toml --plot
+    jointgap plot out
+    jointgap calibrate examples/slider_crank_clearance.toml --restitution 0.55 --t-end 0.5
+    jointgap converge examples/slider_crank_clearance.toml --t-end 0.5
 
 Errors print one line on stderr and set the exit status: 1 invalid model, options or
-file; 2 wrong command line; 3 the run stopped early (its results are still written).
+file; 2 wrong command line; 3 the run stopped early (its results are still written);
+4 not converged (converge, calibrate).
 """
 
 from __future__ import annotations
@@ -13,9 +18,10 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 from .model import Model
-from .results import IMPACTS_CSV, RESULTS_CSV, SUMMARY_JSON, Result, channel_unit
+from .results import IMPACTS_CSV, RESULTS_CSV, SUMMARY_JSON, Result, channel_unit, main_channels
 from .run import DEFAULT_OPTIONS, METHODS
 from .schema import JOINT_EQUATIONS, ModelError
 
@@ -24,20 +30,29 @@ __all__ = ["main", "build_parser"]
 EXIT_INVALID = 1
 EXIT_USAGE = 2
 EXIT_RUN_FAILED = 3
+EXIT_NOT_CONVERGED = 4
+
+IDEAL_DIR = "ideal"
+CONTACT_STATISTICS_CSV = "contact_statistics.csv"
+DEVIATION_CSV = "deviation.csv"
 
 _EPILOG = """\
 quantities may carry units: --t-end "0.5 s", --rate "10 kHz", --max-step "1 us".
 exit status: 0 success, 1 invalid model, options or file, 2 wrong command line,
-3 the run stopped early (what was computed is still written).
+3 the run stopped early (what was computed is still written), 4 not converged.
 """
 
 _DESCRIPTION = """\
 Planar multibody mechanisms: check and run TOML model files
 (format: docs/model-file.md).
 
-example:
-  jointgap check examples/slider_crank_ideal.toml
-  jointgap run examples/slider_crank_ideal.toml --t-end 0.5 --rate 10000 --out out --plot
+examples:
+  jointgap check examples/slider_crank_clearance.toml
+  jointgap run examples/slider_crank_clearance.toml --t-end 0.5 --rate 10000 --out out \
+      --ideal examples/slider_crank_ideal.toml --plot
+  jointgap plot out
+  jointgap calibrate examples/slider_crank_clearance.toml --restitution 0.55 --t-end 0.5
+  jointgap converge examples/slider_crank_clearance.toml --t-end 0.5
 """
 
 _RUN_DESCRIPTION = """\
@@ -48,7 +63,47 @@ Simulate a model from t = 0 to --t-end and write
                     be repeated from it
   OUT/impacts.csv   for a model with clearance joints: one row per impact (joint,
                     onset_time, onset_speed, peak_force, max_penetration, duration)
-and print a short summary with the peaks of the main channels.
+  OUT/contact_statistics.csv
+                    per clearance joint: impacts, time fractions in free flight,
+                    impact and continuous contact, peak force, max penetration,
+                    mean and max onset speed
+  OUT/ideal/        with --ideal: the same files for the ideal model, and
+  OUT/deviation.csv how far the clearance run departs from it (RMS and peak
+                    difference of the slider acceleration and the motor efforts)
+and print a short summary with the peaks of the main channels and the contact
+statistics. --plot writes the figure set (see 'jointgap plot --help').
+"""
+
+_PLOT_DESCRIPTION = """\
+Write the figure set of a saved result (a folder written by 'jointgap run'):
+  figure                the overview, every main channel against time
+  <slider>_displacement, <slider>_velocity, <slider>_acceleration
+  <driver>_torque       (or _force)
+  contact_force_<joint> and orbit_<joint>  for each clearance joint: the normal
+                        force, and the journal centre inside the clearance circle
+                        (mm, bearing frame, coloured by contact mode)
+With --ideal (or an ideal/ folder inside RESULT), ideal and clearance runs are
+overlaid. One file per figure and format.
+"""
+
+_CALIBRATE_DESCRIPTION = """\
+Damping calibration of an ADAMS IMPACT clearance joint (PHYSICS.md section 3, the
+founding paper's Eq. 10-11): for a target restitution r, run, average the onset
+speeds V_avg of the selected impacts, set C_max = 3 K (1 - r^2) / (4 V_avg) d_max^n,
+and repeat until the integer part of C_max no longer changes (or --tolerance).
+Prints the iteration table; --write saves the calibrated model.
+
+Without --restitution, the inverse: the restitution that C_max (--c-max or the
+model's) corresponds to, at the V_avg of one run (or at --v-avg, without a run).
+"""
+
+_CONVERGE_DESCRIPTION = """\
+Check that a run is converged: run at the given tolerances and at --levels tighter
+ones (each ten times tighter), and compare with the tightest: impact counts and
+onset times (to one output sample), peaks (--peak-tol) and NRMSE (--nrmse-tol) of
+the main outputs (slider motion, driver efforts, contact forces). Says plainly
+whether the run at the given tolerance has converged, and which tolerance would.
+Exit status 4 when it has not.
 """
 
 
@@ -71,40 +126,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     run.add_argument("model", metavar="MODEL.toml", help="model file")
-    run.add_argument("--t-end", required=True, metavar="T", help="end time [s], e.g. 0.5")
-    run.add_argument(
-        "--rate",
-        metavar="HZ",
-        help="output sampling rate [Hz], e.g. 10000; default: every accepted step",
-    )
-    run.add_argument(
-        "--rtol",
-        type=float,
-        default=DEFAULT_OPTIONS["rtol"],
-        metavar="R",
-        help="relative tolerance of the local error test (default %(default)g)",
-    )
-    run.add_argument(
-        "--atol",
-        type=float,
-        default=DEFAULT_OPTIONS["atol"],
-        metavar="A",
-        help="absolute tolerance, in m, rad, m/s, rad/s (default %(default)g)",
-    )
-    run.add_argument(
-        "--method",
-        choices=METHODS,
-        default=DEFAULT_OPTIONS["method"],
-        help="integrator: auto (explicit dopri5, switching to implicit sdirk4 when the "
-        "problem turns stiff), dopri5 or sdirk4 (default %(default)s)",
-    )
-    run.add_argument("--max-step", metavar="H", help="largest step [s]; default unbounded")
-    run.add_argument(
-        "--max-steps",
-        type=int,
-        metavar="N",
-        help=f"step budget; the run fails when spent (default {DEFAULT_OPTIONS['max_steps']:g})",
-    )
+    _add_run_options(run)
     run.add_argument(
         "--every-step",
         action="store_true",
@@ -123,8 +145,100 @@ def build_parser() -> argparse.ArgumentParser:
         help="output folder (default out/<model file name>)",
     )
     run.add_argument(
-        "--plot", action="store_true", help="also write DIR/figure.png and DIR/figure.svg"
+        "--ideal",
+        metavar="IDEAL.toml",
+        help="also run this model (the same mechanism with ideal joints) with the same "
+        "options into OUT/ideal; report the deviation and overlay it in the figures",
     )
+    run.add_argument("--plot", action="store_true", help="also write the figure set into OUT")
+    _add_format_option(run)
+
+    plot = sub.add_parser(
+        "plot",
+        help="write the figure set of a saved result",
+        description=_PLOT_DESCRIPTION,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    plot.add_argument("result", metavar="RESULT", help="result folder written by 'jointgap run'")
+    plot.add_argument("--ideal", metavar="IDEAL", help="result folder of the ideal run to overlay")
+    plot.add_argument("--out", metavar="DIR", help="folder for the figures (default RESULT)")
+    _add_format_option(plot)
+
+    calibrate = sub.add_parser(
+        "calibrate",
+        help="calibrate the C_max of an ADAMS IMPACT clearance joint for a restitution",
+        description=_CALIBRATE_DESCRIPTION,
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    calibrate.add_argument("model", metavar="MODEL.toml", help="model file")
+    calibrate.add_argument(
+        "--joint", help="clearance joint (default: the model's only adams_impact one)"
+    )
+    calibrate.add_argument(
+        "--restitution", type=float, metavar="R", help="target restitution, in (0, 1]"
+    )
+    calibrate.add_argument(
+        "--c-max",
+        metavar="C",
+        help="starting C_max [N*s/m] (default: the model's); without --restitution, the "
+        "C_max whose restitution is wanted",
+    )
+    calibrate.add_argument(
+        "--v-avg", metavar="V", help="inverse only: the average onset speed [m/s], no run"
+    )
+    calibrate.add_argument(
+        "--min-onset-speed",
+        metavar="V",
+        help="V_avg over impacts with at least this onset speed [m/s] (default: all)",
+    )
+    calibrate.add_argument(
+        "--window",
+        nargs=2,
+        metavar=("START", "END"),
+        help="V_avg over impacts with onsets in this time window [s], e.g. the steady "
+        "state after a ramp: --window 0.2 0.5 (END may be 'end')",
+    )
+    calibrate.add_argument(
+        "--tolerance",
+        type=float,
+        metavar="C",
+        help="stop when two runs' C_max differ by less than this [N*s/m] "
+        "(default: the same integer part)",
+    )
+    calibrate.add_argument(
+        "--max-iterations", type=int, default=40, metavar="N", help="most runs (default 40)"
+    )
+    calibrate.add_argument("--write", metavar="OUT.toml", help="save the calibrated model")
+    calibrate.add_argument("--table", metavar="TABLE.csv", help="save the iteration table as CSV")
+    _add_run_options(calibrate)
+
+    converge = sub.add_parser(
+        "converge",
+        help="check that a run's peaks and impacts are converged in the tolerance",
+        description=_CONVERGE_DESCRIPTION,
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    converge.add_argument("model", metavar="MODEL.toml", help="model file")
+    converge.add_argument(
+        "--levels", type=int, default=2, metavar="N", help="tighter tolerances (default 2)"
+    )
+    converge.add_argument(
+        "--peak-tol",
+        type=float,
+        default=0.01,
+        metavar="F",
+        help="largest relative change of a peak (default %(default)g)",
+    )
+    converge.add_argument(
+        "--nrmse-tol",
+        type=float,
+        default=0.01,
+        metavar="F",
+        help="largest NRMSE of a main output (default %(default)g)",
+    )
+    _add_run_options(converge, rate_default="10000")
 
     check = sub.add_parser(
         "check",
@@ -136,6 +250,69 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _add_run_options(parser: argparse.ArgumentParser, rate_default: str | None = None) -> None:
+    """The options every simulating command shares."""
+    parser.add_argument("--t-end", required=True, metavar="T", help="end time [s], e.g. 0.5")
+    parser.add_argument(
+        "--rate",
+        metavar="HZ",
+        default=rate_default,
+        help="output sampling rate [Hz], e.g. 10000; default: "
+        + (rate_default or "every accepted step"),
+    )
+    parser.add_argument(
+        "--rtol",
+        type=float,
+        default=DEFAULT_OPTIONS["rtol"],
+        metavar="R",
+        help="relative tolerance of the local error test (default %(default)g)",
+    )
+    parser.add_argument(
+        "--atol",
+        type=float,
+        default=DEFAULT_OPTIONS["atol"],
+        metavar="A",
+        help="absolute tolerance, in m, rad, m/s, rad/s (default %(default)g)",
+    )
+    parser.add_argument(
+        "--method",
+        choices=METHODS,
+        default=DEFAULT_OPTIONS["method"],
+        help="integrator: auto (explicit dopri5, switching to implicit sdirk4 when the "
+        "problem turns stiff), dopri5 or sdirk4 (default %(default)s)",
+    )
+    parser.add_argument("--max-step", metavar="H", help="largest step [s]; default unbounded")
+    parser.add_argument(
+        "--max-steps",
+        type=int,
+        metavar="N",
+        help=f"step budget; the run fails when spent (default {DEFAULT_OPTIONS['max_steps']:g})",
+    )
+
+
+def _add_format_option(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--format",
+        nargs="+",
+        dest="formats",
+        choices=("png", "svg", "pdf"),
+        default=["png", "svg"],
+        help="figure formats (default: png svg)",
+    )
+
+
+def _run_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The shared options as keyword arguments of Model.simulate."""
+    return {
+        "rate": args.rate,
+        "rtol": args.rtol,
+        "atol": args.atol,
+        "method": args.method,
+        "max_step": args.max_step,
+        "max_steps": args.max_steps,
+    }
+
+
 def _version() -> str:
     from . import __version__
 
@@ -145,10 +322,15 @@ def _version() -> str:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``jointgap`` command; returns the exit status."""
     args = build_parser().parse_args(argv)
+    commands = {
+        "run": _run,
+        "check": _check,
+        "plot": _plot,
+        "calibrate": _calibrate,
+        "converge": _converge,
+    }
     try:
-        if args.command == "run":
-            return _run(args)
-        return _check(args)
+        return commands[args.command](args)
     except ModelError as exc:
         return _fail(str(exc))
     except OSError as exc:
@@ -201,40 +383,59 @@ def _counts(model: Model) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from .plots import save_figure_set
+    from .statistics import (
+        contact_statistics,
+        deviation_from_ideal,
+        deviation_table,
+        format_statistics,
+        statistics_table,
+    )
+
     model = _load(args.model)
     out = Path(args.out) if args.out else Path("out") / Path(args.model).stem
+    options = _run_options(args)
     result = model.simulate(
-        args.t_end,
-        rate=args.rate,
-        rtol=args.rtol,
-        atol=args.atol,
-        method=args.method,
-        every_step=args.every_step,
-        max_step=args.max_step,
-        channels=args.channels,
-        max_steps=args.max_steps,
+        args.t_end, every_step=args.every_step, channels=args.channels, **options
     )
-    result.save(out)
-    written = [out / RESULTS_CSV, out / SUMMARY_JSON]
-    if result.impacts:
-        written.append(out / IMPACTS_CSV)
+    written = _save(result, out)
+    ideal = None
+    if args.ideal:
+        ideal = _load(args.ideal).simulate(args.t_end, channels=args.channels, **options)
+        written += _save(ideal, out / IDEAL_DIR)
+    stats = contact_statistics(result)
+    deviations = deviation_from_ideal(result, ideal) if ideal is not None else []
+    if stats:
+        statistics_table(stats).to_csv(out / CONTACT_STATISTICS_CSV, index=False)
+        written.append(out / CONTACT_STATISTICS_CSV)
+    if deviations:
+        deviation_table(deviations).to_csv(out / DEVIATION_CSV, index=False)
+        written.append(out / DEVIATION_CSV)
     notes = []
     if args.plot:
-        from .plots import save_figure
-
         try:
-            written += save_figure(result, out)
+            written += save_figure_set(result, out, ideal=ideal, formats=args.formats)
         except ValueError as exc:
             notes.append(f"warning    no figure: {exc}")
-    print(_summary(model, args.model, result, written))
+    print(_summary(model, args.model, result, written, format_statistics(stats, deviations)))
     for note in notes:
         print(note)
+    if ideal is not None and not ideal.ok:
+        return _fail(f"{args.ideal}: the ideal run {ideal.message}", EXIT_RUN_FAILED)
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     return 0
 
 
-def _summary(model: Model, path: str, result: Result, written: list[Path]) -> str:
+def _save(result: Result, out: Path) -> list[Path]:
+    result.save(out)
+    written = [out / RESULTS_CSV, out / SUMMARY_JSON]
+    if result.impacts:
+        written.append(out / IMPACTS_CSV)
+    return written
+
+
+def _summary(model: Model, path: str, result: Result, written: list[Path], contact: str) -> str:
     s = result.stats
     o = result.options
     rate = "every step" if o.get("rate") is None else f"{o['rate']:g} Hz"
@@ -257,50 +458,119 @@ def _summary(model: Model, path: str, result: Result, written: list[Path]) -> st
             v = result[c]
             unit = channel_unit(c)
             lines.append(f"           {c:<26} {v.min():>14.6g} {v.max():>14.6g}  {unit}")
-    lines += _impact_lines(result)
+    for k, line in enumerate(contact.splitlines()):
+        lines.append(("contact    " if k == 0 else "           ") + line)
     for warning in result.warnings:
         lines.append(f"warning    {warning}")
     lines.append("written    " + ", ".join(str(p) for p in written))
     return "\n".join(lines)
 
 
-def _impact_lines(result: Result) -> list[str]:
-    """Per clearance joint: impacts, peak contact force, max penetration, onset speeds."""
-    lines = []
-    for joint, impacts in result.impacts.items():
-        head = f"impacts    {joint}: {len(impacts)}"
-        if not impacts:
-            lines.append(head)
-            continue
-        force = max(i.peak_force for i in impacts)
-        depth = max(i.max_penetration for i in impacts)
-        speeds = [i.onset_speed for i in impacts]
-        lines.append(
-            f"{head}, peak force {force:.6g} N, max penetration {depth:.4g} m, "
-            f"onset speed mean {sum(speeds) / len(speeds):.4g} m/s, max {max(speeds):.4g} m/s"
-        )
-    return lines
+def _plot(args: argparse.Namespace) -> int:
+    from .plots import save_figure_set
+
+    folder = Path(args.result)
+    result = Result.load(folder)
+    ideal = None
+    if args.ideal:
+        ideal = Result.load(Path(args.ideal))
+    elif (folder / IDEAL_DIR / SUMMARY_JSON).exists():
+        ideal = Result.load(folder / IDEAL_DIR)
+    paths = save_figure_set(result, Path(args.out or folder), ideal=ideal, formats=args.formats)
+    print("written    " + ", ".join(str(p) for p in paths))
+    return 0
 
 
-def main_channels(result: Result) -> list[str]:
-    """The channels worth a glance: slider-like bodies (position, velocity,
-    acceleration along their guide), driver efforts, and the constraint error."""
-    chosen: list[str] = []
-    model = result.model
-    for joint in model.get("joints", []):
-        if joint.get("type") != "prismatic":
-            continue
-        body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
-        axis = joint.get("axis") or [1.0, 0.0]
-        c = "x" if abs(axis[0]) >= abs(axis[1]) else "y"
-        chosen += [f"{body}.{c}", f"{body}.v{c}", f"{body}.a{c}"]
-    for driver in model.get("drivers", []):
-        chosen += [f"{driver['name']}.torque", f"{driver['name']}.force"]
-    if not chosen:
-        for body in model.get("bodies", [])[:3]:
-            chosen += [f"{body['name']}.angle", f"{body['name']}.omega"]
-    chosen.append("system.constraint_error")
-    return [c for c in dict.fromkeys(chosen) if c in result]
+def _calibrate(args: argparse.Namespace) -> int:
+    from . import units as u
+    from .calibration import (
+        ImpactSelection,
+        average_onset_speed,
+        calibrate_damping,
+        restitution_from_damping,
+    )
+
+    model = _load(args.model)
+    joint = args.joint or _impact_joint(model)
+    c_max = None if args.c_max is None else u.to_si(args.c_max, u.DAMPING)
+    selection = ImpactSelection(
+        min_speed=0.0 if args.min_onset_speed is None else u.to_si(args.min_onset_speed, u.SPEED),
+        start=0.0 if args.window is None else u.to_si(args.window[0], u.TIME),
+        end=None
+        if args.window is None or args.window[1] == "end"
+        else u.to_si(args.window[1], u.TIME),
+    )
+    options = _run_options(args)
+    if args.restitution is None:
+        law = model.joints[joint]["clearance"]["normal_law"]
+        c = c_max if c_max is not None else float(law["c_max"])
+        k = model.clearance_data()[joint]["stiffness"]
+        d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+        if args.v_avg is not None:
+            v_avg, source = u.to_si(args.v_avg, u.SPEED), "given"
+        else:
+            probe = model.simulate(args.t_end, **options)
+            if not probe.ok:
+                return _fail(f"{args.model}: the run {probe.message}", EXIT_RUN_FAILED)
+            v_avg, count = average_onset_speed(probe, joint, selection)
+            source = f"over {count} impacts, {selection.describe()}"
+        r = restitution_from_damping(c, v_avg, k, d_max, n)
+        print(f"joint      {joint}: K = {k:.4g} N/m^{n:g}, d_max = {d_max:g} m")
+        print(f"V_avg      {v_avg:.6g} m/s ({source})")
+        print(f"C_max      {c:.6g} N*s/m  ->  restitution r = {r:.4f}")
+        return 0
+    calibration = calibrate_damping(
+        model,
+        joint,
+        args.restitution,
+        args.t_end,
+        c_max=c_max,
+        selection=selection,
+        tolerance=args.tolerance,
+        max_iterations=args.max_iterations,
+        **options,
+    )
+    print(calibration.table())
+    if args.table:
+        calibration.to_frame().to_csv(args.table, index=False)
+        print(f"written    {args.table}")
+    if args.write:
+        calibration.model.save(args.write)
+        print(f"written    {args.write}")
+    return 0 if calibration.converged else EXIT_NOT_CONVERGED
+
+
+def _impact_joint(model: Model) -> str:
+    """The model's only clearance joint with the ADAMS IMPACT law."""
+    joints = [
+        name
+        for name, j in model.joints.items()
+        if j["type"] == "clearance_revolute"
+        and j["clearance"]["normal_law"]["type"] == "adams_impact"
+    ]
+    if len(joints) != 1:
+        found = ", ".join(joints) if joints else "none"
+        raise ValueError(f"name the joint with --joint (adams_impact clearance joints: {found})")
+    return joints[0]
+
+
+def _converge(args: argparse.Namespace) -> int:
+    from .convergence import check_convergence
+
+    model = _load(args.model)
+    options = _run_options(args)
+    check = check_convergence(
+        model,
+        args.t_end,
+        levels=args.levels,
+        peak_tolerance=args.peak_tol,
+        nrmse_tolerance=args.nrmse_tol,
+        **options,
+    )
+    print(check.table())
+    print()
+    print(check.verdict())
+    return 0 if check.ok else EXIT_NOT_CONVERGED
 
 
 if __name__ == "__main__":

@@ -500,6 +500,20 @@ class Model:
         except ValueError as exc:
             raise self.engine_error(exc) from None
 
+    def clearance_data(self) -> dict[str, dict[str, float]]:
+        """Each clearance joint's contact data as the engine resolves them, without a
+        run: ``bearing_radius``, ``journal_radius``, ``clearance`` [m], ``stiffness`` K
+        [N/m^n] (from the materials unless given) and ``exponent`` n, keyed by joint."""
+        import json
+
+        from ._jointgap import clearance_data
+
+        try:
+            data = json.loads(clearance_data(self.to_json()))
+        except ValueError as exc:
+            raise self.engine_error(exc) from None
+        return {d.pop("joint"): {k: float(v) for k, v in d.items()} for d in data}
+
     def _check_drivers(self) -> None:
         for index, (driver, motion) in enumerate(
             zip(self._elements["driver"], self._motions, strict=True)

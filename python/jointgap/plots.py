@@ -45,7 +45,13 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle
 from matplotlib.textpath import text_to_path
 
-from .results import Result, channel_unit
+from .results import (
+    Result,
+    channel_unit,
+    clearance_joints,
+    effort_channels,
+    guided_bodies,
+)
 
 __all__ = [
     "FIGURE_FORMATS",
@@ -107,20 +113,11 @@ def _style() -> Iterator[None]:
 # ------------------------------------------------------------------ model queries
 
 
-def clearance_joints(result: Result) -> list[str]:
-    """The clearance joints of a result, in model order (from the model, or from the
-    channels ending in ``.fn`` for a result without its model)."""
-    joints = [
-        j["name"] for j in result.model.get("joints", []) if j.get("type") == "clearance_revolute"
-    ]
-    if not joints and not result.model.get("joints"):
-        joints = [c[: -len(".fn")] for c in result.channels if c.endswith(".fn")]
-    return joints
-
-
 def radial_clearance(result: Result, joint: str) -> float:
-    """The radial clearance c of a clearance joint [m]: given, or bearing radius less
-    journal radius."""
+    """The radial clearance c of a clearance joint [m]: as the engine resolved it, or
+    (for a result saved without it) given in the model or bearing less journal radius."""
+    if joint in result.clearances:
+        return result.clearances[joint]["clearance"]
     for j in result.model.get("joints", []):
         if j.get("name") == joint and j.get("type") == "clearance_revolute":
             spec = j.get("clearance") or j
@@ -139,29 +136,8 @@ def _bearing_body(result: Result, joint: str) -> str:
     return ""
 
 
-def _sliders(result: Result) -> list[tuple[str, str]]:
-    """(body, axis "x" or "y") of every body guided by a prismatic joint on the ground,
-    the axis being the coordinate closest to the guide; ``("slider", "x")`` when the model
-    names no such joint but the result has a ``slider.x`` channel."""
-    out: list[tuple[str, str]] = []
-    for j in result.model.get("joints", []):
-        if j.get("type") != "prismatic" or "ground" not in (j.get("body_i"), j.get("body_j")):
-            continue
-        body = j["body_j"] if j.get("body_i") == "ground" else j["body_i"]
-        ax, ay = (abs(float(v)) for v in j.get("axis", (1.0, 0.0)))
-        axis = "x" if ax >= ay else "y"
-        if f"{body}.{axis}" in result and (body, axis) not in out:
-            out.append((body, axis))
-    if not out and "slider.x" in result:
-        out.append(("slider", "x"))
-    return out
-
-
-def _driver_channels(result: Result, quantity: str) -> list[str]:
-    names: Sequence[str] = [d["name"] for d in result.model.get("drivers", [])]
-    if not names:  # a result without its model: any channel of that quantity
-        return [c for c in result.channels if c.endswith("." + quantity)]
-    return [f"{n}.{quantity}" for n in names if f"{n}.{quantity}" in result]
+def _torque_channels(result: Result) -> list[str]:
+    return [c for c in effort_channels(result) if c.endswith(".torque")]
 
 
 # ------------------------------------------------------------------ runs and series
@@ -374,7 +350,7 @@ def time_series_figure(
 
 def _slider_panels(result: Result) -> list[tuple[str, Panel]]:
     panels: list[tuple[str, Panel]] = []
-    for body, axis in _sliders(result):
+    for body, axis in guided_bodies(result):
         for stem, quantity, unit, channel, scale in (
             ("displacement", "displacement", "mm", f"{body}.{axis}", 1000.0),
             ("velocity", "velocity", "m/s", f"{body}.v{axis}", 1.0),
@@ -404,7 +380,7 @@ def torque_figures(
     ``<driver>_torque`` (``motor_torque`` for the founding case)."""
     runs = _runs(results, labels)
     out: dict[str, Figure] = {}
-    for channel in _driver_channels(runs[0].result, "torque"):
+    for channel in _torque_channels(runs[0].result):
         driver = channel[: -len(".torque")]
         panel: Panel = (f"{driver} torque [N m]", [(channel, _channel(channel))])
         out[f"{driver}_torque"] = _series_figure(runs, panel)
@@ -551,7 +527,7 @@ def _overview_panels(result: Result) -> list[Panel]:
     panels = [panel for _, panel in _slider_panels(result)]
     if not panels:
         panels = _body_panels(result)
-    torques = _driver_channels(result, "torque")
+    torques = _torque_channels(result)
     if torques:
         name = torques[0][: -len(".torque")] if len(torques) == 1 else "driver"
         panels.append((f"{name} torque [N m]", [(c, _channel(c)) for c in torques]))

@@ -304,13 +304,63 @@ class Result:
         )
 
 
+def guided_bodies(result: Result) -> list[tuple[str, str]]:
+    """``(body, "x" or "y")`` for every body on a prismatic joint, the coordinate being
+    the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
+    out: list[tuple[str, str]] = []
+    for joint in result.model.get("joints", []):
+        if joint.get("type") != "prismatic":
+            continue
+        body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
+        ax, ay = (abs(float(v)) for v in joint.get("axis") or (1.0, 0.0))
+        pair = (str(body), "x" if ax >= ay else "y")
+        if pair not in out:
+            out.append(pair)
+    return out
+
+
+def slider_channels(result: Result) -> list[str]:
+    """Position, velocity and acceleration along its guide of every body on a prismatic
+    joint (``slider.x``, ``slider.vx``, ``slider.ax`` in a slider-crank), those recorded."""
+    chosen = [f"{b}.{q}{c}" for b, c in guided_bodies(result) for q in ("", "v", "a")]
+    return [c for c in chosen if c in result]
+
+
+def clearance_joints(result: Result) -> list[str]:
+    """The clearance joints of a result in model order (then any others that only the
+    impact list names, for a result built without its model)."""
+    names = [
+        str(j["name"])
+        for j in result.model.get("joints", [])
+        if j.get("type") == "clearance_revolute"
+    ]
+    return names + [j for j in result.impacts if j not in names]
+
+
+def effort_channels(result: Result) -> list[str]:
+    """Every driver's torque or force channel, those recorded."""
+    drivers = result.model.get("drivers", [])
+    chosen = [f"{d['name']}.{q}" for d in drivers for q in ("torque", "force")]
+    return [c for c in chosen if c in result]
+
+
+def main_channels(result: Result) -> list[str]:
+    """The channels worth a glance: slider motion along the guide, driver efforts (or,
+    without a slider or driver, the first bodies' angles and speeds), and the
+    constraint error."""
+    chosen = slider_channels(result) + effort_channels(result)
+    if not chosen:
+        for body in result.model.get("bodies", [])[:3]:
+            chosen += [f"{body['name']}.angle", f"{body['name']}.omega"]
+    chosen.append("system.constraint_error")
+    return [c for c in dict.fromkeys(chosen) if c in result]
+
+
 def _clearances(value: Any) -> dict[str, dict[str, float]]:
     """The engine's list of ``{"joint": .., ...}`` (or a saved dict) keyed by joint."""
     if isinstance(value, Mapping):
         return {str(k): {q: float(x) for q, x in v.items()} for k, v in value.items()}
-    return {
-        str(d["joint"]): {q: float(x) for q, x in d.items() if q != "joint"} for d in value
-    }
+    return {str(d["joint"]): {q: float(x) for q, x in d.items() if q != "joint"} for d in value}
 
 
 def _jsonable(value: Any) -> Any:

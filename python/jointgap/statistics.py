@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .results import Result, channel_unit
+from .results import Result, channel_unit, clearance_joints, effort_channels, slider_channels
 
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped]
@@ -131,15 +131,6 @@ class Deviation:
 # ---------------------------------------------------------------- contact statistics
 
 
-def clearance_joints(result: Result) -> list[str]:
-    """The clearance joints of a result in model order (then any others that only the
-    impact list names, for a result built without its model)."""
-    names = [
-        str(j["name"]) for j in result.model.get("joints", []) if j.get("type") == CLEARANCE_TYPE
-    ]
-    return names + [j for j in result.impacts if j not in names]
-
-
 def contact_statistics(result: Result) -> list[ContactStatistics]:
     """Statistics of every clearance joint, in model order; empty without clearance
     joints. A failed run gives the statistics of what it computed (``complete=False``)."""
@@ -205,16 +196,8 @@ def default_deviation_channels(result: Result) -> list[str]:
     """The channels that show a clearance's effect: the acceleration along the guide of
     every prismatic-guided body (``slider.ax`` in the slider-crank) and every driver's
     torque or force, those recorded in ``result``."""
-    chosen: list[str] = []
-    for joint in result.model.get("joints", []):
-        if joint.get("type") != "prismatic":
-            continue
-        body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
-        axis = joint.get("axis") or [1.0, 0.0]
-        chosen.append(f"{body}.a{'x' if abs(axis[0]) >= abs(axis[1]) else 'y'}")
-    for driver in result.model.get("drivers", []):
-        chosen += [f"{driver['name']}.torque", f"{driver['name']}.force"]
-    return [c for c in dict.fromkeys(chosen) if c in result]
+    accelerations = [c for c in slider_channels(result) if c.split(".")[-1] in ("ax", "ay")]
+    return accelerations + effort_channels(result)
 
 
 def deviation_from_ideal(

@@ -26,6 +26,16 @@ fn check_model(model_json: &str) -> PyResult<Vec<String>> {
     Ok(prepared.system.warnings)
 }
 
+/// Each clearance joint's resolved contact data (radii, clearance, stiffness computed
+/// from the materials, exponent) as a JSON list, without running the model.
+#[pyfunction]
+fn clearance_data(model_json: &str) -> PyResult<String> {
+    let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
+    let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
+    let data: Vec<_> = system.clearances.iter().map(|c| c.data()).collect();
+    serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 /// Runs a simulation with the GIL released. Returns
 /// `(time, names, data[n_channels, n_samples], summary_json)`.
 #[pyfunction]
@@ -61,5 +71,6 @@ fn simulate<'py>(
 fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(clearance_data, m)?)?;
     Ok(())
 }

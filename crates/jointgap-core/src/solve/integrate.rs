@@ -57,158 +57,165 @@ pub fn integrate(
              singular position (e.g. a four-bar at a change point, a crank at a dead centre with the driver on the rod)"
         ))
     };
-    ode.ws.t_piece = 0.0;
-    if ode.rhs(t, y, &mut f).is_err() {
-        return singular(t);
-    }
-    let mut h = initial_step(ode, y, &f, stepper.error_exponent(), boundaries[0]);
-    if let Some(hmax) = opts.max_step {
-        h = h.min(hmax);
-    }
-    let mut stiff_count = 0usize;
-    let mut last_rejected = false;
+    // Every exit leads past the counters below, so a failed run reports them too.
+    let status = 'run: {
+        ode.ws.t_piece = 0.0;
+        if ode.rhs(t, y, &mut f).is_err() {
+            break 'run singular(t);
+        }
+        let mut h = initial_step(ode, y, &f, stepper.error_exponent(), boundaries[0]);
+        if let Some(hmax) = opts.max_step {
+            h = h.min(hmax);
+        }
+        let mut stiff_count = 0usize;
+        let mut last_rejected = false;
 
-    for &segment_end in &boundaries {
-        // At a corner the inputs change piece: re-evaluate the derivative on the new side.
-        if t > 0.0 {
-            ode.ws.t_piece = 0.5 * (t + segment_end);
-            if ode.rhs(t, y, &mut f).is_err() {
-                return singular(t);
+        for &segment_end in &boundaries {
+            // At a corner the inputs change piece: re-evaluate the derivative on the new side.
+            if t > 0.0 {
+                ode.ws.t_piece = 0.5 * (t + segment_end);
+                if ode.rhs(t, y, &mut f).is_err() {
+                    break 'run singular(t);
+                }
+            }
+            while t < segment_end {
+                if stats.accepted_steps + stats.rejected_steps >= opts.max_steps {
+                    break 'run fail(t, format!("step budget of {} steps spent (max_steps)", opts.max_steps));
+                }
+                if let Some(hmax) = opts.max_step {
+                    h = h.min(hmax);
+                }
+                let remaining = segment_end - t;
+                let last = h >= remaining * (1.0 - 1e-12);
+                if last {
+                    h = remaining;
+                }
+                let hmin = 1e-14 * t.abs().max(1e-3);
+                if h < hmin {
+                    break 'run fail(
+                        t,
+                        format!("step size {h:.3e} s below the smallest resolvable step at t = {t:.6} s"),
+                    );
+                }
+                ode.ws.t_piece = t + 0.5 * h;
+                match stepper.attempt(ode, t, y, &f, h, &mut y_new, &mut f_new) {
+                    Err(StepFailure::Singular) => break 'run singular(t),
+                    Err(StepFailure::Convergence) => {
+                        stats.rejected_steps += 1;
+                        stepper.rejected();
+                        h *= 0.5;
+                        last_rejected = true;
+                    }
+                    Ok(att) if att.error > 1.0 || att.error.is_nan() => {
+                        stats.rejected_steps += 1;
+                        stepper.rejected();
+                        let factor = if att.error.is_finite() {
+                            0.9 * att.error.powf(-stepper.error_exponent())
+                        } else {
+                            0.1
+                        };
+                        h *= factor.clamp(0.1, 0.9);
+                        last_rejected = true;
+                    }
+                    Ok(att) => {
+                        stats.accepted_steps += 1;
+                        // A contact onset or separation inside the step ends the step there.
+                        let event =
+                            contacts::locate(sys, &ode.ws.contacts, h, y, &f, &y_new, &f_new, &mut sample);
+                        let (t_new, last) = match event {
+                            Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
+                            _ => (if last { segment_end } else { t + h }, last),
+                        };
+                        // Output samples inside (t, t_new].
+                        while let Some(ts) = sample_time(next_sample) {
+                            if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
+                                break;
+                            }
+                            let ts = ts.min(t_new);
+                            hermite5((ts - t) / h, h, y, &f, &y_new, &f_new, &mut sample);
+                            let (q, v) = sample.split_at(n);
+                            if rec.push(sys, &mut ode.ws, ts, q, v).is_err() {
+                                break 'run singular(ts);
+                            }
+                            log.update(sys, &mut ode.ws.contacts, q, v);
+                            next_sample += 1;
+                        }
+                        let mut refresh = false;
+                        if let Some((theta, k)) = event {
+                            if theta < 1.0 {
+                                hermite5(theta, h, y, &f, &y_new, &f_new, &mut sample);
+                                y_new.copy_from_slice(&sample);
+                            }
+                            let (q, v) = y_new.split_at(n);
+                            log.switch(sys, &mut ode.ws.contacts, k, t_new, q, v);
+                            stats.events += 1;
+                            refresh = true;
+                        }
+                        let h_taken = t_new - t;
+                        t = t_new;
+                        std::mem::swap(y, &mut y_new);
+                        std::mem::swap(&mut f, &mut f_new);
+                        if y.iter().any(|x| !x.is_finite()) {
+                            break 'run fail(t, "the state became non-finite".into());
+                        }
+                        // Keep the drift far below the tolerance: project when it shows.
+                        let (pos, vel) = {
+                            let (q, v) = y.split_at(n);
+                            violation(sys, t, q, v, &mut ode.ws)
+                        };
+                        if pos > 1e-2 * ode.atol || vel > 1e-2 * ode.atol {
+                            let (q, v) = y.split_at_mut(n);
+                            if project(sys, t, q, v, &mut ode.ws).is_err() {
+                                break 'run singular(t);
+                            }
+                            stats.projections += 1;
+                            refresh = true;
+                        }
+                        if refresh {
+                            ode.ws.t_piece = t - 0.5 * h_taken;
+                            if ode.rhs(t, y, &mut f).is_err() {
+                                break 'run singular(t);
+                            }
+                        }
+                        log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
+                        if every_step
+                            && rec.time.last().is_none_or(|&tl| tl < t)
+                            && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
+                        {
+                            break 'run singular(t);
+                        }
+                        // Stiffness detection for `auto` (Hairer's DOPRI5 test).
+                        if opts.method == Method::Auto && method == Method::Dopri5 {
+                            match att.stiffness {
+                                Some(s) if s > STIFF_EDGE => stiff_count += 1,
+                                _ => stiff_count = stiff_count.saturating_sub(1),
+                            }
+                            if stiff_count >= STIFF_SWITCH {
+                                method = Method::Sdirk4;
+                                stats.jacobian_evaluations += stepper.jacobian_evaluations();
+                                stepper = Box::new(Sdirk4::new(n_state));
+                                method_name = format!("auto: dopri5, sdirk4 from t = {t:.6} s");
+                            }
+                        }
+                        let factor = if att.error > 0.0 {
+                            0.9 * att.error.powf(-stepper.error_exponent())
+                        } else {
+                            5.0
+                        };
+                        let grow = if last_rejected || event.is_some() { 1.0 } else { 5.0 };
+                        let h_next = h * factor.clamp(0.2, grow);
+                        // A step cut short by a corner does not shrink the next one.
+                        h = if last { h_next.max(h) } else { h_next };
+                        last_rejected = false;
+                    }
+                }
             }
         }
-        while t < segment_end {
-            if stats.accepted_steps + stats.rejected_steps >= opts.max_steps {
-                return fail(t, format!("step budget of {} steps spent (max_steps)", opts.max_steps));
-            }
-            if let Some(hmax) = opts.max_step {
-                h = h.min(hmax);
-            }
-            let remaining = segment_end - t;
-            let last = h >= remaining * (1.0 - 1e-12);
-            if last {
-                h = remaining;
-            }
-            let hmin = 1e-14 * t.abs().max(1e-3);
-            if h < hmin {
-                return fail(
-                    t,
-                    format!("step size {h:.3e} s below the smallest resolvable step at t = {t:.6} s"),
-                );
-            }
-            ode.ws.t_piece = t + 0.5 * h;
-            match stepper.attempt(ode, t, y, &f, h, &mut y_new, &mut f_new) {
-                Err(StepFailure::Singular) => return singular(t),
-                Err(StepFailure::Convergence) => {
-                    stats.rejected_steps += 1;
-                    stepper.rejected();
-                    h *= 0.5;
-                    last_rejected = true;
-                }
-                Ok(att) if att.error > 1.0 || att.error.is_nan() => {
-                    stats.rejected_steps += 1;
-                    stepper.rejected();
-                    let factor = if att.error.is_finite() {
-                        0.9 * att.error.powf(-stepper.error_exponent())
-                    } else {
-                        0.1
-                    };
-                    h *= factor.clamp(0.1, 0.9);
-                    last_rejected = true;
-                }
-                Ok(att) => {
-                    stats.accepted_steps += 1;
-                    // A contact onset or separation inside the step ends the step there.
-                    let event =
-                        contacts::locate(sys, &ode.ws.contacts, h, y, &f, &y_new, &f_new, &mut sample);
-                    let (t_new, last) = match event {
-                        Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
-                        _ => (if last { segment_end } else { t + h }, last),
-                    };
-                    // Output samples inside (t, t_new].
-                    while let Some(ts) = sample_time(next_sample) {
-                        if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
-                            break;
-                        }
-                        let ts = ts.min(t_new);
-                        hermite5((ts - t) / h, h, y, &f, &y_new, &f_new, &mut sample);
-                        let (q, v) = sample.split_at(n);
-                        if rec.push(sys, &mut ode.ws, ts, q, v).is_err() {
-                            return singular(ts);
-                        }
-                        log.update(sys, &mut ode.ws.contacts, q, v);
-                        next_sample += 1;
-                    }
-                    let mut refresh = false;
-                    if let Some((theta, k)) = event {
-                        if theta < 1.0 {
-                            hermite5(theta, h, y, &f, &y_new, &f_new, &mut sample);
-                            y_new.copy_from_slice(&sample);
-                        }
-                        let (q, v) = y_new.split_at(n);
-                        log.switch(sys, &mut ode.ws.contacts, k, t_new, q, v);
-                        stats.events += 1;
-                        refresh = true;
-                    }
-                    let h_taken = t_new - t;
-                    t = t_new;
-                    std::mem::swap(y, &mut y_new);
-                    std::mem::swap(&mut f, &mut f_new);
-                    if y.iter().any(|x| !x.is_finite()) {
-                        return fail(t, "the state became non-finite".into());
-                    }
-                    // Keep the drift far below the tolerance: project when it shows.
-                    let (pos, vel) = {
-                        let (q, v) = y.split_at(n);
-                        violation(sys, t, q, v, &mut ode.ws)
-                    };
-                    if pos > 1e-2 * ode.atol || vel > 1e-2 * ode.atol {
-                        let (q, v) = y.split_at_mut(n);
-                        if project(sys, t, q, v, &mut ode.ws).is_err() {
-                            return singular(t);
-                        }
-                        stats.projections += 1;
-                        refresh = true;
-                    }
-                    if refresh {
-                        ode.ws.t_piece = t - 0.5 * h_taken;
-                        if ode.rhs(t, y, &mut f).is_err() {
-                            return singular(t);
-                        }
-                    }
-                    log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
-                    if every_step
-                        && rec.time.last().is_none_or(|&tl| tl < t)
-                        && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
-                    {
-                        return singular(t);
-                    }
-                    // Stiffness detection for `auto` (Hairer's DOPRI5 test).
-                    if opts.method == Method::Auto && method == Method::Dopri5 {
-                        match att.stiffness {
-                            Some(s) if s > STIFF_EDGE => stiff_count += 1,
-                            _ => stiff_count = stiff_count.saturating_sub(1),
-                        }
-                        if stiff_count >= STIFF_SWITCH {
-                            method = Method::Sdirk4;
-                            stats.jacobian_evaluations += stepper.jacobian_evaluations();
-                            stepper = Box::new(Sdirk4::new(n_state));
-                            method_name = format!("auto: dopri5, sdirk4 from t = {t:.6} s");
-                        }
-                    }
-                    let factor =
-                        if att.error > 0.0 { 0.9 * att.error.powf(-stepper.error_exponent()) } else { 5.0 };
-                    let grow = if last_rejected || event.is_some() { 1.0 } else { 5.0 };
-                    let h_next = h * factor.clamp(0.2, grow);
-                    // A step cut short by a corner does not shrink the next one.
-                    h = if last { h_next.max(h) } else { h_next };
-                    last_rejected = false;
-                }
-            }
-        }
-    }
+        Status::Finished
+    };
     stats.jacobian_evaluations += stepper.jacobian_evaluations();
     stats.method = method_name;
-    Status::Finished
+    status
 }
 
 /// Starting step (Hairer, Norsett, Wanner I, II.4, algorithm of `hinit`).

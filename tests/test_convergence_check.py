@@ -1,0 +1,51 @@
+"""The convergence check flags a deliberately loose tolerance and passes a tight one;
+its figures are the direct comparison of the runs it reports."""
+
+from __future__ import annotations
+
+import jointgap
+import numpy as np
+import pytest
+from jointgap.cli import EXIT_NOT_CONVERGED, main
+from jointgap.convergence import check_convergence
+
+
+@pytest.fixture(scope="module")
+def founding():
+    return jointgap.load("examples/slider_crank_clearance.toml")
+
+
+def test_loose_tolerance_is_flagged(founding, engine) -> None:
+    check = check_convergence(founding, 0.5, rtol=1e-4, atol=1e-7)
+    assert not check.ok
+    verdict = check.verdict()
+    assert verdict.startswith("NOT converged: rtol 0.0001 (atol 1e-07) is too loose")
+    assert "slider.ax" in verdict
+    # The figures are what a direct comparison of the runs gives.
+    loose, ref = check.runs[0], check.runs[-1]
+    change = {c.channel: c for c in check.changes[0]}
+    ax, ax_ref = loose["slider.ax"], ref["slider.ax"]
+    assert change["slider.ax"].peak_change == pytest.approx(
+        np.abs(ax).max() / np.abs(ax_ref).max() - 1, rel=1e-12
+    )
+    assert change["slider.ax"].nrmse == pytest.approx(
+        np.sqrt(np.mean((ax - ax_ref) ** 2)) / np.ptp(ax_ref), rel=1e-12
+    )
+    assert [r.options["rtol"] for r in check.runs] == pytest.approx([1e-4, 1e-5, 1e-6])
+
+
+def test_default_tolerance_passes(founding, engine) -> None:
+    check = check_convergence(founding, 0.5)
+    assert check.ok, check.verdict()
+    assert check.verdict().startswith("converged: at rtol 1e-06")
+    assert check.impacts[0] == check.impacts[-1]
+    assert check.onset_shift[0] <= 1e-4
+
+
+def test_converge_command(capsys, engine) -> None:
+    args = ["converge", "examples/slider_crank_clearance.toml", "--t-end", "0.5", "--levels", "1"]
+    assert main([*args, "--rtol", "1e-5", "--atol", "1e-8"]) == EXIT_NOT_CONVERGED
+    out = capsys.readouterr().out
+    assert "NOT converged" in out and "too loose" in out
+    assert main([*args, "--rtol", "1e-7", "--atol", "1e-10"]) == 0
+    assert "converged: at rtol 1e-07" in capsys.readouterr().out
