@@ -232,10 +232,9 @@ def check_against_reference(measured: Measured, ref: Rebound, v0: float) -> None
         f"rebound ratio: engine {measured.ratio:.8f}, reference {ref.ratio:.8f}"
     )
     assert measured.duration == pytest.approx(ref.duration, rel=1e-6)
-    # The engine takes its largest penetration at accepted states (not located between
-    # them): up to 1.4e-4 below the located maximum of the reference here, never above.
-    assert measured.max_penetration == pytest.approx(ref.max_penetration, rel=1e-3)
-    assert measured.max_penetration <= ref.max_penetration * (1.0 + 1e-8)
+    # The engine takes its largest penetration at accepted states and 7 points inside
+    # each step on the dense output, not located exactly.
+    assert measured.max_penetration == pytest.approx(ref.max_penetration, rel=1e-4)
 
 
 # --- the tests ----------------------------------------------------------------------------

@@ -153,6 +153,38 @@ impl ImpactLog {
         }
     }
 
+    /// Raises the running impacts' peak force and penetration to the largest values
+    /// probed on an accepted step's dense output over `(0, theta_end)`: a step that
+    /// spans the peak would otherwise report the smaller values at its ends.
+    #[allow(clippy::too_many_arguments)]
+    pub fn update_within(
+        &mut self,
+        sys: &System,
+        states: &[ContactState],
+        (h, theta_end): (f64, f64),
+        y0: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+        scratch: &mut [f64],
+    ) {
+        if !states.iter().any(|s| s.in_contact) {
+            return;
+        }
+        let n = y0.len() / 2;
+        for p in 1..PROBES {
+            hermite5(theta_end * p as f64 / PROBES as f64, h, y0, f0, y1, f1, scratch);
+            for (k, s) in states.iter().enumerate().filter(|(_, s)| s.in_contact) {
+                let kin = kinematics(sys, k, &scratch[..n], &scratch[n..]);
+                let (f_n, _) = sys.clearances[k].contact_force(&kin, s.onset_speed);
+                if let Some(last) = self.impacts[k].last_mut() {
+                    last.peak_force = last.peak_force.max(f_n);
+                    last.max_penetration = last.max_penetration.max(kin.penetration);
+                }
+            }
+        }
+    }
+
     /// At an accepted state (step end or output sample): the mode from the penetration
     /// rate, and the peaks of the current impact.
     pub fn update(&mut self, sys: &System, states: &mut [ContactState], q: &[f64], v: &[f64]) {

@@ -9,13 +9,9 @@ use super::ode::{hermite5, Ode};
 use super::record::Recorder;
 use super::sdirk4::Sdirk4;
 use super::stepper::{StepFailure, Stepper};
+use super::switching::AutoSwitch;
 use super::{Method, SimOptions};
 use crate::output::{RunStats, Status};
-
-/// Consecutive stiff indications after which `auto` switches to the implicit method.
-const STIFF_SWITCH: usize = 15;
-/// `h |lambda|` above which an explicit step counts as stiff (DOPRI5's stability edge).
-const STIFF_EDGE: f64 = 3.25;
 
 /// Integrates from `(0, y)` to `t_end`, recording into `rec`. Returns the final status.
 pub fn integrate(
@@ -34,8 +30,7 @@ pub fn integrate(
         Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
         _ => Box::new(Dopri5::new(n_state)),
     };
-    let mut method_name =
-        if opts.method == Method::Auto { "auto: dopri5".to_string() } else { stepper.name().to_string() };
+    let mut switch = AutoSwitch::default();
     let mut f = vec![0.0; n_state];
     let mut y_new = vec![0.0; n_state];
     let mut f_new = vec![0.0; n_state];
@@ -67,7 +62,6 @@ pub fn integrate(
         if let Some(hmax) = opts.max_step {
             h = h.min(hmax);
         }
-        let mut stiff_count = 0usize;
         let mut last_rejected = false;
 
         for &segment_end in &boundaries {
@@ -126,6 +120,16 @@ pub fn integrate(
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
                             _ => (if last { segment_end } else { t + h }, last),
                         };
+                        log.update_within(
+                            sys,
+                            &ode.ws.contacts,
+                            (h, (t_new - t) / h),
+                            y,
+                            &f,
+                            &y_new,
+                            &f_new,
+                            &mut sample,
+                        );
                         // Output samples inside (t, t_new].
                         while let Some(ts) = sample_time(next_sample) {
                             if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
@@ -184,17 +188,26 @@ pub fn integrate(
                         {
                             break 'run singular(t);
                         }
-                        // Stiffness detection for `auto` (Hairer's DOPRI5 test).
-                        if opts.method == Method::Auto && method == Method::Dopri5 {
-                            match att.stiffness {
-                                Some(s) if s > STIFF_EDGE => stiff_count += 1,
-                                _ => stiff_count = stiff_count.saturating_sub(1),
-                            }
-                            if stiff_count >= STIFF_SWITCH {
-                                method = Method::Sdirk4;
+                        if opts.method == Method::Auto {
+                            let radius = if switch.wants_radius(method) {
+                                stepper.spectral_radius(ode, t, y, &f)
+                            } else {
+                                None
+                            };
+                            let next = switch.after_step(
+                                method,
+                                (t, h_taken),
+                                ode.evaluations,
+                                att.stiffness,
+                                radius,
+                            );
+                            if let Some(next) = next {
+                                method = next;
                                 stats.jacobian_evaluations += stepper.jacobian_evaluations();
-                                stepper = Box::new(Sdirk4::new(n_state));
-                                method_name = format!("auto: dopri5, sdirk4 from t = {t:.6} s");
+                                stepper = match next {
+                                    Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
+                                    _ => Box::new(Dopri5::new(n_state)),
+                                };
                             }
                         }
                         let factor = if att.error > 0.0 {
@@ -214,7 +227,8 @@ pub fn integrate(
         Status::Finished
     };
     stats.jacobian_evaluations += stepper.jacobian_evaluations();
-    stats.method = method_name;
+    stats.method =
+        if opts.method == Method::Auto { switch.describe(method, t) } else { stepper.name().to_string() };
     status
 }
 

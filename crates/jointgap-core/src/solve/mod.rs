@@ -10,6 +10,7 @@ mod options;
 pub mod record;
 pub mod sdirk4;
 pub mod stepper;
+pub mod switching;
 
 pub use options::{Method, SimOptions};
 

@@ -139,7 +139,9 @@ impl Recorder {
                 let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
                 let bearing_angle = sys.body_state(c.bearing, q, v).phi;
                 let e_local = rotate(-bearing_angle, kin.e);
-                let mode = if kin.penetration < 0.0 { Mode::FreeFlight } else { state.mode };
+                // The located state decides, not the sign of the penetration: right after
+                // an onset, projection may leave the penetration a hair below zero.
+                let mode = if state.in_contact { state.mode } else { Mode::FreeFlight };
                 for x in [
                     f.x,
                     f.y,

@@ -147,6 +147,12 @@ impl Stepper for Sdirk4 {
         self.slow = true;
     }
 
+    fn spectral_radius(&mut self, ode: &mut Ode, t: f64, y: &[f64], f: &[f64]) -> Option<f64> {
+        self.jacobian(ode, t, y, f).ok()?;
+        let radius = self.jac.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max);
+        radius.is_finite().then_some(radius)
+    }
+
     fn attempt(
         &mut self,
         ode: &mut Ode,

@@ -46,4 +46,9 @@ pub trait Stepper {
     }
     /// Called after a rejected step.
     fn rejected(&mut self) {}
+    /// Implicit methods: the spectral radius of the Jacobian at `(t, y)`, evaluated
+    /// afresh, so that `auto` can tell whether an explicit step would be stable.
+    fn spectral_radius(&mut self, _ode: &mut Ode, _t: f64, _y: &[f64], _f: &[f64]) -> Option<f64> {
+        None
+    }
 }

@@ -1,0 +1,141 @@
+//! The `auto` method: explicit DOPRI5 until the problem turns stiff (Hairer's test on
+//! DOPRI5's own stages), then SDIRK4 for as long as it advances further per force
+//! evaluation than DOPRI5 would. Stiffness from a contact or a sticking friction law
+//! comes and goes with the contact, and a non-smooth force keeps the implicit method's
+//! steps short, so the cheaper method per simulated second wins. DOPRI5's progress is
+//! estimated from the Jacobian's spectral radius rho: a stable step of at most
+//! `3.3 / rho` (and no longer than SDIRK4's) for 6 evaluations.
+
+use super::Method;
+
+/// Consecutive stiff indications after which DOPRI5 hands over, at first.
+const STIFF_SWITCH: usize = 15;
+/// `h |lambda|` above which an explicit step counts as stiff (DOPRI5's stability edge).
+const STIFF_EDGE: f64 = 3.25;
+/// Accepted steps over which a method's progress per evaluation is measured.
+const WINDOW: usize = 50;
+/// Force evaluations of one DOPRI5 step (7 stages, the first reused).
+const EXPLICIT_EVALUATIONS: f64 = 6.0;
+/// Most consecutive stiff indications ever required.
+const STIFF_SWITCH_MAX: usize = 16 * STIFF_SWITCH;
+
+/// Where one method's measuring window started.
+#[derive(Clone, Copy)]
+struct Window {
+    t: f64,
+    evaluations: usize,
+    steps: usize,
+}
+
+impl Window {
+    fn at(t: f64, evaluations: usize) -> Self {
+        Window { t, evaluations, steps: 0 }
+    }
+
+    /// Simulated time per force evaluation since the window opened.
+    fn rate(&self, t: f64, evaluations: usize) -> f64 {
+        (t - self.t) / (evaluations - self.evaluations).max(1) as f64
+    }
+}
+
+/// Decides, after every accepted step of `auto`, which method takes the next one.
+pub struct AutoSwitch {
+    stiff_count: usize,
+    needed: usize,
+    window: Window,
+    switches: usize,
+    first_switch: Option<f64>,
+    implicit_since: f64,
+    implicit_time: f64,
+}
+
+impl Default for AutoSwitch {
+    /// Starts with DOPRI5 at t = 0.
+    fn default() -> Self {
+        AutoSwitch {
+            stiff_count: 0,
+            needed: STIFF_SWITCH,
+            window: Window::at(0.0, 0),
+            switches: 0,
+            first_switch: None,
+            implicit_since: 0.0,
+            implicit_time: 0.0,
+        }
+    }
+}
+
+impl AutoSwitch {
+    /// Whether SDIRK4 has finished a measuring window: the caller then passes the
+    /// Jacobian's spectral radius to [`AutoSwitch::after_step`].
+    pub fn wants_radius(&self, method: Method) -> bool {
+        method == Method::Sdirk4 && self.window.steps + 1 >= WINDOW
+    }
+
+    /// After an accepted step of size `h` of `method` ending at `t`, with `evaluations`
+    /// force evaluations so far, DOPRI5's stiffness estimate `h |lambda|`, and (when
+    /// [`AutoSwitch::wants_radius`]) the spectral radius: the method of the next step,
+    /// if it changes.
+    pub fn after_step(
+        &mut self,
+        method: Method,
+        (t, h): (f64, f64),
+        evaluations: usize,
+        stiffness: Option<f64>,
+        radius: Option<f64>,
+    ) -> Option<Method> {
+        self.window.steps += 1;
+        match method {
+            Method::Sdirk4 => {
+                if self.window.steps < WINDOW {
+                    return None;
+                }
+                let rate = self.window.rate(t, evaluations);
+                self.window = Window::at(t, evaluations);
+                let stable = radius.map_or(0.0, |rho| STIFF_EDGE / rho.max(f64::MIN_POSITIVE));
+                if stable.min(h) / EXPLICIT_EVALUATIONS <= rate {
+                    return None;
+                }
+                // Back to the explicit method; it must prove stiffness longer next time.
+                self.needed = (2 * self.needed).min(STIFF_SWITCH_MAX);
+                self.stiff_count = 0;
+                self.implicit_time += t - self.implicit_since;
+                Some(Method::Dopri5)
+            }
+            _ => {
+                match stiffness {
+                    Some(s) if s > STIFF_EDGE => self.stiff_count += 1,
+                    _ => self.stiff_count = self.stiff_count.saturating_sub(1),
+                }
+                if self.stiff_count < self.needed {
+                    return None;
+                }
+                self.stiff_count = 0;
+                self.switches += 1;
+                self.first_switch.get_or_insert(t);
+                self.implicit_since = t;
+                self.window = Window::at(t, evaluations);
+                Some(Method::Sdirk4)
+            }
+        }
+    }
+
+    /// The method line of the run statistics, e.g. `auto: dopri5, sdirk4 from t = 0.07 s`.
+    pub fn describe(&self, method: Method, t_end: f64) -> String {
+        let Some(first) = self.first_switch else {
+            return "auto: dopri5".to_string();
+        };
+        if self.switches == 1 && method == Method::Sdirk4 {
+            return format!("auto: dopri5, sdirk4 from t = {first:.6} s");
+        }
+        let mut implicit = self.implicit_time;
+        if method == Method::Sdirk4 {
+            implicit += t_end - self.implicit_since;
+        }
+        format!(
+            "auto: dopri5, sdirk4 {} time{} from t = {first:.6} s ({:.0} % of the run)",
+            self.switches,
+            if self.switches == 1 { "" } else { "s" },
+            100.0 * implicit / t_end.max(f64::MIN_POSITIVE)
+        )
+    }
+}
