@@ -1,8 +1,12 @@
 # The two commands a newcomer needs: `make demo` and `make test`. Both set up everything.
 SHELL := /bin/bash
+.SHELLFLAGS := -o pipefail -c
 VENV := .venv
 PY := $(VENV)/bin/python
 DEPS_STAMP := $(VENV)/.deps-installed
+JG := $(VENV)/bin/jointgap
+DEMO := demo-output
+DEMO_RUN := --t-end 0.5 --rate 10000
 
 .PHONY: install demo test test-rust test-python bench lint clean
 
@@ -18,10 +22,21 @@ install: $(DEPS_STAMP)
 	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
 		$(VENV)/bin/maturin develop --release --quiet
 
-## demo: run the founding slider-crank case, write figures and results to demo-output/
+## demo: the founding slider-crank (PHYSICS.md section 5): ideal and clearance runs, the
+## damping calibration for r = 0.55, figures, contact statistics and summaries in demo-output/
 demo: install
-	$(VENV)/bin/jointgap run examples/slider_crank_ideal.toml --t-end 0.5 --rate 10000 \
-		--out demo-output --plot
+	rm -rf $(DEMO) && mkdir -p $(DEMO)
+	$(JG) run examples/slider_crank_ideal.toml $(DEMO_RUN) --out $(DEMO)/ideal --plot \
+		| tee $(DEMO)/ideal.txt
+	$(JG) run examples/slider_crank_clearance.toml $(DEMO_RUN) --out $(DEMO)/clearance \
+		--ideal examples/slider_crank_ideal.toml --plot | tee $(DEMO)/clearance.txt
+	$(JG) calibrate examples/slider_crank_clearance.toml --restitution 0.55 --t-end 0.5 \
+		--rate 1000 --write $(DEMO)/slider_crank_calibrated.toml \
+		--table $(DEMO)/calibration.csv | tee $(DEMO)/calibration.txt
+	$(JG) run $(DEMO)/slider_crank_calibrated.toml $(DEMO_RUN) --out $(DEMO)/calibrated \
+		--ideal examples/slider_crank_ideal.toml --plot | tee $(DEMO)/calibrated.txt
+	@echo "demo-output/: ideal/, clearance/ and calibrated/ (results, figures, contact statistics)," \
+		"calibration.txt and calibration.csv, the printed summaries *.txt"
 
 ## test: Rust tests of the core, then pytest
 test: install test-rust test-python
