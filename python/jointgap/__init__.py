@@ -1,4 +1,4 @@
-"""jointgap: planar multibody mechanisms with ideal (and, later, clearance) joints.
+"""jointgap: planar multibody mechanisms with ideal joints and joints with clearance.
 
 A Rust engine integrates the constrained equations of motion; this package describes
 mechanisms (model files or the :class:`Model` builder), runs them and handles results.
@@ -13,11 +13,14 @@ Quantities are SI numbers or strings with units (``"300 rpm"``, ``"15 mm"``); se
 """
 
 from . import laws, profiles, units
+from .calibration import calibrate_damping, damping_from_restitution, restitution_from_damping
+from .convergence import check_convergence
 from .io import load, loads
 from .model import Model
 from .profiles import constant_speed, linear_ramp, smooth_ramp, table_angle, table_speed
 from .results import Result, channel_unit
 from .schema import GROUND, ModelError
+from .statistics import contact_statistics, deviation_from_ideal
 
 __version__ = "0.1.0"
 
@@ -26,13 +29,19 @@ __all__ = [
     "Model",
     "ModelError",
     "Result",
+    "calibrate_damping",
     "channel_unit",
+    "check_convergence",
+    "contact_statistics",
+    "damping_from_restitution",
+    "deviation_from_ideal",
     "constant_speed",
     "laws",
     "linear_ramp",
     "load",
     "loads",
     "profiles",
+    "restitution_from_damping",
     "smooth_ramp",
     "table_angle",
     "table_speed",
