@@ -427,8 +427,9 @@ def main() -> None:
         machine(),
         "\nFigures are from one run of `make bench` on this machine: read them as ratios "
         "(method against method, stage against stage), not as absolute speeds. The machine "
-        "is shared; the dopri5 and auto rows do the same computation, so their difference "
-        "shows the noise (10-30 % was seen between runs of the same configuration).\n",
+        "is shared; in the ideal-case tables the dopri5 and auto rows do the same computation, "
+        "so their difference shows the noise (10-30 % was seen between runs of the same "
+        "configuration).\n",
     ]
     for name, how in (
         ("bench_ideal.md", "cargo run --release -p jointgap-core --example bench_ideal"),

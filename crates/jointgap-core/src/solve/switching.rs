@@ -4,7 +4,7 @@
 //! comes and goes with the contact, and a non-smooth force keeps the implicit method's
 //! steps short, so the cheaper method per simulated second wins. DOPRI5's progress is
 //! estimated from the Jacobian's spectral radius rho: a stable step of at most
-//! `3.3 / rho` (and no longer than SDIRK4's) for 6 evaluations.
+//! `3.25 / rho` (and no longer than SDIRK4's) for 6 evaluations.
 
 use super::Method;
 
