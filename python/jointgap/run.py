@@ -18,8 +18,8 @@ METHODS = ("auto", "dopri5", "sdirk4")
 DEFAULT_OPTIONS: dict[str, Any] = {
     "rate": None,
     "every_step": False,
-    "rtol": 1e-6,
-    "atol": 1e-9,
+    "rtol": 1e-7,
+    "atol": 1e-10,
     "method": "auto",
     "max_step": None,
     "max_steps": 10_000_000,

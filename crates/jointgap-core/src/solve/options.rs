@@ -29,10 +29,10 @@ impl Method {
 }
 
 fn default_rtol() -> f64 {
-    1e-6
+    1e-7
 }
 fn default_atol() -> f64 {
-    1e-9
+    1e-10
 }
 fn default_max_steps() -> usize {
     10_000_000
@@ -50,11 +50,11 @@ pub struct SimOptions {
     /// Record every accepted step in addition to the sampled output.
     #[serde(default)]
     pub every_step: bool,
-    /// Relative tolerance of the local error test (default 1e-6).
+    /// Relative tolerance of the local error test (default 1e-7).
     #[serde(default = "default_rtol")]
     pub rtol: f64,
     /// Absolute tolerance of the local error test, in state units m, rad, m/s, rad/s
-    /// (default 1e-9).
+    /// (default 1e-10).
     #[serde(default = "default_atol")]
     pub atol: f64,
     /// Integration method (default `auto`).
