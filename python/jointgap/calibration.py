@@ -73,7 +73,7 @@ def restitution_from_damping(
     if loss > 1.0:
         raise ValueError(
             f"C_max = {c_max:g} N*s/m at V_avg = {v_avg:g} m/s exceeds the plastic limit "
-            f"{3.0 * stiffness * d_max**exponent / (4.0 * v_avg):g} N*s/m (r would be < 0)"
+            f"{3.0 * stiffness * d_max**exponent / (4.0 * v_avg):g} N*s/m (r^2 would be < 0)"
         )
     return math.sqrt(1.0 - loss)
 
@@ -188,12 +188,12 @@ class Calibration:
             f"(K = {self.stiffness:.4g} N/m^{self.exponent:g}, d_max = {self.d_max:g} m, "
             f"V_avg over {self.selection.describe()})",
             f"{'iteration':>9} {'C_max [N s/m]':>14} {'impacts':>8} {'V_avg [m/s]':>12} "
-            f"{'Eq. 11 C_max':>13}",
+            f"{'Eq. 10-11 C_max':>16}",
         ]
         for it in self.iterations:
             lines.append(
                 f"{it.iteration:>9d} {it.c_max:>14.2f} {it.impacts:>8d} {it.v_avg:>12.6f} "
-                f"{it.update:>13.2f}"
+                f"{it.update:>16.2f}"
             )
         verdict = "converged" if self.converged else "NOT converged"
         lines.append(f"{verdict}: C_max = {self.c_max:.2f} N*s/m after {len(self.iterations)} runs")

@@ -211,7 +211,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     calibrate.add_argument("--write", metavar="OUT.toml", help="save the calibrated model")
     calibrate.add_argument("--table", metavar="TABLE.csv", help="save the iteration table as CSV")
-    _add_run_options(calibrate)
+    _add_run_options(calibrate, t_end_required=False)
 
     converge = sub.add_parser(
         "converge",
@@ -250,9 +250,13 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _add_run_options(parser: argparse.ArgumentParser, rate_default: str | None = None) -> None:
+def _add_run_options(
+    parser: argparse.ArgumentParser, rate_default: str | None = None, t_end_required: bool = True
+) -> None:
     """The options every simulating command shares."""
-    parser.add_argument("--t-end", required=True, metavar="T", help="end time [s], e.g. 0.5")
+    parser.add_argument(
+        "--t-end", required=t_end_required, metavar="T", help="end time [s], e.g. 0.5"
+    )
     parser.add_argument(
         "--rate",
         metavar="HZ",
@@ -501,6 +505,8 @@ def _calibrate(args: argparse.Namespace) -> int:
         else u.to_si(args.window[1], u.TIME),
     )
     options = _run_options(args)
+    if args.t_end is None and (args.restitution is not None or args.v_avg is None):
+        raise ValueError("--t-end is needed to run the model (only --v-avg goes without a run)")
     if args.restitution is None:
         law = model.joints[joint]["clearance"]["normal_law"]
         c = c_max if c_max is not None else float(law["c_max"])
@@ -514,9 +520,13 @@ def _calibrate(args: argparse.Namespace) -> int:
                 return _fail(f"{args.model}: the run {probe.message}", EXIT_RUN_FAILED)
             v_avg, count = average_onset_speed(probe, joint, selection)
             source = f"over {count} impacts, {selection.describe()}"
-        r = restitution_from_damping(c, v_avg, k, d_max, n)
         print(f"joint      {joint}: K = {k:.4g} N/m^{n:g}, d_max = {d_max:g} m")
         print(f"V_avg      {v_avg:.6g} m/s ({source})")
+        try:
+            r = restitution_from_damping(c, v_avg, k, d_max, n)
+        except ValueError as exc:  # more than plastic: an answer, not a failure
+            print(f"C_max      {c:.6g} N*s/m  ->  no restitution: {exc}")
+            return 0
         print(f"C_max      {c:.6g} N*s/m  ->  restitution r = {r:.4f}")
         return 0
     calibration = calibrate_damping(
