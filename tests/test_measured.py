@@ -326,7 +326,7 @@ def _analytic(t_end: float = 0.2, rate: float = 50_000.0, f: float = F) -> Resul
 def test_synthetic_sampling_and_lag() -> None:
     result = _analytic()
     rec = synthetic_record(result, "slider.ax", rate=5000.0, lag=0.01)
-    assert rec.name == "slider.ax (synthetic)" and rec.unit == "m/s^2"
+    assert rec.name == "slider.ax" and rec.unit == "m/s^2"
     assert rec.time[0] == pytest.approx(0.01) and rec.time[-1] == pytest.approx(0.2)
     assert len(rec) == 951
     np.testing.assert_allclose(np.diff(rec.time), 2e-4, rtol=1e-9)
@@ -390,7 +390,7 @@ def test_synthetic_errors() -> None:
 def test_synthetic_record_round_trip(tmp_path: Path) -> None:
     rec = synthetic_record(_analytic(), "slider.ax", noise=0.1)
     rec.to_csv(tmp_path / "rec.csv")
-    back = read_measured(tmp_path / "rec.csv", "slider.ax (synthetic)")
+    back = read_measured(tmp_path / "rec.csv", "slider.ax")
     np.testing.assert_array_equal(back.values, rec.values)
     np.testing.assert_array_equal(back.time, rec.time)
     assert back.unit == "m/s^2"

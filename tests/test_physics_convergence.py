@@ -21,7 +21,10 @@ def test_founding_case_peaks_converge_at_default_tolerance(examples, engine) -> 
     ]
     for peaks in (
         [np.max(np.abs(r["slider.ax"])) for r in (default, tighter)],
-        [np.max(np.abs(r["slider.ax"][g])) for r, g in zip((default, tighter), on_grid)],
+        [
+            np.max(np.abs(r["slider.ax"][g]))
+            for r, g in zip((default, tighter), on_grid, strict=True)
+        ],
     ):
         assert abs(peaks[0] / peaks[1] - 1.0) < 0.01, peaks
     # A real clearance response: many impacts and peaks ten times the ideal's 99 m/s^2.

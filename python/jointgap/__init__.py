@@ -28,23 +28,46 @@ __all__ = [
     "GROUND",
     "Model",
     "ModelError",
+    "Parameter",
     "Result",
     "calibrate_damping",
     "channel_unit",
     "check_convergence",
+    "compare",
     "contact_statistics",
     "damping_from_restitution",
     "deviation_from_ideal",
+    "identify",
     "constant_speed",
     "laws",
     "linear_ramp",
     "load",
     "loads",
     "profiles",
+    "read_measured",
     "restitution_from_damping",
     "smooth_ramp",
+    "synthetic_record",
     "table_angle",
     "table_speed",
     "units",
     "__version__",
 ]
+
+# Signal comparison and identification pull in SciPy's signal tools and matplotlib:
+# loaded on first use, so that `import jointgap` and the CLI start fast.
+_LAZY = {
+    "compare": "comparison",
+    "identify": "identify",
+    "Parameter": "identify",
+    "read_measured": "measured",
+    "synthetic_record": "measured",
+}
+
+
+def __getattr__(name: str) -> object:
+    if name in _LAZY:
+        import importlib
+
+        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+    raise AttributeError(f"module 'jointgap' has no attribute {name!r}")

@@ -468,8 +468,8 @@ def synthetic_record(
         duration: the record's length [s]; default: all that is available.
 
     Returns:
-        A :class:`MeasuredSignal` named ``"<channel> (synthetic)"`` in the channel's SI
-        unit, its ``source`` describing the settings.
+        A :class:`MeasuredSignal` named like the channel, in the channel's SI unit,
+        its ``source`` saying it is synthetic and with which settings.
     """
     t_sim = np.asarray(result.time, dtype=float)
     y_sim = np.asarray(result[channel], dtype=float)
@@ -523,7 +523,7 @@ def synthetic_record(
     return MeasuredSignal(
         time=time,
         values=values,
-        name=f"{channel} (synthetic)",
+        name=channel,
         unit=channel_unit(channel),
         source=source,
     )

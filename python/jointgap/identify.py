@@ -1,0 +1,515 @@
+"""Identification of uncertain contact parameters from a measured signal.
+
+The founding paper found its restitution by re-running the simulation by hand until the
+error against the accelerometer was smallest (its Table IV). :func:`identify` does the
+same search automatically: each candidate set of parameter values is written into the
+model, simulated, aligned with the measurement (:func:`jointgap.comparison.compare`,
+lag estimated per trial) and scored by one error measure.
+
+Parameters are named ``<joint>.<quantity>`` with bounds, e.g.
+``rod_slider.restitution=0.3:0.95``:
+
+- ``restitution``: for a hysteresis law its ``restitution``; for ``adams_impact`` it is
+  searched through C_max, and each trial reports the restitution that Eq. 10-11 (the
+  damping calibration's relation) give for its C_max at its own V_avg: the pair is then
+  exactly what ``jointgap calibrate`` converges to, with one run per trial. The
+  restitution bounds become C_max bounds through the V_avg of one run with the
+  model's C_max, so the trials' restitutions fall close to, not exactly on, them;
+- ``c_max``, ``d_max``, ``damping`` (Kelvin-Voigt): the normal law's value;
+- ``stiffness``: the contact stiffness K;
+- ``mu_s``, ``mu_d``, ``mu``, ``viscous``: the friction law's value;
+- ``clearance``: the radial clearance (the bearing radius is kept).
+
+The search: a scan of the bounds (``scan`` points per parameter, a grid) evaluated in
+parallel on the available cores (the engine releases the GIL), then a local refinement
+from the best point: a bounded Brent search between its neighbours for one parameter,
+bounded Nelder-Mead for several. The uncertainty of each parameter is the half-width of
+the interval where a parabola through the best trial and its two neighbours along that
+parameter stays within ``1 + tolerance`` of the minimum error (5 % by default): how far
+the parameter can move before the fit is visibly worse.
+"""
+
+from __future__ import annotations
+
+import copy
+import itertools
+import math
+import os
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .calibration import average_onset_speed, damping_from_restitution, restitution_from_damping
+from .model import Model
+
+__all__ = ["Fit", "Parameter", "Trial", "identify", "MEASURES"]
+
+MEASURES = ("nrmse", "rms", "max_abs", "max_percent")
+"""Error measures that can be minimised (see docs/comparison.md)."""
+
+_LAW_KEYS = {"restitution", "c_max", "d_max", "damping"}
+_FRICTION_KEYS = {"mu_s", "mu_d", "mu", "viscous"}
+_QUANTITIES = _LAW_KEYS | _FRICTION_KEYS | {"stiffness", "clearance"}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One parameter to fit: ``joint.quantity`` between ``low`` and ``high`` (SI)."""
+
+    joint: str
+    quantity: str
+    low: float
+    high: float
+    start: float | None = None
+
+    @property
+    def name(self) -> str:
+        """``joint.quantity``."""
+        return f"{self.joint}.{self.quantity}"
+
+    @classmethod
+    def parse(cls, text: str) -> Parameter:
+        """From ``joint.quantity=low:high`` or ``joint.quantity=low:high@start`` (numbers
+        in SI, or with units); the start value, if any, is the first trial."""
+        from . import units as u
+
+        try:
+            name, bounds = text.split("=", 1)
+            joint, quantity = name.strip().rsplit(".", 1)
+            bounds, _, start_text = bounds.partition("@")
+            low_text, high_text = bounds.split(":", 1)
+        except ValueError:
+            raise ValueError(
+                f"parameter {text!r}: write joint.quantity=low:high, "
+                "e.g. rod_slider.restitution=0.3:0.95"
+            ) from None
+        dims: dict[str, u.Dimension | tuple[u.Dimension, ...]] = {
+            "c_max": u.DAMPING,
+            "damping": u.DAMPING,
+            "viscous": u.DAMPING,
+            "d_max": u.LENGTH,
+            "clearance": u.LENGTH,
+            "stiffness": (u.STIFFNESS, u.HERTZ_STIFFNESS),
+        }
+        dim = dims.get(quantity, u.DIMENSIONLESS)
+        try:
+            low, high = (u.to_si(v.strip(), dim) for v in (low_text, high_text))
+            start = u.to_si(start_text.strip(), dim) if start_text.strip() else None
+        except u.UnitError as exc:
+            raise ValueError(f"parameter {name.strip()}: bound {exc}") from None
+        return cls(joint.strip(), quantity, low, high, start)
+
+    def __post_init__(self) -> None:
+        if self.quantity not in _QUANTITIES:
+            raise ValueError(
+                f"parameter {self.name}: unknown quantity '{self.quantity}' "
+                f"(known: {', '.join(sorted(_QUANTITIES))})"
+            )
+        if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
+            raise ValueError(f"parameter {self.name}: bounds {self.low:g}:{self.high:g} must rise")
+        if self.quantity == "restitution" and not (0.0 < self.low and self.high <= 1.0):
+            raise ValueError(f"parameter {self.name}: restitution bounds must lie in (0, 1]")
+        if self.start is not None and not self.low <= self.start <= self.high:
+            raise ValueError(
+                f"parameter {self.name}: start {self.start:g} outside {self.low:g}:{self.high:g}"
+            )
+
+
+@dataclass(frozen=True)
+class Trial:
+    """One evaluated candidate.
+
+    Attributes:
+        trial: 1, 2, ... in evaluation order.
+        values: parameter values (SI), in the order of the parameters.
+        error: the minimised measure; inf when the run failed.
+        lag: the estimated lag of this trial [s].
+        measures: every error measure of the comparison.
+        derived: values that follow from the parameters (e.g. the calibrated C_max).
+        phase: "start", "scan", "refine" or "profile".
+    """
+
+    trial: int
+    values: tuple[float, ...]
+    error: float
+    lag: float
+    measures: dict[str, float]
+    derived: dict[str, float]
+    phase: str
+
+
+@dataclass(frozen=True)
+class Fit:
+    """The outcome of :func:`identify`."""
+
+    parameters: list[Parameter]
+    best: Trial
+    uncertainty: list[float]
+    trials: list[Trial]
+    model: Model
+    measure: str
+    notes: list[str] = field(default_factory=list)
+
+    def table(self) -> str:
+        """The trial table in the style of the paper's Table IV, then the best values."""
+        names = [p.name for p in self.parameters]
+        derived = sorted({k for t in self.trials for k in t.derived})
+        head = ["trial", *names, *derived, self.measure, "lag [ms]", "phase"]
+        widths = [max(9, len(h)) for h in head]
+        lines = ["  ".join(h.rjust(w) for h, w in zip(head, widths, strict=True))]
+        for t in self.trials:
+            cells = [str(t.trial), *(f"{v:.6g}" for v in t.values)]
+            cells += [f"{t.derived.get(k, math.nan):.6g}" for k in derived]
+            cells += [f"{t.error:.5g}", f"{1e3 * t.lag:.3f}", t.phase]
+            lines.append("  ".join(c.rjust(w) for c, w in zip(cells, widths, strict=True)))
+        lines.append("")
+        lines.append(f"best (trial {self.best.trial}), {self.measure} = {self.best.error:.5g}:")
+        for p, v, s in zip(self.parameters, self.best.values, self.uncertainty, strict=True):
+            lines.append(f"  {p.name} = {v:.6g} +/- {s:.2g}")
+        for k, v in self.best.derived.items():
+            lines.append(f"  {k} = {v:.6g}")
+        lines.append(f"  lag = {1e3 * self.best.lag:.3f} ms")
+        return "\n".join(lines + self.notes)
+
+    def to_frame(self) -> Any:
+        """The trial table as a pandas DataFrame."""
+        import pandas as pd  # type: ignore[import-untyped]
+
+        rows = []
+        for t in self.trials:
+            row: dict[str, Any] = {"trial": t.trial, "phase": t.phase}
+            row.update({p.name: v for p, v in zip(self.parameters, t.values, strict=True)})
+            row.update(t.derived)
+            row.update({self.measure: t.error, "lag": t.lag})
+            rows.append(row)
+        return pd.DataFrame(rows)
+
+
+class _Objective:
+    """Evaluates candidates (thread-safe), remembering every trial.
+
+    Candidates are in search coordinates: a restitution of an ``adams_impact`` joint is
+    searched through its C_max (``mapped``), and each trial reports the restitution that
+    Eq. 10-11 give for that C_max at the trial's own V_avg, which is what the damping
+    calibration's fixed point means; one run per trial, no calibration loop.
+    """
+
+    def __init__(
+        self,
+        model: Model,
+        parameters: Sequence[Parameter],
+        mapped: Sequence[bool],
+        score: Callable[[Any], tuple[float, float, dict[str, float]]],
+        t_end: float,
+        run_options: dict[str, Any],
+    ) -> None:
+        self.base = model.to_dict()
+        self.parameters = list(parameters)
+        self.mapped = list(mapped)
+        self.score = score
+        self.t_end = t_end
+        self.run_options = run_options
+        self.trials: list[Trial] = []
+        self.lock = threading.Lock()
+        self.cache: dict[tuple[float, ...], Trial] = {}
+
+    def model_data(self, x: Sequence[float]) -> dict[str, Any]:
+        """The model dictionary with the search coordinates ``x`` written in."""
+        data = copy.deepcopy(self.base)
+        for p, m, v in zip(self.parameters, self.mapped, x, strict=True):
+            _apply(data, p.joint, "c_max" if m else p.quantity, float(v))
+        return data
+
+    def __call__(self, x: Sequence[float], phase: str) -> Trial:
+        key = tuple(float(v) for v in x)
+        with self.lock:
+            if key in self.cache:
+                return self.cache[key]
+        values = list(key)
+        derived: dict[str, float] = {}
+        error, lag = math.inf, math.nan
+        measures: dict[str, float] = {}
+        try:
+            result = Model.from_dict(self.model_data(key)).simulate(self.t_end, **self.run_options)
+            for i, (p, m) in enumerate(zip(self.parameters, self.mapped, strict=True)):
+                if m:
+                    derived[f"{p.joint}.c_max"] = key[i]
+                    values[i] = _restitution_of(result, p.joint, key[i], self.base)
+            if result.ok:
+                error, lag, measures = self.score(result)
+        except (ValueError, ArithmeticError):
+            pass  # an infeasible candidate (no impact, no overlap...) scores inf
+        with self.lock:
+            trial = Trial(len(self.trials) + 1, tuple(values), error, lag, measures, derived, phase)
+            self.trials.append(trial)
+            self.cache[key] = trial
+        return trial
+
+
+def _restitution_of(result: Any, joint: str, c_max: float, base: dict[str, Any]) -> float:
+    """Eq. 10-11 inverted at the run's own V_avg (NaN if more than plastic)."""
+    law = _clearance_of(base, joint)["clearance"]["normal_law"]
+    v_avg, _ = average_onset_speed(result, joint)
+    k = result.clearances[joint]["stiffness"]
+    d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+    try:
+        return restitution_from_damping(c_max, v_avg, k, d_max, n)
+    except ValueError:
+        return math.nan
+
+
+def _apply(data: dict[str, Any], joint_name: str, quantity: str, value: float) -> None:
+    """Writes ``joint.quantity = value`` into a model dictionary."""
+    joint = _clearance_of(data, joint_name)
+    spec = joint["clearance"]
+    law, friction = spec["normal_law"], spec.get("friction") or {"type": "none"}
+    q = quantity
+    if q in _LAW_KEYS:
+        if q not in law:
+            raise ValueError(
+                f"{joint_name}.{q}: the {law['type']} law of '{joint_name}' has no {q}"
+            )
+        law[q] = value
+    elif q in _FRICTION_KEYS:
+        if q not in friction:
+            raise ValueError(
+                f"{joint_name}.{q}: the {friction['type']} friction of '{joint_name}' has no {q}"
+            )
+        friction[q] = value
+    elif q == "stiffness":
+        spec["stiffness"] = value
+    elif q == "clearance":
+        bearing = spec.get("bearing_radius")
+        if bearing is not None and spec.get("journal_radius") is not None:
+            spec["journal_radius"] = bearing - value
+        else:
+            spec["clearance"] = value
+
+
+def _clearance_of(data: dict[str, Any], joint: str) -> dict[str, Any]:
+    for j in data["joints"]:
+        if j["name"] == joint:
+            if j.get("type") != "clearance_revolute":
+                raise ValueError(
+                    f"joint '{joint}' is a {j.get('type')} joint, not a clearance joint"
+                )
+            found: dict[str, Any] = j
+            return found
+    names = [j["name"] for j in data["joints"] if j.get("type") == "clearance_revolute"]
+    raise ValueError(
+        f"no joint '{joint}' in the model (clearance joints: {', '.join(names) or 'none'})"
+    )
+
+
+def identify(
+    model: Model,
+    measured: Any,
+    channel: str,
+    parameters: Sequence[Parameter],
+    *,
+    t_end: float | None = None,
+    measure: str = "nrmse",
+    scan: int | Sequence[int] | None = None,
+    max_evaluations: int = 60,
+    tolerance: float = 0.05,
+    workers: int | None = None,
+    compare_options: dict[str, Any] | None = None,
+    progress: Callable[[Trial], None] | None = None,
+    **run_options: Any,
+) -> Fit:
+    """Fits ``parameters`` of ``model`` so that ``channel`` matches ``measured`` best.
+
+    Args:
+        model: the mechanism (not changed).
+        measured: the measured signal (``.time``, ``.values``; see
+            :func:`jointgap.measured.read_measured`).
+        channel: the simulated channel it measures, e.g. ``"slider.ax"``.
+        parameters: what to fit, with bounds (:meth:`Parameter.parse`).
+        t_end: simulated time; default the end of the measurement. A restitution's
+            C_max depends on it: V_avg averages the impacts of the whole run, as in
+            ``jointgap calibrate`` over the same time.
+        measure: the error measure minimised, one of :data:`MEASURES`.
+        scan: scan points per parameter, or one count per parameter (default 16 for
+            one parameter, 6 each for several): fine enough to land in the basin of the
+            best fit, which for a restitution is narrow (impact times move with it).
+        max_evaluations: budget of the local refinement.
+        tolerance: relative rise of the error that defines the uncertainty.
+        workers: parallel runs (default: the number of cores).
+        compare_options: passed to :func:`jointgap.comparison.compare` (``lowpass``,
+            ``offset``, ``max_lag``, ...).
+        progress: called with each finished trial.
+        run_options: passed to :meth:`Model.simulate` (``rate`` defaults to 10 kHz).
+    """
+    from scipy.optimize import minimize, minimize_scalar  # type: ignore[import-untyped]
+
+    from .comparison import compare
+
+    if measure not in MEASURES:
+        raise ValueError(f"measure {measure!r}: choose one of {', '.join(MEASURES)}")
+    if not parameters:
+        raise ValueError("nothing to fit: give at least one parameter")
+    data = model.to_dict()
+    for p in parameters:
+        _clearance_of(data, p.joint)
+    times = np.asarray(measured.time, dtype=float)
+    end = float(t_end) if t_end is not None else float(times[-1])
+    options = {"rate": 10_000.0, **run_options}
+    cmp_options = dict(compare_options or {})
+
+    def score(result: Any) -> tuple[float, float, dict[str, float]]:
+        comparison = compare(result, measured, channel, **cmp_options)
+        values = {m: float(getattr(comparison.measures, m)) for m in MEASURES}
+        return values[measure], float(comparison.lag), values
+
+    mapped = [
+        p.quantity == "restitution"
+        and _clearance_of(data, p.joint)["clearance"]["normal_law"]["type"] == "adams_impact"
+        for p in parameters
+    ]
+    search = [
+        _search_bounds(model, p, end, options) if m else p
+        for p, m in zip(parameters, mapped, strict=True)
+    ]
+    objective = _Objective(model, parameters, mapped, score, end, options)
+    n = len(parameters)
+    if scan is None:
+        counts = [16 if n == 1 else 6] * n
+    elif isinstance(scan, int):
+        counts = [scan] * n
+    else:
+        counts = [int(c) for c in scan]
+    if len(counts) != n or min(counts) < 2:
+        raise ValueError(f"scan = {scan}: at least 2 points for each of the {n} parameters")
+    grids = [np.linspace(p.low, p.high, c) for p, c in zip(search, counts, strict=True)]
+    candidates = [tuple(float(v) for v in c) for c in itertools.product(*grids)]
+    threads = workers or os.cpu_count() or 1
+
+    def run(values: Sequence[float], phase: str) -> Trial:
+        trial = objective(values, phase)
+        if progress is not None:
+            progress(trial)
+        return trial
+
+    if all(p.start is not None for p in search):
+        run(tuple(float(p.start) for p in search if p.start is not None), "start")
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        list(pool.map(lambda c: run(c, "scan"), candidates))
+    best = min(objective.trials, key=lambda t: t.error)
+    if not math.isfinite(best.error):
+        raise ValueError("every scanned candidate failed to run or to compare; check the bounds")
+    steps = [(p.high - p.low) / (c - 1) for p, c in zip(search, counts, strict=True)]
+    x_best = _coordinates(best, parameters, mapped)
+    if n == 1:
+        p = search[0]
+        centre = x_best[0]
+        lo, hi = max(p.low, centre - steps[0]), min(p.high, centre + steps[0])
+        minimize_scalar(
+            lambda x: run((float(x),), "refine").error,
+            bounds=(lo, hi),
+            method="bounded",
+            options={"xatol": 1e-3 * (p.high - p.low), "maxiter": max_evaluations},
+        )
+    else:
+        # Nelder-Mead in coordinates scaled to the scan step, so one tolerance fits all.
+        scale = np.array(steps)
+        origin = np.array(x_best)
+        simplex = [np.zeros(n)] + [0.5 * np.eye(n)[i] for i in range(n)]
+        minimize(
+            lambda z: run(tuple(float(v) for v in origin + z * scale), "refine").error,
+            np.zeros(n),
+            method="Nelder-Mead",
+            bounds=[
+                ((p.low - o) / h, (p.high - o) / h)
+                for p, o, h in zip(search, origin, scale, strict=True)
+            ],
+            options={
+                "initial_simplex": np.array(simplex),
+                "maxfev": max_evaluations,
+                "xatol": 0.02,
+                "fatol": 1e-3 * best.error,
+            },
+        )
+    best = min(objective.trials, key=lambda t: t.error)
+    x_best = _coordinates(best, parameters, mapped)
+    uncertainty = _uncertainty(run, search, mapped, best, x_best, steps, tolerance, threads)
+    fitted = objective.model_data(x_best)
+    return Fit(
+        parameters=list(parameters),
+        best=best,
+        uncertainty=uncertainty,
+        trials=sorted(objective.trials, key=lambda t: t.trial),
+        model=Model.from_dict(fitted),
+        measure=measure,
+    )
+
+
+def _coordinates(
+    trial: Trial, parameters: Sequence[Parameter], mapped: Sequence[bool]
+) -> list[float]:
+    """A trial's search coordinates (C_max in place of a mapped restitution)."""
+    return [
+        trial.derived[f"{p.joint}.c_max"] if m else v
+        for p, m, v in zip(parameters, mapped, trial.values, strict=True)
+    ]
+
+
+def _search_bounds(model: Model, p: Parameter, t_end: float, options: dict[str, Any]) -> Parameter:
+    """The C_max bounds (and start) of a restitution of an adams_impact joint: Eq. 10-11
+    at the V_avg of one run with the model's C_max. V_avg changes little with C_max, so
+    the trials' own restitutions land close to the bounds asked for."""
+    run = model.simulate(t_end, **{**options, "rate": 10.0, "channels": [f"{p.joint}.mode"]})
+    if not run.ok:
+        raise ValueError(f"the run for {p.name}'s C_max bounds {run.message}")
+    v_avg, _ = average_onset_speed(run, p.joint)
+    k = run.clearances[p.joint]["stiffness"]
+    law = model.joints[p.joint]["clearance"]["normal_law"]
+    d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+
+    def c_max(r: float) -> float:
+        return damping_from_restitution(r, v_avg, k, d_max, n)
+
+    low = c_max(p.high) if p.high < 1.0 else 0.0
+    start = None if p.start is None else c_max(p.start)
+    return Parameter(p.joint, "c_max", low, c_max(p.low), start)
+
+
+def _uncertainty(
+    run: Callable[[Sequence[float], str], Trial],
+    search: Sequence[Parameter],
+    mapped: Sequence[bool],
+    best: Trial,
+    x_best: Sequence[float],
+    steps: Sequence[float],
+    tolerance: float,
+    threads: int,
+) -> list[float]:
+    """Per parameter: the half-width where a parabola through the best trial and two
+    neighbours along that parameter stays within ``1 + tolerance`` of the minimum; for a
+    restitution searched through C_max, converted by the neighbours' restitutions."""
+    probes = []
+    for i, p in enumerate(search):
+        h = 0.1 * steps[i]
+        for sign in (-1.0, 1.0):
+            v = list(x_best)
+            v[i] = min(p.high, max(p.low, v[i] + sign * h))
+            probes.append(tuple(v))
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        trials = list(pool.map(lambda c: run(c, "profile"), probes))
+    out = []
+    for i in range(len(search)):
+        lo, hi = trials[2 * i], trials[2 * i + 1]
+        x = np.array([probes[2 * i][i], x_best[i], probes[2 * i + 1][i]])
+        y = np.array([lo.error, best.error, hi.error])
+        if len(set(x)) < 3 or not np.all(np.isfinite(y)):
+            out.append(math.nan)
+            continue
+        a = np.polyfit(x, y, 2)[0]
+        width = math.sqrt(tolerance * best.error / a) if a > 0 else math.inf
+        if mapped[i]:  # C_max -> restitution through the neighbours' own restitutions
+            width *= abs(hi.values[i] - lo.values[i]) / (x[2] - x[0])
+        out.append(width)
+    return out
