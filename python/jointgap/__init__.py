@@ -12,7 +12,8 @@ Quantities are SI numbers or strings with units (``"300 rpm"``, ``"15 mm"``); se
 :mod:`jointgap.units`. Output channels are named ``<element>.<quantity>``.
 """
 
-from . import laws, profiles, units
+from . import laws, profiles, units, variants
+from .batch import simulate_batch
 from .calibration import calibrate_damping, damping_from_restitution, restitution_from_damping
 from .convergence import check_convergence
 from .io import load, loads
@@ -46,11 +47,13 @@ __all__ = [
     "profiles",
     "read_measured",
     "restitution_from_damping",
+    "simulate_batch",
     "smooth_ramp",
     "synthetic_record",
     "table_angle",
     "table_speed",
     "units",
+    "variants",
     "__version__",
 ]
 

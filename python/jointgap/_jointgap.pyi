@@ -27,3 +27,15 @@ def simulate(
     ``clearances`` (as :func:`clearance_data`). Raises ValueError for an invalid model
     or invalid options.
     """
+
+def simulate_batch(
+    models_json: list[str], options_json: str, threads: int | None = None
+) -> list[
+    tuple[
+        tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str] | None,
+        str | None,
+    ]
+]:
+    """Runs many models with the same options on ``threads`` threads (all cores by
+    default), the GIL released. Returns, in order, ``(arrays, None)`` as :func:`simulate`
+    gives them or ``(None, message)`` for a model that could not run."""

@@ -45,15 +45,12 @@ import numpy as np
 
 from .calibration import average_onset_speed, damping_from_restitution, restitution_from_damping
 from .model import Model
+from .variants import QUANTITIES, clearance_joint, parameter_value, set_clearance_parameter
 
 __all__ = ["Fit", "Parameter", "Trial", "identify", "MEASURES"]
 
 MEASURES = ("nrmse", "rms", "max_abs", "max_percent")
 """Error measures that can be minimised (see docs/comparison.md)."""
-
-_LAW_KEYS = {"restitution", "c_max", "d_max", "damping"}
-_FRICTION_KEYS = {"mu_s", "mu_d", "mu", "viscous"}
-_QUANTITIES = _LAW_KEYS | _FRICTION_KEYS | {"stiffness", "clearance"}
 
 
 @dataclass(frozen=True)
@@ -75,8 +72,6 @@ class Parameter:
     def parse(cls, text: str) -> Parameter:
         """From ``joint.quantity=low:high`` or ``joint.quantity=low:high@start`` (numbers
         in SI, or with units); the start value, if any, is the first trial."""
-        from . import units as u
-
         try:
             name, bounds = text.split("=", 1)
             joint, quantity = name.strip().rsplit(".", 1)
@@ -87,27 +82,16 @@ class Parameter:
                 f"parameter {text!r}: write joint.quantity=low:high, "
                 "e.g. rod_slider.restitution=0.3:0.95"
             ) from None
-        dims: dict[str, u.Dimension | tuple[u.Dimension, ...]] = {
-            "c_max": u.DAMPING,
-            "damping": u.DAMPING,
-            "viscous": u.DAMPING,
-            "d_max": u.LENGTH,
-            "clearance": u.LENGTH,
-            "stiffness": (u.STIFFNESS, u.HERTZ_STIFFNESS),
-        }
-        dim = dims.get(quantity, u.DIMENSIONLESS)
-        try:
-            low, high = (u.to_si(v.strip(), dim) for v in (low_text, high_text))
-            start = u.to_si(start_text.strip(), dim) if start_text.strip() else None
-        except u.UnitError as exc:
-            raise ValueError(f"parameter {name.strip()}: bound {exc}") from None
+        path = f"{joint.strip()}.{quantity}"
+        low, high = (parameter_value(path, v) for v in (low_text, high_text))
+        start = parameter_value(path, start_text) if start_text.strip() else None
         return cls(joint.strip(), quantity, low, high, start)
 
     def __post_init__(self) -> None:
-        if self.quantity not in _QUANTITIES:
+        if self.quantity not in QUANTITIES:
             raise ValueError(
                 f"parameter {self.name}: unknown quantity '{self.quantity}' "
-                f"(known: {', '.join(sorted(_QUANTITIES))})"
+                f"(known: {', '.join(sorted(QUANTITIES))})"
             )
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             raise ValueError(f"parameter {self.name}: bounds {self.low:g}:{self.high:g} must rise")
@@ -221,7 +205,7 @@ class _Objective:
         """The model dictionary with the search coordinates ``x`` written in."""
         data = copy.deepcopy(self.base)
         for p, m, v in zip(self.parameters, self.mapped, x, strict=True):
-            _apply(data, p.joint, "c_max" if m else p.quantity, float(v))
+            set_clearance_parameter(data, p.joint, "c_max" if m else p.quantity, float(v))
         return data
 
     def __call__(self, x: Sequence[float], phase: str) -> Trial:
@@ -252,7 +236,7 @@ class _Objective:
 
 def _restitution_of(result: Any, joint: str, c_max: float, base: dict[str, Any]) -> float:
     """Eq. 10-11 inverted at the run's own V_avg (NaN if more than plastic)."""
-    law = _clearance_of(base, joint)["clearance"]["normal_law"]
+    law = clearance_joint(base, joint)["clearance"]["normal_law"]
     v_avg, _ = average_onset_speed(result, joint)
     k = result.clearances[joint]["stiffness"]
     d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
@@ -260,49 +244,6 @@ def _restitution_of(result: Any, joint: str, c_max: float, base: dict[str, Any])
         return restitution_from_damping(c_max, v_avg, k, d_max, n)
     except ValueError:
         return math.nan
-
-
-def _apply(data: dict[str, Any], joint_name: str, quantity: str, value: float) -> None:
-    """Writes ``joint.quantity = value`` into a model dictionary."""
-    joint = _clearance_of(data, joint_name)
-    spec = joint["clearance"]
-    law, friction = spec["normal_law"], spec.get("friction") or {"type": "none"}
-    q = quantity
-    if q in _LAW_KEYS:
-        if q not in law:
-            raise ValueError(
-                f"{joint_name}.{q}: the {law['type']} law of '{joint_name}' has no {q}"
-            )
-        law[q] = value
-    elif q in _FRICTION_KEYS:
-        if q not in friction:
-            raise ValueError(
-                f"{joint_name}.{q}: the {friction['type']} friction of '{joint_name}' has no {q}"
-            )
-        friction[q] = value
-    elif q == "stiffness":
-        spec["stiffness"] = value
-    elif q == "clearance":
-        bearing = spec.get("bearing_radius")
-        if bearing is not None and spec.get("journal_radius") is not None:
-            spec["journal_radius"] = bearing - value
-        else:
-            spec["clearance"] = value
-
-
-def _clearance_of(data: dict[str, Any], joint: str) -> dict[str, Any]:
-    for j in data["joints"]:
-        if j["name"] == joint:
-            if j.get("type") != "clearance_revolute":
-                raise ValueError(
-                    f"joint '{joint}' is a {j.get('type')} joint, not a clearance joint"
-                )
-            found: dict[str, Any] = j
-            return found
-    names = [j["name"] for j in data["joints"] if j.get("type") == "clearance_revolute"]
-    raise ValueError(
-        f"no joint '{joint}' in the model (clearance joints: {', '.join(names) or 'none'})"
-    )
 
 
 def identify(
@@ -354,7 +295,7 @@ def identify(
         raise ValueError("nothing to fit: give at least one parameter")
     data = model.to_dict()
     for p in parameters:
-        _clearance_of(data, p.joint)
+        clearance_joint(data, p.joint)
     times = np.asarray(measured.time, dtype=float)
     end = float(t_end) if t_end is not None else float(times[-1])
     options = {"rate": 10_000.0, **run_options}
@@ -367,7 +308,7 @@ def identify(
 
     mapped = [
         p.quantity == "restitution"
-        and _clearance_of(data, p.joint)["clearance"]["normal_law"]["type"] == "adams_impact"
+        and clearance_joint(data, p.joint)["clearance"]["normal_law"]["type"] == "adams_impact"
         for p in parameters
     ]
     search = [

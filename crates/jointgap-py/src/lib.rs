@@ -36,17 +36,10 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-/// Runs a simulation with the GIL released. Returns
-/// `(time, names, data[n_channels, n_samples], summary_json)`.
-#[pyfunction]
-#[allow(clippy::type_complexity)]
-fn simulate<'py>(
-    py: Python<'py>,
-    model_json: &str,
-    options_json: &str,
-) -> PyResult<(Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String)> {
-    let (model, options) = parse(model_json, options_json)?;
-    let result = py.allow_threads(|| jointgap_core::simulate(&model, &options)).map_err(to_py_err)?;
+type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
+
+/// A result as `(time, names, data[n_channels, n_samples], summary_json)`.
+fn to_python<'py>(py: Python<'py>, result: jointgap_core::SimResult) -> PyResult<Arrays<'py>> {
     let summary = serde_json::json!({
         "stats": result.stats,
         "status": result.status,
@@ -66,11 +59,51 @@ fn simulate<'py>(
     ))
 }
 
+/// Runs a simulation with the GIL released. Returns
+/// `(time, names, data[n_channels, n_samples], summary_json)`.
+#[pyfunction]
+fn simulate<'py>(py: Python<'py>, model_json: &str, options_json: &str) -> PyResult<Arrays<'py>> {
+    let (model, options) = parse(model_json, options_json)?;
+    let result = py.allow_threads(|| jointgap_core::simulate(&model, &options)).map_err(to_py_err)?;
+    to_python(py, result)
+}
+
+/// Runs many models with the same options on `threads` threads (all cores by default),
+/// the GIL released throughout. Returns, in order, `(arrays, None)` with each run's
+/// arrays as `simulate` gives them, or `(None, message)` for a model that could not run.
+#[pyfunction]
+#[pyo3(signature = (models_json, options_json, threads=None))]
+fn simulate_batch<'py>(
+    py: Python<'py>,
+    models_json: Vec<String>,
+    options_json: &str,
+    threads: Option<usize>,
+) -> PyResult<Vec<(Option<Arrays<'py>>, Option<String>)>> {
+    let options: jointgap_core::SimOptions =
+        serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
+    let parsed: Vec<Result<jointgap_core::Model, String>> =
+        models_json.iter().map(|m| jointgap_core::Model::from_json(m).map_err(|e| e.to_string())).collect();
+    let valid: Vec<jointgap_core::Model> = parsed.iter().filter_map(|m| m.as_ref().ok().cloned()).collect();
+    let mut results =
+        py.allow_threads(|| jointgap_core::simulate_batch(&valid, &options, threads)).into_iter();
+    parsed
+        .into_iter()
+        .map(|m| match m {
+            Err(message) => Ok((None, Some(message))),
+            Ok(_) => match results.next().expect("one result per valid model") {
+                Ok(result) => Ok((Some(to_python(py, result)?), None)),
+                Err(e) => Ok((None, Some(e.to_string()))),
+            },
+        })
+        .collect()
+}
+
 /// The compiled core of jointgap.
 #[pymodule]
 fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance_data, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     Ok(())
 }
