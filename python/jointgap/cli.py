@@ -147,14 +147,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"jointgap {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
 
-    run = sub.add_parser(
+    run = _command(
+        sub,
         "run",
-        help="simulate a model file and write results.csv and summary.json",
-        description=_RUN_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "simulate a model file and write results.csv and summary.json",
+        _RUN_DESCRIPTION,
     )
-    run.add_argument("model", metavar="MODEL.toml", help="model file")
     _add_run_options(run)
     run.add_argument(
         "--every-step",
@@ -193,14 +191,12 @@ def build_parser() -> argparse.ArgumentParser:
     plot.add_argument("--out", metavar="DIR", help="folder for the figures (default RESULT)")
     _add_format_option(plot)
 
-    calibrate = sub.add_parser(
+    calibrate = _command(
+        sub,
         "calibrate",
-        help="calibrate the C_max of an ADAMS IMPACT clearance joint for a restitution",
-        description=_CALIBRATE_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "calibrate the C_max of an ADAMS IMPACT clearance joint for a restitution",
+        _CALIBRATE_DESCRIPTION,
     )
-    calibrate.add_argument("model", metavar="MODEL.toml", help="model file")
     calibrate.add_argument(
         "--joint", help="clearance joint (default: the model's only adams_impact one)"
     )
@@ -242,14 +238,12 @@ def build_parser() -> argparse.ArgumentParser:
     calibrate.add_argument("--table", metavar="TABLE.csv", help="save the iteration table as CSV")
     _add_run_options(calibrate, t_end_required=False)
 
-    converge = sub.add_parser(
+    converge = _command(
+        sub,
         "converge",
-        help="check that a run's peaks and impacts are converged in the tolerance",
-        description=_CONVERGE_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "check that a run's peaks and impacts are converged in the tolerance",
+        _CONVERGE_DESCRIPTION,
     )
-    converge.add_argument("model", metavar="MODEL.toml", help="model file")
     converge.add_argument(
         "--levels", type=int, default=2, metavar="N", help="tighter tolerances (default 2)"
     )
@@ -269,27 +263,23 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_run_options(converge, rate_default="10000")
 
-    compare = sub.add_parser(
+    compare = _command(
+        sub,
         "compare",
-        help="compare a simulated channel with a measured signal: lag, error measures, figure",
-        description=_COMPARE_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "compare a simulated channel with a measured signal: lag, error measures, figure",
+        _COMPARE_DESCRIPTION,
     )
-    compare.add_argument("model", metavar="MODEL.toml", help="model file")
     _add_measured_options(compare)
     compare.add_argument("--out", metavar="DIR", help="output folder (default out/compare)")
     _add_format_option(compare)
     _add_run_options(compare, rate_default="10000", t_end_required=False)
 
-    identify = sub.add_parser(
+    identify = _command(
+        sub,
         "identify",
-        help="fit contact parameters (restitution, C_max, friction...) to a measured signal",
-        description=_IDENTIFY_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "fit contact parameters (restitution, C_max, friction...) to a measured signal",
+        _IDENTIFY_DESCRIPTION,
     )
-    identify.add_argument("model", metavar="MODEL.toml", help="model file")
     _add_measured_options(identify)
     identify.add_argument(
         "--param",
@@ -315,14 +305,12 @@ def build_parser() -> argparse.ArgumentParser:
     identify.add_argument("--table", metavar="TABLE.csv", help="save the trial table as CSV")
     _add_run_options(identify, rate_default="10000", t_end_required=False)
 
-    synthesize = sub.add_parser(
+    synthesize = _command(
+        sub,
         "synthesize",
-        help="make a synthetic measured record (e.g. an accelerometer) from a simulation",
-        description=_SYNTHESIZE_DESCRIPTION,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        "make a synthetic measured record (e.g. an accelerometer) from a simulation",
+        _SYNTHESIZE_DESCRIPTION,
     )
-    synthesize.add_argument("model", metavar="MODEL.toml", help="model file")
     synthesize.add_argument("--signal", required=True, metavar="CHANNEL", help="e.g. slider.ax")
     synthesize.add_argument("--out", required=True, metavar="FILE.csv", help="record to write")
     synthesize.add_argument("--sample-rate", default="5000", metavar="HZ", help="default 5000")
@@ -342,6 +330,19 @@ def build_parser() -> argparse.ArgumentParser:
         "and print its element counts and degrees of freedom.",
     )
     check.add_argument("model", metavar="MODEL.toml", help="model file")
+    return parser
+
+
+def _command(sub: Any, name: str, help: str, description: str) -> argparse.ArgumentParser:
+    """A subcommand that reads a model file, with the shared epilog."""
+    parser: argparse.ArgumentParser = sub.add_parser(
+        name,
+        help=help,
+        description=description,
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("model", metavar="MODEL.toml", help="model file")
     return parser
 
 
