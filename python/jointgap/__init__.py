@@ -16,6 +16,7 @@ from . import laws, profiles, units, variants
 from .batch import simulate_batch
 from .calibration import calibrate_damping, damping_from_restitution, restitution_from_damping
 from .convergence import check_convergence
+from .identify import Parameter, identify
 from .io import load, loads
 from .model import Model
 from .profiles import constant_speed, linear_ramp, smooth_ramp, table_angle, table_speed
@@ -57,12 +58,10 @@ __all__ = [
     "__version__",
 ]
 
-# Signal comparison and identification pull in SciPy's signal tools and matplotlib:
+# Signal comparison and measured data pull in SciPy's signal tools and matplotlib:
 # loaded on first use, so that `import jointgap` and the CLI start fast.
 _LAZY = {
     "compare": "comparison",
-    "identify": "identify",
-    "Parameter": "identify",
     "read_measured": "measured",
     "synthetic_record": "measured",
 }

@@ -695,7 +695,9 @@ def _calibrate(args: argparse.Namespace) -> int:
         if args.v_avg is not None:
             v_avg, source = u.to_si(args.v_avg, u.SPEED), "given"
         else:
-            probe = model.simulate(args.t_end, **options)
+            from .variants import with_parameters
+
+            probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(args.t_end, **options)
             if not probe.ok:
                 return _fail(f"{args.model}: the run {probe.message}", EXIT_RUN_FAILED)
             v_avg, count = average_onset_speed(probe, joint, selection)

@@ -186,6 +186,7 @@ def _build(data: Mapping[str, Any]) -> Model:
 
 def save(model: Model, path: str | PathLike[str]) -> None:
     """Writes ``model`` as a TOML model file in SI numbers."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     Path(path).write_text(dumps(model), encoding="utf-8")
 
 
