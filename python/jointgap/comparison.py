@@ -27,15 +27,14 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from typing import Any, Protocol
 
 import numpy as np
-from matplotlib.figure import Figure
 from scipy.signal import butter, sosfiltfilt  # type: ignore[import-untyped]
 
-from .plots import _FONT_SIZE, _PANEL_HEIGHT, _WIDE, _style
+from .plots import comparison_figure  # drawn with the other figures, re-exported here
 from .results import Result, channel_unit
 
 __all__ = [
@@ -814,65 +813,3 @@ def compare(
         crank=crank_name,
         cycles=tuple(cycles),
     )
-
-
-# ------------------------------------------------------------------ figure
-
-
-def _unit_text(unit: str) -> str:
-    return unit.replace("^2", "$^2$").replace("*", " ") if unit else "-"
-
-
-def comparison_figure(comparison: Comparison, *, labels: Sequence[str] | None = None) -> Figure:
-    """Three panels, two columns wide: the aligned signals overlaid (simulated, measured)
-    against simulation time, with the crank-turn boundaries dotted; their difference
-    (simulated - measured); and their amplitude spectra. Lines carry gids
-    ``simulated``, ``measured``, ``difference``, ``spectrum-simulated``,
-    ``spectrum-measured``.
-
-    Args:
-        comparison: the comparison (:func:`compare`).
-        labels: legend labels of the simulation and the measurement; default
-            ``"simulated"`` and the measured signal's name.
-    """
-    c = comparison
-    names = list(labels) if labels is not None else ["simulated", f"measured ({c.measured_name})"]
-    if len(names) != 2:
-        raise ValueError(f"comparison_figure: {len(names)} labels, need 2")
-    unit = _unit_text(c.unit)
-    with _style():
-        fig = Figure(figsize=(_WIDE, 3 * _PANEL_HEIGHT + 0.9), layout="constrained")
-        signal, diff, spectrum = fig.subplots(3, 1)
-        diff.sharex(signal)
-        # The measurement thin and black over the simulation: both stay visible.
-        signal.plot(c.time, c.simulated, color="C0", linewidth=1.0, label=names[0], gid="simulated")
-        signal.plot(
-            c.time, c.measured, color="black", linewidth=0.5, label=names[1], gid="measured"
-        )
-        for row in c.cycles:
-            for t in (row.start, row.end):
-                signal.axvline(t, color="0.5", linestyle=":", linewidth=0.6, zorder=1)
-        signal.set_ylabel(f"{c.channel} [{unit}]")
-        diff.plot(c.time, c.difference, color="C3", gid="difference")
-        diff.set_ylabel(f"difference [{unit}]")
-        diff.set_xlabel("simulation time [s]")
-        s = c.spectra  # log scale, without the 0 Hz bin (the means are removed)
-        for amplitude, label, gid, style in (
-            (s.simulated, names[0], "spectrum-simulated", {"color": "C0", "linewidth": 1.0}),
-            (s.measured, names[1], "spectrum-measured", {"color": "black", "linewidth": 0.5}),
-        ):
-            spectrum.semilogy(s.frequency[1:], amplitude[1:], label=label, gid=gid, **style)
-        spectrum.set_xlabel("frequency [Hz]")
-        spectrum.set_ylabel(f"amplitude [{unit}]")
-        for ax in (signal, diff, spectrum):
-            ax.grid(True, linewidth=0.3, alpha=0.6)
-            ax.tick_params(labelsize=_FONT_SIZE)
-            ax.margins(x=0.0)
-        m = c.measures
-        signal.set_title(
-            f"lag {1e3 * c.lag:.2f} ms, max error {m.max_percent:.1f} % of the measured peak, "
-            f"NRMSE {100.0 * m.nrmse:.1f} %, r = {m.correlation:.3f}"
-        )
-        handles, texts = signal.get_legend_handles_labels()
-        fig.legend(handles, texts, loc="outside upper center", ncols=2)
-    return fig

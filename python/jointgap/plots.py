@@ -33,7 +33,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import matplotlib as mpl
 import numpy as np
@@ -53,6 +53,9 @@ from .results import (
     guided_bodies,
 )
 
+if TYPE_CHECKING:
+    from .comparison import Comparison
+
 __all__ = [
     "FIGURE_FORMATS",
     "PNG_DPI",
@@ -64,6 +67,7 @@ __all__ = [
     "torque_figures",
     "contact_force_figure",
     "orbit_figure",
+    "comparison_figure",
     "figure",
     "figure_set",
     "save_figures",
@@ -662,3 +666,61 @@ def save_figure_set(
     """Writes every figure of :func:`figure_set` into ``directory``, one file per figure
     and format, named by the figure's stem; returns the paths."""
     return save_figures(figure_set(result, ideal, labels=labels), directory, formats)
+
+
+# ------------------------------------------------------------------ comparison
+
+
+def comparison_figure(comparison: Comparison, *, labels: Sequence[str] | None = None) -> Figure:
+    """Three panels, two columns wide: the aligned signals overlaid (simulated, measured)
+    against simulation time, with the crank-turn boundaries dotted; their difference
+    (simulated - measured); and their amplitude spectra. Lines carry gids
+    ``simulated``, ``measured``, ``difference``, ``spectrum-simulated``,
+    ``spectrum-measured``.
+
+    Args:
+        comparison: the comparison (:func:`jointgap.comparison.compare`).
+        labels: legend labels of the simulation and the measurement; default
+            ``"simulated"`` and the measured signal's name.
+    """
+    c = comparison
+    names = list(labels) if labels is not None else ["simulated", f"measured ({c.measured_name})"]
+    if len(names) != 2:
+        raise ValueError(f"comparison_figure: {len(names)} labels, need 2")
+    unit = _unit_text(c.unit) if c.unit else "-"
+    with _style():
+        fig = Figure(figsize=(_WIDE, 3 * _PANEL_HEIGHT + 0.9), layout="constrained")
+        signal, diff, spectrum = fig.subplots(3, 1)
+        diff.sharex(signal)
+        # The measurement thin and black over the simulation: both stay visible.
+        signal.plot(c.time, c.simulated, color="C0", linewidth=1.0, label=names[0], gid="simulated")
+        signal.plot(
+            c.time, c.measured, color="black", linewidth=0.5, label=names[1], gid="measured"
+        )
+        for row in c.cycles:
+            for t in (row.start, row.end):
+                signal.axvline(t, color="0.5", linestyle=":", linewidth=0.6, zorder=1)
+        signal.set_ylabel(f"{c.channel} [{unit}]")
+        diff.plot(c.time, c.difference, color="C3", gid="difference")
+        diff.set_ylabel(f"difference [{unit}]")
+        diff.set_xlabel("simulation time [s]")
+        s = c.spectra  # log scale, without the 0 Hz bin (the means are removed)
+        for amplitude, label, gid, style in (
+            (s.simulated, names[0], "spectrum-simulated", {"color": "C0", "linewidth": 1.0}),
+            (s.measured, names[1], "spectrum-measured", {"color": "black", "linewidth": 0.5}),
+        ):
+            spectrum.semilogy(s.frequency[1:], amplitude[1:], label=label, gid=gid, **style)
+        spectrum.set_xlabel("frequency [Hz]")
+        spectrum.set_ylabel(f"amplitude [{unit}]")
+        for ax in (signal, diff, spectrum):
+            ax.grid(True, linewidth=0.3, alpha=0.6)
+            ax.tick_params(labelsize=_FONT_SIZE)
+            ax.margins(x=0.0)
+        m = c.measures
+        signal.set_title(
+            f"lag {1e3 * c.lag:.2f} ms, max error {m.max_percent:.1f} % of the measured peak, "
+            f"NRMSE {100.0 * m.nrmse:.1f} %, r = {m.correlation:.3f}"
+        )
+        handles, texts = signal.get_legend_handles_labels()
+        fig.legend(handles, texts, loc="outside upper center", ncols=2)
+    return fig
