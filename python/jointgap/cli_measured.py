@@ -1,0 +1,277 @@
+"""The measured-data commands of ``jointgap``: ``synthesize`` a record, ``compare`` a
+simulation with it, ``identify`` contact parameters from it. Parsers and handlers; the
+shared options and errors come from :mod:`jointgap.cli`."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from .cli import (
+    EXIT_RUN_FAILED,
+    _add_format_option,
+    _add_run_options,
+    _command,
+    _fail,
+    _load,
+    _run_options,
+)
+
+__all__ = ["COMMANDS", "add_commands"]
+
+_COMPARE_DESCRIPTION = """\
+Compare a simulated channel with a measured signal (e.g. an accelerometer on the
+slider): run the model, read the measured file, condition both (optional zero-phase
+low-pass, offset removal), estimate the lag of the measurement (cross-correlation,
+measured(t) = simulated(t - lag)) unless --lag is given, and print the error
+measures on the aligned signals: max absolute error, max error as a percentage of the
+measured peak, RMS, NRMSE, correlation, spectral error, peak-to-peak per crank turn
+(definitions: docs/comparison.md). Writes OUT/comparison.json and the overlay figure
+OUT/comparison.png|svg (aligned signals, their difference, their spectra).
+"""
+
+_IDENTIFY_DESCRIPTION = """\
+Fit uncertain contact parameters to a measured signal: scan the bounds of each
+--param (in parallel on all cores), refine from the best (bounded Brent for one
+parameter, bounded Nelder-Mead for several) and minimise --measure between the
+simulated --signal and the measurement (aligned as in 'jointgap compare').
+--param joint.quantity=low:high[@start], quantity one of restitution (for ADAMS
+IMPACT: the C_max that Eq. 10-11 give for it), c_max, d_max, damping, stiffness,
+mu_s, mu_d, mu, viscous, clearance. Prints the trial table (as the paper's Table IV)
+and the best values with their uncertainty; --write saves the fitted model.
+"""
+
+_SYNTHESIZE_DESCRIPTION = """\
+Turn a simulation into a synthetic measured record, e.g. an accelerometer on the
+slider: sample --signal at --rate (default 5 kHz) with a lag (measured(t) =
+simulated(t - lag)), an optional band limit (zero-phase Butterworth), Gaussian noise
+and an offset; write it as CSV that 'jointgap compare' and 'identify' read.
+"""
+
+
+def add_commands(sub: Any) -> None:
+    """Adds compare, identify and synthesize to the ``jointgap`` subcommands."""
+    compare = _command(
+        sub,
+        "compare",
+        "compare a simulated channel with a measured signal: lag, error measures, figure",
+        _COMPARE_DESCRIPTION,
+    )
+    _add_measured_options(compare)
+    compare.add_argument("--out", metavar="DIR", help="output folder (default out/compare)")
+    _add_format_option(compare)
+    _add_run_options(compare, rate_default="10000", t_end_required=False)
+
+    identify = _command(
+        sub,
+        "identify",
+        "fit contact parameters (restitution, C_max, friction...) to a measured signal",
+        _IDENTIFY_DESCRIPTION,
+    )
+    _add_measured_options(identify)
+    identify.add_argument(
+        "--param",
+        action="append",
+        required=True,
+        dest="params",
+        metavar="JOINT.Q=LOW:HIGH[@START]",
+        help="a parameter to fit with its bounds (repeatable)",
+    )
+    identify.add_argument(
+        "--measure",
+        choices=("nrmse", "rms", "max_abs", "max_percent"),
+        default="nrmse",
+        help="error measure to minimise (default %(default)s)",
+    )
+    identify.add_argument(
+        "--scan", type=int, metavar="N", help="scan points per parameter (default 16, or 6 each)"
+    )
+    identify.add_argument(
+        "--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)"
+    )
+    identify.add_argument("--write", metavar="OUT.toml", help="save the fitted model")
+    identify.add_argument("--table", metavar="TABLE.csv", help="save the trial table as CSV")
+    _add_run_options(identify, rate_default="10000", t_end_required=False)
+
+    synthesize = _command(
+        sub,
+        "synthesize",
+        "make a synthetic measured record (e.g. an accelerometer) from a simulation",
+        _SYNTHESIZE_DESCRIPTION,
+    )
+    synthesize.add_argument("--signal", required=True, metavar="CHANNEL", help="e.g. slider.ax")
+    synthesize.add_argument("--out", required=True, metavar="FILE.csv", help="record to write")
+    synthesize.add_argument("--sample-rate", default="5000", metavar="HZ", help="default 5000")
+    synthesize.add_argument("--lag", default="0.01", metavar="S", help="default 0.01 s")
+    synthesize.add_argument(
+        "--noise", default="0", metavar="SD", help="noise standard deviation (SI or with unit)"
+    )
+    synthesize.add_argument("--offset", default="0", metavar="X", help="constant offset")
+    synthesize.add_argument("--band-limit", metavar="HZ", help="low-pass cut-off [Hz]")
+    synthesize.add_argument("--seed", type=int, default=0, help="noise seed (default 0)")
+    _add_run_options(synthesize, rate_default="50000")
+
+
+def _add_measured_options(parser: argparse.ArgumentParser) -> None:
+    """Which measured file and column, how to condition and align it."""
+    parser.add_argument("--measured", required=True, metavar="FILE", help="CSV or text file")
+    parser.add_argument(
+        "--signal", required=True, metavar="CHANNEL", help="simulated channel, e.g. slider.ax"
+    )
+    parser.add_argument(
+        "--column", metavar="NAME|INDEX", help="measured column (default: the --signal name)"
+    )
+    parser.add_argument(
+        "--time-column", default="time", metavar="NAME|INDEX", help="default 'time'"
+    )
+    parser.add_argument(
+        "--sample-rate", metavar="HZ", help="the file has no time column: sampled at this rate"
+    )
+    parser.add_argument(
+        "--unit", metavar="UNIT", help="unit of the measured column, e.g. g, m/s^2, mm"
+    )
+    parser.add_argument("--lag", metavar="S", help="the measurement's lag [s]; default: estimated")
+    parser.add_argument(
+        "--max-lag", default="0.05", metavar="S", help="lag search range, +/- (default 0.05 s)"
+    )
+    parser.add_argument(
+        "--lowpass", metavar="HZ", help="zero-phase low-pass cut-off applied to both signals"
+    )
+    parser.add_argument(
+        "--offset",
+        default="mean",
+        metavar="mean|none|X",
+        help="remove each signal's mean (default), nothing, or X from the measurement",
+    )
+    parser.add_argument("--spectrum-max", metavar="HZ", help="highest frequency of the spectra")
+
+
+def _measured(args: argparse.Namespace) -> Any:
+    from .measured import read_measured
+
+    def index_or_name(text: str | None) -> str | int | None:
+        return int(text) if text is not None and text.isdigit() else text
+
+    rate = args.sample_rate
+    column = index_or_name(args.column)
+    return read_measured(
+        args.measured,
+        column if column is not None else str(args.signal),
+        time_column=None if rate is not None else index_or_name(args.time_column),
+        rate=rate,
+        unit=args.unit,
+    )
+
+
+def _compare_options(args: argparse.Namespace) -> dict[str, Any]:
+    from . import units as u
+
+    def hz(text: str | None) -> float | None:
+        return None if text is None else u.to_si(text, u.FREQUENCY)
+
+    offset: str | float | None = args.offset
+    if args.offset == "none":
+        offset = None
+    elif args.offset != "mean":
+        offset = float(args.offset)
+    return {
+        "lag": None if args.lag is None else u.to_si(args.lag, u.TIME),
+        "max_lag": u.to_si(args.max_lag, u.TIME),
+        "lowpass": hz(args.lowpass),
+        "offset": offset,
+        "spectrum_max": hz(args.spectrum_max),
+    }
+
+
+def _simulated_span(args: argparse.Namespace, measured: Any) -> float:
+    """--t-end, or the end of the measurement (a late measurement, the usual case, needs
+    no more simulated time than that)."""
+    from . import units as u
+
+    if args.t_end is not None:
+        return u.to_si(args.t_end, u.TIME)
+    return float(measured.time[-1])
+
+
+def _compare(args: argparse.Namespace) -> int:
+    import json
+
+    from .comparison import compare, comparison_figure
+    from .plots import save_figures
+
+    model = _load(args.model)
+    measured = _measured(args)
+    result = model.simulate(_simulated_span(args, measured), **_run_options(args))
+    if not result.ok:
+        return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
+    comparison = compare(result, measured, args.signal, **_compare_options(args))
+    out = Path(args.out or "out/compare")
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "comparison.json").write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
+    paths = save_figures({"comparison": comparison_figure(comparison)}, out, args.formats)
+    print(comparison.report())
+    print("written    " + ", ".join(str(p) for p in [out / "comparison.json", *paths]))
+    return 0
+
+
+def _identify(args: argparse.Namespace) -> int:
+    from .identify import Parameter, identify
+
+    model = _load(args.model)
+    measured = _measured(args)
+    parameters = [Parameter.parse(p) for p in args.params]
+    fit = identify(
+        model,
+        measured,
+        args.signal,
+        parameters,
+        t_end=_simulated_span(args, measured),
+        measure=args.measure,
+        scan=args.scan,
+        workers=args.workers,
+        compare_options=_compare_options(args),
+        **_run_options(args),
+    )
+    print(fit.table())
+    if args.table:
+        fit.to_frame().to_csv(args.table, index=False)
+        print(f"written    {args.table}")
+    if args.write:
+        fit.model.save(args.write)
+        print(f"written    {args.write}")
+    return 0
+
+
+def _synthesize(args: argparse.Namespace) -> int:
+    from .measured import synthetic_record
+
+    model = _load(args.model)
+    result = model.simulate(args.t_end, **_run_options(args))
+    if not result.ok:
+        return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
+    record = synthetic_record(
+        result,
+        args.signal,
+        rate=args.sample_rate,
+        lag=args.lag,
+        noise=args.noise,
+        offset=args.offset,
+        band_limit=args.band_limit,
+        seed=args.seed,
+    )
+    record.to_csv(args.out)
+    print(
+        f"{record.name}: {len(record)} samples at {record.rate:g} Hz, t = "
+        f"{record.time[0]:g}..{record.time[-1]:g} s ({record.source})"
+    )
+    print(f"written    {args.out}")
+    return 0
+
+
+COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "compare": _compare,
+    "identify": _identify,
+    "synthesize": _synthesize,
+}
