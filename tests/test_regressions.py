@@ -5,6 +5,7 @@ from __future__ import annotations
 import importlib
 
 import jointgap
+import numpy as np
 import pytest
 from jointgap.cli import main
 
@@ -43,3 +44,12 @@ def test_mode_channel_shows_impact_at_a_located_onset_after_projection(engine) -
         k = int(abs(r.time - impact.onset_time).argmin())
         assert r.time[k] == pytest.approx(impact.onset_time, abs=1e-12)
         assert mode[k] == 1, impact
+
+
+def test_measured_record_and_tables_create_their_folders(tmp_path) -> None:
+    from jointgap.measured import MeasuredSignal, read_measured
+
+    signal = MeasuredSignal(np.array([0.0, 1.0, 2.0]), np.array([1.0, 2.0, 3.0]), "a", "m", "test")
+    path = tmp_path / "new" / "record.csv"
+    signal.to_csv(path)
+    assert np.array_equal(read_measured(path, "a").values, signal.values)

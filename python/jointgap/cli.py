@@ -558,6 +558,7 @@ def _calibrate(args: argparse.Namespace) -> int:
     )
     print(calibration.table())
     if args.table:
+        Path(args.table).parent.mkdir(parents=True, exist_ok=True)
         calibration.to_frame().to_csv(args.table, index=False)
         print(f"written    {args.table}")
     if args.write:

@@ -236,6 +236,7 @@ def _identify(args: argparse.Namespace) -> int:
     )
     print(fit.table())
     if args.table:
+        Path(args.table).parent.mkdir(parents=True, exist_ok=True)
         fit.to_frame().to_csv(args.table, index=False)
         print(f"written    {args.table}")
     if args.write:

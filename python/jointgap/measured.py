@@ -100,6 +100,7 @@ class MeasuredSignal:
         units back."""
         unit = self.unit if _parses(self.unit) else ""
         label = f"{self.name} [{unit}]" if unit else self.name
+        Path(path).parent.mkdir(parents=True, exist_ok=True)
         with open(path, "w", newline="", encoding="utf-8") as f:
             source = " ".join(self.source.split())
             f.write(f"# jointgap measured signal: {source}\n")
