@@ -557,14 +557,19 @@ def _calibrate(args: argparse.Namespace) -> int:
         **options,
     )
     print(calibration.table())
+    _write_table_and_model(args, calibration.to_frame(), calibration.model)
+    return 0 if calibration.converged else EXIT_NOT_CONVERGED
+
+
+def _write_table_and_model(args: argparse.Namespace, table: Any, model: Model) -> None:
+    """``--table`` (a DataFrame as CSV) and ``--write`` (the model file), if asked for."""
     if args.table:
         Path(args.table).parent.mkdir(parents=True, exist_ok=True)
-        calibration.to_frame().to_csv(args.table, index=False)
+        table.to_csv(args.table, index=False)
         print(f"written    {args.table}")
     if args.write:
-        calibration.model.save(args.write)
+        model.save(args.write)
         print(f"written    {args.write}")
-    return 0 if calibration.converged else EXIT_NOT_CONVERGED
 
 
 def _impact_joint(model: Model) -> str:

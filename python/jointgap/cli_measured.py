@@ -17,6 +17,7 @@ from .cli import (
     _fail,
     _load,
     _run_options,
+    _write_table_and_model,
 )
 
 __all__ = ["COMMANDS", "add_commands"]
@@ -235,13 +236,7 @@ def _identify(args: argparse.Namespace) -> int:
         **_run_options(args),
     )
     print(fit.table())
-    if args.table:
-        Path(args.table).parent.mkdir(parents=True, exist_ok=True)
-        fit.to_frame().to_csv(args.table, index=False)
-        print(f"written    {args.table}")
-    if args.write:
-        fit.model.save(args.write)
-        print(f"written    {args.write}")
+    _write_table_and_model(args, fit.to_frame(), fit.model)
     return 0
 
 
