@@ -236,6 +236,31 @@ def fmt(x: float, spec: str) -> str:
     return "-" if not math.isfinite(x) else format(x, spec)
 
 
+def work_precision_figure(runs: list[ClRun], path: Path) -> None:
+    """Integrate CPU time against NRMSE of slider.ax, one line per method (log-log), with
+    the hand-written C program's two figures quoted by the speed issue for scale."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(5.0, 3.6), layout="constrained")
+    ax = fig.subplots()
+    for method, marker in (("dopri5", "o"), ("sdirk4", "s"), ("auto", "^")):
+        pts = sorted(
+            (r.nrmse, 1e3 * r.best("cpu_int"))
+            for r in runs
+            if r.method == method and r.ok and math.isfinite(r.nrmse)
+        )
+        if pts:
+            ax.loglog(*zip(*pts, strict=True), marker=marker, linewidth=1.0, label=method)
+    ax.loglog([2e-5, 1e-7], [3.0, 6.0], "k*", markersize=9, label="C program (quoted)")
+    ax.set_xlabel("NRMSE of slider acceleration")
+    ax.set_ylabel("integrate CPU time [ms]")
+    ax.invert_xaxis()
+    ax.grid(True, which="both", linewidth=0.3)
+    ax.legend(fontsize="small")
+    ax.set_title("founding clearance case, 0.5 s", fontsize="medium")
+    fig.savefig(path, dpi=150)
+
+
 def clearance_table() -> str:
     model = jointgap.load(CLEARANCE)
     ref = ClRun(CL_REFERENCE[0], CL_REFERENCE[1], cl_atol(CL_REFERENCE[1]))
@@ -249,6 +274,7 @@ def clearance_table() -> str:
     cl_sweep(model, runs, CL_REPEATS)
     for run in runs:
         run.nrmse = nrmse(run.ax, ref_ax)
+    work_precision_figure(runs, OUT / "work_precision.png")
     base = next(r for r in runs if r.method == "dopri5" and r.rtol == 1e-6)
     span = float(ref_ax.max() - ref_ax.min())
     spread = [max(r.cpu) / min(r.cpu) - 1 for r in runs if len(r.cpu) > 1]
