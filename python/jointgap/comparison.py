@@ -262,7 +262,8 @@ class AngleAlignment:
     """Simulated and measured signals against the crank angle (:func:`align_on_angle`).
 
     Attributes:
-        angle: the common crank-angle grid [rad], uniform, in the direction of rotation.
+        angle: the crank angles compared [rad] (the measured samples', or a uniform grid),
+            increasing in the direction of rotation.
         simulated: the simulated channel at each angle.
         measured: the measured signal at each angle.
         crank: the simulated crank-angle channel used.
@@ -295,10 +296,11 @@ def align_on_angle(
     """Both signals against the crank angle, which removes a lag and a drift of the
     speed controller alike.
 
-    Each signal is interpolated (linearly) onto one uniform angle grid, from its own
-    crank angle: the simulation from its crank channel (:func:`crank_channel`), the
-    measurement from ``crank_angle`` interpolated at the measured sample times. The grid
-    spans the angles both signals reach.
+    The measurement's crank angle is ``crank_angle`` interpolated at the measured sample
+    times; the simulation's is its crank channel (:func:`crank_channel`). By default the
+    comparison points are the measured samples, at their angles, with the simulation
+    interpolated (linearly) there; with ``step``, both signals are interpolated onto a
+    uniform angle grid. Either way only the angles both signals reach are kept.
 
     Args:
         result: the simulation.
@@ -309,7 +311,7 @@ def align_on_angle(
             ``initial_angle``. Its zero must be the model's (crank angle 0 at the
             simulation's angle 0).
         crank: the simulated crank-angle channel; default :func:`crank_channel`.
-        step: the angle step [rad]; default the measurement's mean step over the span.
+        step: the step [rad] of a uniform angle grid; default: the measured samples.
         initial_angle: the crank angle [rad] at the first sample of a measured speed.
 
     Raises:
@@ -343,8 +345,10 @@ def align_on_angle(
             f"measured {ma[0]:g}..{ma[-1]:g} rad"
         )
     if step is None:
-        inside = np.count_nonzero((ma >= lo) & (ma <= hi))
-        step = (hi - lo) / max(inside - 1, 1)
+        # The measured samples' own angles: only the simulation is interpolated, so a
+        # sharp measured peak keeps its height.
+        inside = (ma >= lo) & (ma <= hi)
+        return AngleAlignment(sign * ma[inside], np.interp(ma[inside], sa, sv), mv[inside], crank)
     if not step > 0.0:
         raise ValueError(f"align_on_angle: step {step:g} rad must be positive")
     grid = lo + step * np.arange(int(math.floor((hi - lo) / step * (1 + 1e-12))) + 1)
