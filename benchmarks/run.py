@@ -261,6 +261,48 @@ def work_precision_figure(runs: list[ClRun], path: Path) -> None:
     fig.savefig(path, dpi=150)
 
 
+def step_history_figure(path: Path) -> str:
+    """The founding case at default settings, every accepted step recorded: step size
+    against time, the contact mode shaded, impact onsets marked; so a reader sees where
+    impacts and sticking friction cost steps. Returns a one-line summary."""
+    from matplotlib.figure import Figure
+
+    run = jointgap.load(CLEARANCE).simulate(CL_T_END, channels=["rod_slider.mode"])
+    t, mode = run.time, run["rod_slider.mode"]
+    h = np.diff(t)
+    fig = Figure(figsize=(7.0, 3.0), layout="constrained")
+    ax = fig.subplots()
+    ax.semilogy(t[1:], h, linewidth=0.6, color="C0", label="step size")
+    for value, colour, label in ((2, "tab:green", "continuous contact"), (1, "tab:red", "impact")):
+        ax.fill_between(
+            t[1:],
+            1e-9,
+            1e-2,
+            where=mode[1:] == value,
+            color=colour,
+            alpha=0.15,
+            linewidth=0,
+            label=label,
+        )
+    onsets = [i.onset_time for i in run.impacts["rod_slider"]]
+    ax.plot(
+        onsets, np.full(len(onsets), 2e-3), "v", color="tab:red", markersize=4, label="impact onset"
+    )
+    ax.set_ylim(h.min() / 2, 5e-3)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("accepted step [s]")
+    ax.legend(fontsize="small", ncols=4, loc="lower center")
+    ax.set_title(f"founding case, {run.stats['method']}", fontsize="small")
+    fig.savefig(path, dpi=150)
+    contact = mode[1:] > 0
+    return (
+        f"Step history ({path.name}): {len(h)} steps; median step "
+        f"{np.median(h[~contact]) * 1e6:.1f} us in free flight, "
+        f"{np.median(h[contact]) * 1e6:.1f} us in contact; "
+        f"{int(contact.sum())} of the steps ({contact.mean():.0%}) are taken in contact."
+    )
+
+
 def clearance_table() -> str:
     model = jointgap.load(CLEARANCE)
     ref = ClRun(CL_REFERENCE[0], CL_REFERENCE[1], cl_atol(CL_REFERENCE[1]))
@@ -508,6 +550,7 @@ def main() -> None:
     (OUT / "clearance.md").write_text(clearance)
     parts.append(clearance)
     parts.append(batch_table())
+    parts.append(step_history_figure(OUT / "step_history.png"))
     text = "\n".join(parts)
     (OUT / "results.md").write_text(text)
     print(text)
@@ -518,6 +561,9 @@ if __name__ == "__main__":
     os.chdir(ROOT)
     if sys.argv[1:] == ["batch"]:
         print(batch_table())
+    elif sys.argv[1:] == ["steps"]:
+        OUT.mkdir(parents=True, exist_ok=True)
+        print(step_history_figure(OUT / "step_history.png"))
     elif sys.argv[1:] == ["clearance"]:
         OUT.mkdir(parents=True, exist_ok=True)
         table = clearance_table()
