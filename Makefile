@@ -8,7 +8,7 @@ JG := $(VENV)/bin/jointgap
 DEMO := demo-output
 DEMO_RUN := --t-end 0.5 --rate 10000
 
-.PHONY: install demo test test-rust test-python bench lint clean
+.PHONY: install demo test test-rust test-python bench bench-peers lint clean
 
 $(DEPS_STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -52,6 +52,10 @@ bench: install
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/run.py
+
+## bench-peers: the SciPy peer of the founding clearance case (about 4 min)
+bench-peers: install
+	$(PY) benchmarks/peers/scipy_slider_crank.py
 
 ## lint: rustfmt, clippy, ruff
 lint: install
