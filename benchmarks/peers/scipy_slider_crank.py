@@ -32,8 +32,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
-import platform
-import subprocess
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,6 +43,9 @@ import scipy
 from scipy.integrate import solve_ivp
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from run import machine  # noqa: E402  (one description of the machine for every table)
+
 MODEL = ROOT / "examples" / "slider_crank_clearance.toml"
 OUT = ROOT / "benchmarks" / "output" / "peers_scipy.md"
 
@@ -290,22 +292,6 @@ def fmt(x: float | None, spec: str) -> str:
     return "" if x is None else format(x, spec)
 
 
-def machine() -> str:
-    cpu = "unknown"
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            cpu = line.split(":", 1)[1].strip()
-            break
-    commit = subprocess.run(
-        ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT
-    ).stdout.strip()
-    return (
-        f"{cpu}, {os.cpu_count()} cores; Python {platform.python_version()}, NumPy "
-        f"{np.__version__}, SciPy {scipy.__version__}, jointgap {jointgap.__version__}, "
-        f"commit {commit or 'unknown'}"
-    )
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--cap", type=float, default=60.0, help="time cap per solve [s]")
@@ -373,9 +359,9 @@ def write(
     lines = [
         "## Peer: the founding clearance case with SciPy `solve_ivp` (minimal coordinates)",
         "",
-        f"`benchmarks/peers/scipy_slider_crank.py`. Machine: {machine()}. Load average "
-        f"(1, 5, 15 min) {load_start} at the start, {load_text()} at the end; the whole run "
-        f"took {total:.0f} s.",
+        f"`benchmarks/peers/scipy_slider_crank.py`. {machine()} NumPy {np.__version__}, "
+        f"SciPy {scipy.__version__}. Load average (1, 5, 15 min) {load_start} at the start, "
+        f"{load_text()} at the end; the whole run took {total:.0f} s.",
         "",
         "Case: `examples/slider_crank_clearance.toml`, 0 to 0.5 s. SciPy: rod angle and "
         "slider position as unknowns, crank prescribed, the solve split at t = 0.2 s (end "
