@@ -62,10 +62,15 @@ const PROBES: usize = 8;
 /// Earliest contact change inside a step: `(theta, joint)` with theta in (0, 1], the
 /// first point where a joint's penetration sign disagrees with its contact flag.
 /// Located by bisection to a relative width of 1e-12 of the step.
+///
+/// The probes before the change also raise the running impacts' peak force and
+/// penetration in `log`: a step that spans the peak would otherwise report only the
+/// smaller values at its ends.
 #[allow(clippy::too_many_arguments)]
 pub fn locate(
     sys: &System,
     states: &[ContactState],
+    log: &mut ImpactLog,
     h: f64,
     y0: &[f64],
     f0: &[f64],
@@ -77,31 +82,32 @@ pub fn locate(
         return None;
     }
     let n = y0.len() / 2;
-    let changed = |theta: f64, k: usize, scratch: &mut [f64]| {
-        hermite5(theta, h, y0, f0, y1, f1, scratch);
-        let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
-        if states[k].in_contact {
-            d < 0.0
-        } else {
-            d > 0.0
-        }
-    };
+    let differs = |k: usize, d: f64| if states[k].in_contact { d < 0.0 } else { d > 0.0 };
     let mut lo = 0.0;
     for p in 1..=PROBES {
         let hi = p as f64 / PROBES as f64;
-        if let Some(k) = (0..sys.clearances.len()).find(|&k| changed(hi, k, scratch)) {
+        hermite5(hi, h, y0, f0, y1, f1, scratch);
+        let (q, v) = scratch.split_at(n);
+        let change = (0..states.len()).find(|&k| differs(k, kinematics(sys, k, q, v).penetration));
+        if let Some(k) = change {
             // Bisect on joint k in (lo, hi]; an earlier change of another joint inside
             // the bracket is caught by the next step's search.
             let (mut a, mut b) = (lo, hi);
             while b - a > 1e-12 {
                 let mid = 0.5 * (a + b);
-                if changed(mid, k, scratch) {
+                hermite5(mid, h, y0, f0, y1, f1, scratch);
+                let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
+                if differs(k, d) {
                     b = mid;
                 } else {
                     a = mid;
                 }
             }
             return Some((b, k));
+        }
+        let (q, v) = scratch.split_at(n);
+        for k in (0..states.len()).filter(|&k| states[k].in_contact) {
+            log.raise_peak(sys, k, &states[k], &kinematics(sys, k, q, v));
         }
         lo = hi;
     }
@@ -153,35 +159,13 @@ impl ImpactLog {
         }
     }
 
-    /// Raises the running impacts' peak force and penetration to the largest values
-    /// probed on an accepted step's dense output over `(0, theta_end)`: a step that
-    /// spans the peak would otherwise report the smaller values at its ends.
-    #[allow(clippy::too_many_arguments)]
-    pub fn update_within(
-        &mut self,
-        sys: &System,
-        states: &[ContactState],
-        (h, theta_end): (f64, f64),
-        y0: &[f64],
-        f0: &[f64],
-        y1: &[f64],
-        f1: &[f64],
-        scratch: &mut [f64],
-    ) {
-        if !states.iter().any(|s| s.in_contact) {
-            return;
-        }
-        let n = y0.len() / 2;
-        for p in 1..PROBES {
-            hermite5(theta_end * p as f64 / PROBES as f64, h, y0, f0, y1, f1, scratch);
-            for (k, s) in states.iter().enumerate().filter(|(_, s)| s.in_contact) {
-                let kin = kinematics(sys, k, &scratch[..n], &scratch[n..]);
-                let (f_n, _) = sys.clearances[k].contact_force(&kin, s.onset_speed);
-                if let Some(last) = self.impacts[k].last_mut() {
-                    last.peak_force = last.peak_force.max(f_n);
-                    last.max_penetration = last.max_penetration.max(kin.penetration);
-                }
-            }
+    /// Raises joint `k`'s running impact peak force and penetration to those of a state
+    /// in contact (its kinematics given).
+    fn raise_peak(&mut self, sys: &System, k: usize, state: &ContactState, kin: &ContactKinematics) {
+        let (f_n, _) = sys.clearances[k].contact_force(kin, state.onset_speed);
+        if let Some(last) = self.impacts[k].last_mut() {
+            last.peak_force = last.peak_force.max(f_n);
+            last.max_penetration = last.max_penetration.max(kin.penetration);
         }
     }
 
@@ -194,19 +178,14 @@ impl ImpactLog {
                 continue;
             }
             let kin = kinematics(sys, k, q, v);
-            let (d, rate) = (kin.penetration, kin.penetration_rate);
-            let (f_n, _) = sys.clearances[k].contact_force(&kin, s.onset_speed);
             if s.mode == Mode::Impact {
-                if rate < 0.0 {
+                if kin.penetration_rate < 0.0 {
                     s.restituting = true;
                 } else if s.restituting {
                     s.mode = Mode::Continuous;
                 }
             }
-            if let Some(last) = self.impacts[k].last_mut() {
-                last.peak_force = last.peak_force.max(f_n);
-                last.max_penetration = last.max_penetration.max(d);
-            }
+            self.raise_peak(sys, k, s, &kin);
         }
     }
 }

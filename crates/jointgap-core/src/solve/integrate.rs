@@ -114,22 +114,21 @@ pub fn integrate(
                     Ok(att) => {
                         stats.accepted_steps += 1;
                         // A contact onset or separation inside the step ends the step there.
-                        let event =
-                            contacts::locate(sys, &ode.ws.contacts, h, y, &f, &y_new, &f_new, &mut sample);
-                        let (t_new, last) = match event {
-                            Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
-                            _ => (if last { segment_end } else { t + h }, last),
-                        };
-                        log.update_within(
+                        let event = contacts::locate(
                             sys,
                             &ode.ws.contacts,
-                            (h, (t_new - t) / h),
+                            log,
+                            h,
                             y,
                             &f,
                             &y_new,
                             &f_new,
                             &mut sample,
                         );
+                        let (t_new, last) = match event {
+                            Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
+                            _ => (if last { segment_end } else { t + h }, last),
+                        };
                         // Output samples inside (t, t_new].
                         while let Some(ts) = sample_time(next_sample) {
                             if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
