@@ -235,9 +235,8 @@ def build_parser() -> argparse.ArgumentParser:
     )
     _add_run_options(converge, rate_default="10000")
 
-    from .cli_measured import add_commands
-
-    add_commands(sub)
+    for module in _command_modules():
+        module.add_commands(sub)
     check = sub.add_parser(
         "check",
         help="validate a model file and print its elements and degrees of freedom",
@@ -246,6 +245,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     check.add_argument("model", metavar="MODEL.toml", help="model file")
     return parser
+
+
+# Modules that add subcommands: each has `add_commands(sub)` and a `COMMANDS` table.
+_COMMAND_MODULES = ("cli_measured",)
+
+
+def _command_modules() -> list[Any]:
+    import importlib
+
+    return [importlib.import_module(f".{name}", __package__) for name in _COMMAND_MODULES]
 
 
 def _command(sub: Any, name: str, help: str, description: str) -> argparse.ArgumentParser:
@@ -344,9 +353,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         "calibrate": _calibrate,
         "converge": _converge,
     }
-    from .cli_measured import COMMANDS
-
-    commands.update(COMMANDS)
+    for module in _command_modules():
+        commands.update(module.COMMANDS)
     try:
         return commands[args.command](args)
     except ModelError as exc:
