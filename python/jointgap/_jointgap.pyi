@@ -1,5 +1,7 @@
 """Type stubs of the compiled engine (crates/jointgap-py): JSON in, NumPy arrays out."""
 
+from collections.abc import Callable
+
 import numpy as np
 import numpy.typing as npt
 
@@ -17,9 +19,19 @@ def clearance_data(model_json: str) -> str:
     """
 
 def simulate(
-    model_json: str, options_json: str
+    model_json: str,
+    options_json: str,
+    progress: Callable[[float, int, int], object] | None = None,
+    sink: Callable[[list[str], npt.NDArray[np.float64], npt.NDArray[np.float64]], object]
+    | None = None,
+    chunk: int = 8192,
 ) -> tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str]:
     """Runs a simulation with the GIL released.
+
+    ``progress(t, steps, impacts)`` is called about every 0.2 s of wall time (Ctrl-C is
+    checked as often); with ``sink``, the samples go to ``sink(names, time, data)`` in
+    chunks of ``chunk`` samples and the returned arrays hold none of them. An exception
+    raised by either callable stops the run and is raised again here.
 
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
     holds ``stats``, ``status`` (``{"status": "finished"}`` or ``{"status": "failed",

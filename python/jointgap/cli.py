@@ -21,7 +21,15 @@ from pathlib import Path
 from typing import Any
 
 from .model import Model
-from .results import IMPACTS_CSV, RESULTS_CSV, SUMMARY_JSON, Result, channel_unit, main_channels
+from .results import (
+    IMPACTS_CSV,
+    RESULTS_CSV,
+    RESULTS_PARQUET,
+    SUMMARY_JSON,
+    Result,
+    channel_unit,
+    main_channels,
+)
 from .run import DEFAULT_OPTIONS, METHODS
 from .schema import JOINT_EQUATIONS, ModelError
 
@@ -130,6 +138,18 @@ def build_parser() -> argparse.ArgumentParser:
         "--every-step",
         action="store_true",
         help="also record every accepted step, not only the sampled output",
+    )
+    run.add_argument(
+        "--decimate",
+        type=int,
+        metavar="K",
+        help="keep every K-th output record (e.g. of --every-step); default all",
+    )
+    run.add_argument(
+        "--stream",
+        action="store_true",
+        help="write the samples to OUT/results.parquet in chunks as the run goes (instead "
+        "of results.csv at the end): memory holds one chunk, for long runs",
     )
     run.add_argument(
         "--channel",
@@ -422,7 +442,12 @@ def _run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else Path("out") / Path(args.model).stem
     options = _run_options(args)
     result = model.simulate(
-        args.t_end, every_step=args.every_step, channels=args.channels, **options
+        args.t_end,
+        every_step=args.every_step,
+        channels=args.channels,
+        decimate=args.decimate,
+        stream=out / RESULTS_PARQUET if args.stream else None,
+        **options,
     )
     written = _save(result, out)
     ideal = None
@@ -455,7 +480,10 @@ def _run(args: argparse.Namespace) -> int:
 
 def _save(result: Result, out: Path) -> list[Path]:
     result.save(out)
-    written = [out / RESULTS_CSV, out / SUMMARY_JSON]
+    written = [
+        out / (RESULTS_CSV if result.stored is None else RESULTS_PARQUET),
+        out / SUMMARY_JSON,
+    ]
     if result.impacts:
         written.append(out / IMPACTS_CSV)
     return written

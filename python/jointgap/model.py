@@ -23,7 +23,7 @@ from __future__ import annotations
 import copy
 import json
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
 
@@ -571,6 +571,9 @@ class Model:
         max_step: Quantity | None = None,
         channels: Sequence[str] | None = None,
         max_steps: int | None = None,
+        decimate: int | None = None,
+        stream: str | PathLike[str] | None = None,
+        progress: Callable[[float, int, int], object] | None = None,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -585,6 +588,13 @@ class Model:
             max_step: largest step [s]; unbounded by default.
             channels: channels to record (exact names or ``"element.*"``); all by default.
             max_steps: step budget (default 1e7); the run fails when it is spent.
+            decimate: keep every ``decimate``-th output record (e.g. of ``every_step``).
+            stream: a Parquet file to write the samples to in chunks as the run goes,
+                for long runs: memory then holds one chunk, and the result reads its
+                channels back from the file.
+            progress: ``progress(t, steps, impacts)``, called about every 0.2 s of wall
+                time (simulated time, steps taken, impacts so far), e.g. for a display;
+                an exception it raises stops the run and propagates.
 
         A run that stops early is returned with ``status == "failed"`` and everything
         computed up to then. Raises :class:`ModelError` for an invalid model and
@@ -603,9 +613,10 @@ class Model:
             max_step=max_step,
             channels=channels,
             max_steps=max_steps,
+            decimate=decimate,
         )
         try:
-            return simulate(self.to_dict(), options)
+            return simulate(self.to_dict(), options, progress=progress, stream=stream)
         except ValueError as exc:
             raise self.engine_error(exc) from None
 

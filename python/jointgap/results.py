@@ -26,9 +26,19 @@ import numpy as np
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped]
 
-__all__ = ["Result", "Impact", "channel_unit", "RESULTS_CSV", "SUMMARY_JSON", "IMPACTS_CSV"]
+__all__ = [
+    "Result",
+    "Impact",
+    "channel_unit",
+    "RESULTS_CSV",
+    "RESULTS_PARQUET",
+    "SUMMARY_JSON",
+    "IMPACTS_CSV",
+]
 
 RESULTS_CSV = "results.csv"
+RESULTS_PARQUET = "results.parquet"
+"""Where a streamed result's samples are (instead of ``results.csv``)."""
 SUMMARY_JSON = "summary.json"
 IMPACTS_CSV = "impacts.csv"
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
@@ -130,7 +140,9 @@ class Result:
     Attributes:
         time: sample times [s].
         channels: channel names, in model order.
-        data: samples, one row per channel (``data[k]`` is ``channels[k]``).
+        data: samples, one row per channel (``data[k]`` is ``channels[k]``); for a run
+            streamed to disk, a :class:`~jointgap.stream.StoredChannels` that reads each
+            row from the file when it is asked for.
         stats: run counters: accepted_steps, rejected_steps, rhs_evaluations,
             jacobian_evaluations, projections, method, wall_time [s].
         status: ``"finished"`` or ``"failed"`` (then the data stop where the run did).
@@ -158,14 +170,17 @@ class Result:
     clearances: dict[str, dict[str, float]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        from .stream import StoredChannels
+
         object.__setattr__(self, "impacts", _impacts(self.impacts))
         object.__setattr__(self, "clearances", _clearances(self.clearances))
         time = np.array(self.time, dtype=float)
-        data = np.array(self.data, dtype=float).reshape(len(self.channels), len(time))
         time.flags.writeable = False
-        data.flags.writeable = False
         object.__setattr__(self, "time", time)
-        object.__setattr__(self, "data", data)
+        if not isinstance(self.data, StoredChannels):
+            data = np.array(self.data, dtype=float).reshape(len(self.channels), len(time))
+            data.flags.writeable = False
+            object.__setattr__(self, "data", data)
         object.__setattr__(self, "_index", {name: k for k, name in enumerate(self.channels)})
 
     @property
@@ -253,12 +268,26 @@ class Result:
             "clearances": self.clearances,
         }
 
+    @property
+    def stored(self) -> Path | None:
+        """The Parquet file of a result streamed to disk; ``None`` when held in memory."""
+        from .stream import StoredChannels
+
+        return self.data.path if isinstance(self.data, StoredChannels) else None
+
     def save(self, directory: str | PathLike[str]) -> Path:
-        """Writes ``results.csv`` and ``summary.json`` into ``directory`` (created), and
-        ``impacts.csv`` when the model has clearance joints."""
+        """Writes ``results.csv`` (``results.parquet`` for a streamed result) and
+        ``summary.json`` into ``directory`` (created), and ``impacts.csv`` when the model
+        has clearance joints."""
+        import shutil
+
         out = Path(directory)
         out.mkdir(parents=True, exist_ok=True)
-        self.to_csv(out / RESULTS_CSV)
+        stored = self.stored
+        if stored is None:
+            self.to_csv(out / RESULTS_CSV)
+        elif stored.resolve() != (out / RESULTS_PARQUET).resolve():
+            shutil.copyfile(stored, out / RESULTS_PARQUET)
         if self.impacts:
             self.impacts_to_csv(out / IMPACTS_CSV)
         with open(out / SUMMARY_JSON, "w") as f:
@@ -268,17 +297,26 @@ class Result:
 
     @classmethod
     def load(cls, directory: str | PathLike[str]) -> Result:
-        """Reads a result written by :meth:`save`."""
+        """Reads a result written by :meth:`save` (a streamed one stays on disk)."""
+        from .stream import StoredChannels, read_time
+
         folder = Path(directory)
         with open(folder / SUMMARY_JSON) as f:
             summary = json.load(f)
-        with open(folder / RESULTS_CSV, newline="") as f:
-            reader = csv.reader(f)
-            header = next(reader)
-            rows = np.array([[float(v) for v in row] for row in reader], dtype=float)
-        if header[:1] != ["time"]:
-            raise ValueError(f"{folder / RESULTS_CSV}: the first column must be 'time'")
-        rows = rows.reshape(-1, len(header))
+        data: Any
+        if (folder / RESULTS_PARQUET).exists():
+            time = read_time(folder / RESULTS_PARQUET)
+            channels = list(summary.get("channels", []))
+            data = StoredChannels(folder / RESULTS_PARQUET, channels, len(time))
+        else:
+            with open(folder / RESULTS_CSV, newline="") as f:
+                reader = csv.reader(f)
+                header = next(reader)
+                rows = np.array([[float(v) for v in row] for row in reader], dtype=float)
+            if header[:1] != ["time"]:
+                raise ValueError(f"{folder / RESULTS_CSV}: the first column must be 'time'")
+            rows = rows.reshape(-1, len(header))
+            time, channels, data = rows[:, 0], header[1:], rows[:, 1:].T
         impacts: dict[str, list[Impact]] = {
             j["name"]: []
             for j in summary.get("model", {}).get("joints", [])
@@ -290,9 +328,9 @@ class Result:
                     impact = Impact(row["joint"], *(float(row[c]) for c in IMPACT_COLUMNS[1:]))
                     impacts.setdefault(impact.joint, []).append(impact)
         return cls(
-            time=rows[:, 0],
-            channels=header[1:],
-            data=rows[:, 1:].T,
+            time=time,
+            channels=channels,
+            data=data,
             stats=summary.get("stats", {}),
             status=summary.get("status", "finished"),
             message=summary.get("message", ""),

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from os import PathLike
 from typing import Any
 
 from . import units as u
@@ -24,6 +25,7 @@ DEFAULT_OPTIONS: dict[str, Any] = {
     "max_step": None,
     "max_steps": 10_000_000,
     "channels": None,
+    "decimate": 1,
 }
 """Defaults of the run options (the engine's own defaults, written out in every result)."""
 
@@ -46,6 +48,7 @@ def run_options(
     max_step: float | str | None = None,
     channels: Sequence[str] | None = None,
     max_steps: int | None = None,
+    decimate: int | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
 
@@ -69,6 +72,10 @@ def run_options(
         options["every_step"] = bool(every_step)
     if max_steps is not None:
         options["max_steps"] = int(max_steps)
+    if decimate is not None:
+        if int(decimate) != decimate or decimate < 1:
+            raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")
+        options["decimate"] = int(decimate)
     if channels is not None:
         if isinstance(channels, str):
             channels = [channels]
@@ -80,16 +87,44 @@ def run_options(
     return options
 
 
-def simulate(model: Mapping[str, Any], options: Mapping[str, Any]) -> Result:
+Progress = Callable[[float, int, int], object]
+"""``progress(t, steps, impacts)``: simulated time [s], steps taken, impacts so far."""
+
+STREAM_CHUNK = 8192
+"""Samples per chunk (and Parquet row group) of a streamed run."""
+
+
+def simulate(
+    model: Mapping[str, Any],
+    options: Mapping[str, Any],
+    progress: Progress | None = None,
+    stream: str | PathLike[str] | None = None,
+) -> Result:
     """Runs the engine on a model dictionary (SI) with complete options.
 
-    Raises the engine's ValueError when the model or the options are invalid; a run
-    that stops early returns a Result with status ``failed``.
+    ``progress`` is called about every 0.2 s of wall time. With ``stream``, the samples
+    go to that Parquet file in chunks as the run goes, and the Result reads them from
+    there. Raises the engine's ValueError when the model or the options are invalid; a
+    run that stops early returns a Result with status ``failed``.
     """
     from . import _jointgap
 
-    arrays = _jointgap.simulate(json.dumps(model), json.dumps(options))
-    return _result(arrays, model, options)
+    if stream is None:
+        arrays = _jointgap.simulate(json.dumps(model), json.dumps(options), progress)
+        return _result(arrays, model, options)
+    from .stream import ParquetSink, StoredChannels, read_time
+
+    sink = ParquetSink(stream)
+    names: list[str] = []
+    try:
+        _, names, _, summary = _jointgap.simulate(
+            json.dumps(model), json.dumps(options), progress, sink, STREAM_CHUNK
+        )
+    finally:
+        sink.close(names)
+    times = read_time(stream)
+    data = StoredChannels(stream, list(names), len(times))
+    return _result((times, names, data, summary), model, options)
 
 
 def simulate_many(

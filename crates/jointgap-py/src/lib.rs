@@ -47,24 +47,97 @@ fn to_python<'py>(py: Python<'py>, result: jointgap_core::SimResult) -> PyResult
         "impacts": result.impacts,
         "clearances": result.clearances,
     });
-    let n = result.time.len();
-    let flat: Vec<f64> = result.data.iter().flatten().copied().collect();
-    let data = numpy::ndarray::Array2::from_shape_vec((result.names.len(), n), flat)
+    let (time, data) = samples_to_python(py, &result.time, &result.data)?;
+    Ok((time, result.names, data, summary.to_string()))
+}
+
+type Samples<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>);
+
+/// `(time, data[n_channels, n_samples])` as NumPy arrays.
+fn samples_to_python<'py>(py: Python<'py>, time: &[f64], data: &[Vec<f64>]) -> PyResult<Samples<'py>> {
+    let flat: Vec<f64> = data.iter().flatten().copied().collect();
+    let table = numpy::ndarray::Array2::from_shape_vec((data.len(), time.len()), flat)
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok((
-        PyArray1::from_vec(py, result.time),
-        result.names,
-        PyArray2::from_owned_array(py, data),
-        summary.to_string(),
-    ))
+    Ok((PyArray1::from_slice(py, time), PyArray2::from_owned_array(py, table)))
+}
+
+/// Calls back into Python while a run goes (the GIL taken only for the call): the
+/// progress callable, the sink of sample chunks, and a check for Ctrl-C, so that a long
+/// run can be interrupted. The first Python exception stops the run and is re-raised.
+struct PyMonitor {
+    progress: Option<PyObject>,
+    sink: Option<PyObject>,
+    chunk: Option<usize>,
+    error: Option<PyErr>,
+}
+
+/// Wall-clock seconds between progress reports (and Ctrl-C checks).
+const PROGRESS_INTERVAL: f64 = 0.2;
+
+impl PyMonitor {
+    fn stop(&mut self, error: PyErr) -> String {
+        let text = error.to_string();
+        self.error.get_or_insert(error);
+        text
+    }
+}
+
+impl jointgap_core::Monitor for PyMonitor {
+    fn progress_interval(&self) -> Option<f64> {
+        Some(PROGRESS_INTERVAL)
+    }
+
+    fn progress(&mut self, p: &jointgap_core::Progress) -> Result<(), String> {
+        let outcome = Python::with_gil(|py| {
+            py.check_signals()?;
+            if let Some(callback) = &self.progress {
+                callback.call1(py, (p.time, p.steps, p.impacts))?;
+            }
+            Ok::<(), PyErr>(())
+        });
+        outcome.map_err(|e| self.stop(e))
+    }
+
+    fn chunk_len(&self) -> Option<usize> {
+        self.sink.as_ref().and(self.chunk)
+    }
+
+    fn samples(&mut self, names: &[String], time: &[f64], data: &[Vec<f64>]) -> Result<(), String> {
+        let Some(sink) = &self.sink else { return Ok(()) };
+        let outcome = Python::with_gil(|py| {
+            let (t, table) = samples_to_python(py, time, data)?;
+            sink.call1(py, (names.to_vec(), t, table)).map(|_| ())
+        });
+        outcome.map_err(|e| self.stop(e))
+    }
 }
 
 /// Runs a simulation with the GIL released. Returns
-/// `(time, names, data[n_channels, n_samples], summary_json)`.
+/// `(time, names, data[n_channels, n_samples], summary_json)`. `progress(t, steps,
+/// impacts)` is called about every 0.2 s of wall time; with `sink`, the samples are
+/// handed to `sink(names, time, data)` in chunks of `chunk` samples as the run goes, and the
+/// returned arrays hold none of them.
 #[pyfunction]
-fn simulate<'py>(py: Python<'py>, model_json: &str, options_json: &str) -> PyResult<Arrays<'py>> {
+#[pyo3(signature = (model_json, options_json, progress=None, sink=None, chunk=8192))]
+fn simulate<'py>(
+    py: Python<'py>,
+    model_json: &str,
+    options_json: &str,
+    progress: Option<PyObject>,
+    sink: Option<PyObject>,
+    chunk: usize,
+) -> PyResult<Arrays<'py>> {
     let (model, options) = parse(model_json, options_json)?;
-    let result = py.allow_threads(|| jointgap_core::simulate(&model, &options)).map_err(to_py_err)?;
+    if chunk == 0 {
+        return Err(PyValueError::new_err("chunk = 0: must be at least 1 sample"));
+    }
+    let mut monitor = PyMonitor { progress, sink, chunk: Some(chunk), error: None };
+    let result = py
+        .allow_threads(|| jointgap_core::simulate_with(&model, &options, &mut monitor))
+        .map_err(to_py_err)?;
+    if let Some(error) = monitor.error {
+        return Err(error);
+    }
     to_python(py, result)
 }
 

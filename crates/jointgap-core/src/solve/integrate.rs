@@ -5,6 +5,7 @@
 use super::contacts::{self, ImpactLog};
 use super::dopri5::Dopri5;
 use super::dynamics::{project, violation};
+use super::monitor::{Monitor, Progress};
 use super::ode::{hermite5, Ode};
 use super::record::Recorder;
 use super::sdirk4::Sdirk4;
@@ -13,7 +14,8 @@ use super::switching::AutoSwitch;
 use super::{Method, SimOptions};
 use crate::output::{RunStats, Status};
 
-/// Integrates from `(0, y)` to `t_end`, recording into `rec`. Returns the final status.
+/// Integrates from `(0, y)` to `t_end`, recording into `rec` and reporting to `monitor`.
+/// Returns the final status.
 pub fn integrate(
     ode: &mut Ode,
     opts: &SimOptions,
@@ -21,7 +23,12 @@ pub fn integrate(
     rec: &mut Recorder,
     log: &mut ImpactLog,
     stats: &mut RunStats,
+    monitor: &mut dyn Monitor,
 ) -> Status {
+    let started = std::time::Instant::now();
+    let report_every = monitor.progress_interval();
+    let mut next_report = report_every.unwrap_or(f64::INFINITY);
+    let chunk = monitor.chunk_len();
     let n_state = ode.state_len();
     let n = n_state / 2;
     let sys = ode.sys;
@@ -182,10 +189,32 @@ pub fn integrate(
                         }
                         log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
                         if every_step
-                            && rec.time.last().is_none_or(|&tl| tl < t)
+                            && rec.last_time.is_none_or(|tl| tl < t)
                             && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
                         {
                             break 'run singular(t);
+                        }
+                        if chunk.is_some_and(|c| rec.time.len() >= c) {
+                            if let Err(reason) = monitor.samples(&rec.names(), &rec.time, &rec.data) {
+                                break 'run fail(t, format!("stopped by the output sink: {reason}"));
+                            }
+                            rec.clear();
+                        }
+                        if report_every.is_some() && stats.accepted_steps.is_multiple_of(16) {
+                            let wall_time = started.elapsed().as_secs_f64();
+                            if wall_time >= next_report {
+                                next_report = wall_time + report_every.unwrap_or(f64::INFINITY);
+                                let progress = Progress {
+                                    time: t,
+                                    t_end: opts.t_end,
+                                    steps: stats.accepted_steps + stats.rejected_steps,
+                                    impacts: log.impacts.iter().map(Vec::len).sum(),
+                                    wall_time,
+                                };
+                                if let Err(reason) = monitor.progress(&progress) {
+                                    break 'run fail(t, format!("stopped: {reason}"));
+                                }
+                            }
                         }
                         if opts.method == Method::Auto {
                             let radius = if switch.wants_radius(method) {

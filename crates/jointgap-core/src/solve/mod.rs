@@ -5,6 +5,7 @@ pub mod contacts;
 pub mod dopri5;
 pub mod dynamics;
 pub mod integrate;
+pub mod monitor;
 pub mod ode;
 mod options;
 pub mod record;
@@ -12,6 +13,7 @@ pub mod sdirk4;
 pub mod stepper;
 pub mod switching;
 
+pub use monitor::{Monitor, Progress, Silent};
 pub use options::{Method, SimOptions};
 
 use crate::contact::ClearanceRevolute;
@@ -58,10 +60,20 @@ pub fn simulate_batch(
 /// Simulates a model from t = 0 to `opts.t_end`. Errors in the model or options come
 /// back as `Err`; a run that fails midway returns what it computed, with `Status::Failed`.
 pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
+    simulate_with(model, opts, &mut Silent)
+}
+
+/// [`simulate`] reporting to `monitor`: progress while it runs and, when the monitor
+/// takes chunks, the samples as they fill (the result then holds none of them).
+pub fn simulate_with(
+    model: &Model,
+    opts: &SimOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<SimResult, Error> {
     opts.check()?;
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
-    let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref())?;
+    let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref(), opts.decimate)?;
     let mut ode = ode::Ode {
         sys: &system,
         ws: dynamics::Workspace::new(&system, initial.active.clone()),
@@ -73,11 +85,22 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
     let mut log = contacts::ImpactLog::new(&system);
-    let status = if rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]).is_err() {
+    let mut status = if rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]).is_err() {
         Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
     } else {
-        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats)
+        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
     };
+    if monitor.chunk_len().is_some() && !rec.time.is_empty() {
+        let last = rec.time[rec.time.len() - 1];
+        match monitor.samples(&rec.names(), &rec.time, &rec.data) {
+            Ok(()) => rec.clear(),
+            Err(reason) if status == Status::Finished => {
+                status =
+                    Status::Failed { time: last, reason: format!("stopped by the output sink: {reason}") }
+            }
+            Err(_) => {}
+        }
+    }
     if stats.method.is_empty() {
         stats.method = opts.method.name().to_string();
     }
@@ -91,8 +114,8 @@ pub fn simulate(model: &Model, opts: &SimOptions) -> Result<SimResult, Error> {
         .collect();
     let clearances = system.clearances.iter().map(ClearanceRevolute::data).collect();
     Ok(SimResult {
-        time: rec.time.clone(),
         names: rec.names(),
+        time: rec.time,
         data: rec.data,
         stats,
         status,

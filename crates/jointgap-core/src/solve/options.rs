@@ -37,6 +37,9 @@ fn default_atol() -> f64 {
 fn default_max_steps() -> usize {
     10_000_000
 }
+fn default_decimate() -> usize {
+    1
+}
 
 /// Options of one run. Times in s, rates in Hz.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -69,6 +72,9 @@ pub struct SimOptions {
     /// Channels to record (exact names or `element.*`); all by default.
     #[serde(default)]
     pub channels: Option<Vec<String>>,
+    /// Keep every `decimate`-th output record (default 1: all), e.g. of `every_step` output.
+    #[serde(default = "default_decimate")]
+    pub decimate: usize,
 }
 
 impl SimOptions {
@@ -84,6 +90,7 @@ impl SimOptions {
             max_step: None,
             max_steps: default_max_steps(),
             channels: None,
+            decimate: default_decimate(),
         }
     }
 
@@ -110,6 +117,9 @@ impl SimOptions {
             if !(h.is_finite() && h > 0.0) {
                 return bad("max_step", h);
             }
+        }
+        if self.decimate == 0 {
+            return Err(crate::Error::Options("option decimate = 0: must be at least 1".into()));
         }
         Ok(())
     }

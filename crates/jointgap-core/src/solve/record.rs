@@ -26,6 +26,12 @@ pub struct Recorder {
     pub time: Vec<f64>,
     /// One vector per kept channel.
     pub data: Vec<Vec<f64>>,
+    /// Time of the latest record asked for, kept or decimated away.
+    pub last_time: Option<f64>,
+    /// Keep every `decimate`-th record.
+    decimate: usize,
+    /// Records asked for so far.
+    count: usize,
     values: Vec<f64>,
 }
 
@@ -57,7 +63,12 @@ pub fn channel_names(sys: &System) -> Vec<String> {
 
 impl Recorder {
     /// Selects channels by exact name or `element.*`; unknown selections are an error.
-    pub fn new(sys: &System, active: &[usize], select: Option<&[String]>) -> Result<Self, Error> {
+    pub fn new(
+        sys: &System,
+        active: &[usize],
+        select: Option<&[String]>,
+        decimate: usize,
+    ) -> Result<Self, Error> {
         let all = channel_names(sys);
         let keep: Vec<usize> = match select {
             None => (0..all.len()).collect(),
@@ -92,7 +103,16 @@ impl Recorder {
             keep,
             active_of_row,
             time: Vec::new(),
+            last_time: None,
+            decimate: decimate.max(1),
+            count: 0,
         })
+    }
+
+    /// Empties the sample buffers (after a chunk was handed on), keeping their capacity.
+    pub fn clear(&mut self) {
+        self.time.clear();
+        self.data.iter_mut().for_each(Vec::clear);
     }
 
     /// Names of the kept channels.
@@ -100,7 +120,7 @@ impl Recorder {
         self.keep.iter().map(|&k| self.all[k].clone()).collect()
     }
 
-    /// Records one sample at `(t, q, v)`.
+    /// Records one sample at `(t, q, v)`, unless decimation drops it.
     pub fn push(
         &mut self,
         sys: &System,
@@ -109,6 +129,12 @@ impl Recorder {
         q: &[f64],
         v: &[f64],
     ) -> Result<(), Singular> {
+        let keep = self.count.is_multiple_of(self.decimate);
+        self.count += 1;
+        self.last_time = Some(t);
+        if !keep {
+            return Ok(());
+        }
         ws.t_piece = t;
         accelerations(sys, t, q, v, ws)?;
         let vals = &mut self.values;

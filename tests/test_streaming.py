@@ -1,0 +1,123 @@
+"""Long-run output: results streamed to Parquet equal the in-memory ones exactly,
+decimation keeps exactly every k-th record, progress reports come while the run goes and
+an exception in a callback stops the run and propagates."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import jointgap
+from jointgap import run as run_module
+from jointgap.results import RESULTS_PARQUET, Result
+from jointgap.stream import StoredChannels
+
+CLEARANCE = Path(__file__).parent.parent / "examples" / "slider_crank_clearance.toml"
+T_END = 0.12
+
+
+@pytest.fixture(scope="module")
+def model() -> jointgap.Model:
+    return jointgap.load(CLEARANCE)
+
+
+@pytest.fixture(scope="module")
+def in_memory(model: jointgap.Model) -> Result:
+    return model.simulate(T_END, rate=10_000)
+
+
+def test_streamed_equals_in_memory(
+    model: jointgap.Model, in_memory: Result, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    # Small chunks, so that the run spans many row groups and chunk borders.
+    monkeypatch.setattr(run_module, "STREAM_CHUNK", 97)
+    streamed = model.simulate(T_END, rate=10_000, stream=tmp_path / "run.parquet")
+    assert isinstance(streamed.data, StoredChannels)
+    assert streamed.stored == tmp_path / "run.parquet"
+    import pyarrow.parquet as pq
+
+    assert pq.ParquetFile(tmp_path / "run.parquet").num_row_groups == -(-len(in_memory.time) // 97)
+    assert streamed.channels == in_memory.channels
+    np.testing.assert_array_equal(streamed.time, in_memory.time)
+    for channel in in_memory.channels:
+        np.testing.assert_array_equal(streamed[channel], in_memory[channel])
+    np.testing.assert_array_equal(np.asarray(streamed.data), in_memory.data)
+    assert streamed.impacts == in_memory.impacts
+    assert streamed.stats["accepted_steps"] == in_memory.stats["accepted_steps"]
+
+
+def test_streamed_result_saves_and_loads(
+    model: jointgap.Model, in_memory: Result, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    streamed = model.simulate(T_END, rate=10_000, stream=out / RESULTS_PARQUET)
+    streamed.save(out)
+    assert not (out / "results.csv").exists()
+    loaded = Result.load(out)
+    assert loaded.stored == out / RESULTS_PARQUET
+    np.testing.assert_array_equal(loaded["slider.ax"], in_memory["slider.ax"])
+    pd_frame = loaded.to_pandas()
+    assert list(pd_frame.columns) == ["time", *in_memory.channels]
+    # Saved elsewhere, the file is copied along.
+    copy = tmp_path / "copy"
+    loaded.save(copy)
+    np.testing.assert_array_equal(Result.load(copy)["motor.torque"], in_memory["motor.torque"])
+
+
+def test_selected_channels_stream(model: jointgap.Model, in_memory: Result, tmp_path: Path) -> None:
+    streamed = model.simulate(
+        T_END, rate=10_000, channels=["slider.*"], stream=tmp_path / "s.parquet"
+    )
+    assert streamed.channels == [c for c in in_memory.channels if c.startswith("slider.")]
+    np.testing.assert_array_equal(streamed["slider.vx"], in_memory["slider.vx"])
+
+
+def test_decimation_keeps_every_kth_record(model: jointgap.Model, in_memory: Result) -> None:
+    decimated = model.simulate(T_END, rate=10_000, decimate=7)
+    np.testing.assert_array_equal(decimated.time, in_memory.time[::7])
+    np.testing.assert_array_equal(decimated.data, in_memory.data[:, ::7])
+    steps = model.simulate(0.03, every_step=True)
+    every_third = model.simulate(0.03, every_step=True, decimate=3)
+    np.testing.assert_array_equal(every_third.time, steps.time[::3])
+    np.testing.assert_array_equal(every_third["rod_slider.fn"], steps["rod_slider.fn"][::3])
+
+
+def test_bad_decimation_is_refused(model: jointgap.Model) -> None:
+    with pytest.raises(ValueError, match="decimate = 0"):
+        model.simulate(0.01, decimate=0)
+
+
+def test_progress_reports_while_running(model: jointgap.Model) -> None:
+    reports: list[tuple[float, int, int]] = []
+    result = model.simulate(
+        T_END, rate=10_000, method="sdirk4", progress=lambda *p: reports.append(p)
+    )
+    wall = result.stats["wall_time"]
+    # One report about every 0.2 s of wall time: none for a run shorter than that.
+    assert len(reports) >= int(wall / 0.2) - 1
+    assert len(reports) <= wall / 0.2 + 1
+    times = [t for t, _, _ in reports]
+    assert times == sorted(times) and all(0 < t < T_END for t in times)
+    steps = [s for _, s, _ in reports]
+    assert steps == sorted(steps)
+    assert all(i <= len(result.impacts["rod_slider"]) for _, _, i in reports)
+
+
+def test_exception_in_progress_stops_the_run(model: jointgap.Model) -> None:
+    def stop(t: float, steps: int, impacts: int) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        model.simulate(5.0, rate=1000, progress=stop)
+
+
+def test_exception_in_sink_stops_the_run(model: jointgap.Model, tmp_path: Path) -> None:
+    from jointgap import _jointgap
+
+    def full(names: list[str], time: np.ndarray, data: np.ndarray) -> None:
+        raise OSError(28, "No space left on device")
+
+    with pytest.raises(OSError, match="No space left"):
+        _jointgap.simulate(model.to_json(), '{"t_end": 0.05, "rate": 10000}', None, full, 16)
