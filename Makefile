@@ -53,6 +53,7 @@ bench: install
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/run.py
+	$(PY) benchmarks/scaling.py
 
 ## bench-peers: the SciPy peer of the founding clearance case (about 4 min)
 bench-peers: install
