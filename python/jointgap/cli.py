@@ -20,6 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from .cli_progress import progress_line
 from .model import Model
 from .results import (
     IMPACTS_CSV,
@@ -170,6 +171,14 @@ def build_parser() -> argparse.ArgumentParser:
         "options into OUT/ideal; report the deviation and overlay it in the figures",
     )
     run.add_argument("--plot", action="store_true", help="also write the figure set into OUT")
+    run.add_argument(
+        "--report",
+        nargs="?",
+        const="",
+        metavar="FILE.html",
+        help="also write an interactive report: animation, plots, statistics in one "
+        "self-contained file (default OUT/report.html; see 'jointgap report --help')",
+    )
     _add_format_option(run)
 
     plot = sub.add_parser(
@@ -268,7 +277,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # Modules that add subcommands: each has `add_commands(sub)` and a `COMMANDS` table.
-_COMMAND_MODULES = ("cli_measured", "cli_study")
+_COMMAND_MODULES = ("cli_measured", "cli_study", "cli_report")
 
 
 def _command_modules() -> list[Any]:
@@ -441,18 +450,23 @@ def _run(args: argparse.Namespace) -> int:
     model = _load(args.model)
     out = Path(args.out) if args.out else Path("out") / Path(args.model).stem
     options = _run_options(args)
-    result = model.simulate(
-        args.t_end,
-        every_step=args.every_step,
-        channels=args.channels,
-        decimate=args.decimate,
-        stream=out / RESULTS_PARQUET if args.stream else None,
-        **options,
-    )
+    with progress_line(args.t_end) as progress:
+        result = model.simulate(
+            args.t_end,
+            every_step=args.every_step,
+            channels=args.channels,
+            decimate=args.decimate,
+            stream=out / RESULTS_PARQUET if args.stream else None,
+            progress=progress,
+            **options,
+        )
     written = _save(result, out)
     ideal = None
     if args.ideal:
-        ideal = _load(args.ideal).simulate(args.t_end, channels=args.channels, **options)
+        with progress_line(args.t_end, "ideal run: ") as progress:
+            ideal = _load(args.ideal).simulate(
+                args.t_end, channels=args.channels, progress=progress, **options
+            )
         written += _save(ideal, out / IDEAL_DIR)
     stats = contact_statistics(result)
     deviations = deviation_from_ideal(result, ideal) if ideal is not None else []
@@ -468,6 +482,10 @@ def _run(args: argparse.Namespace) -> int:
             written += save_figure_set(result, out, ideal=ideal, formats=args.formats)
         except ValueError as exc:
             notes.append(f"warning    no figure: {exc}")
+    if args.report is not None:
+        from .cli_report import report_after_run
+
+        notes += report_after_run(result, ideal, out, args.model, written, args.report)
     print(_summary(model, args.model, result, written, format_statistics(stats, deviations)))
     for note in notes:
         print(note)
@@ -567,7 +585,10 @@ def _calibrate(args: argparse.Namespace) -> int:
         else:
             from .variants import with_parameters
 
-            probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(args.t_end, **options)
+            with progress_line(args.t_end) as progress:
+                probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(
+                    args.t_end, progress=progress, **options
+                )
             if not probe.ok:
                 return _fail(f"{args.model}: the run {probe.message}", EXIT_RUN_FAILED)
             v_avg, count = average_onset_speed(probe, joint, selection)
@@ -627,14 +648,16 @@ def _converge(args: argparse.Namespace) -> int:
 
     model = _load(args.model)
     options = _run_options(args)
-    check = check_convergence(
-        model,
-        args.t_end,
-        levels=args.levels,
-        peak_tolerance=args.peak_tol,
-        nrmse_tolerance=args.nrmse_tol,
-        **options,
-    )
+    with progress_line(args.t_end) as progress:
+        check = check_convergence(
+            model,
+            args.t_end,
+            levels=args.levels,
+            peak_tolerance=args.peak_tol,
+            nrmse_tolerance=args.nrmse_tol,
+            progress=progress,
+            **options,
+        )
     print(check.table())
     print()
     print(check.verdict())

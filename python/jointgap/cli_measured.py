@@ -30,7 +30,9 @@ measured(t) = simulated(t - lag)) unless --lag is given, and print the error
 measures on the aligned signals: max absolute error, max error as a percentage of the
 measured peak, RMS, NRMSE, correlation, spectral error, peak-to-peak per crank turn
 (definitions: docs/comparison.md). Writes OUT/comparison.json and the overlay figure
-OUT/comparison.png|svg (aligned signals, their difference, their spectra).
+OUT/comparison.png|svg (aligned signals, their difference, their spectra), the run in
+OUT/simulation/ and the measured signal as read (SI) in OUT/measured.csv, from which
+'jointgap report OUT' draws the comparison; --report writes OUT/report.html at once.
 """
 
 _IDENTIFY_DESCRIPTION = """\
@@ -62,6 +64,12 @@ def add_commands(sub: Any) -> None:
     )
     _add_measured_options(compare)
     compare.add_argument("--out", metavar="DIR", help="output folder (default out/compare)")
+    compare.add_argument(
+        "--report",
+        action="store_true",
+        help="also write OUT/report.html: the simulation's animation and plots with the "
+        "aligned signals, their difference and spectra (see 'jointgap report --help')",
+    )
     compare.add_argument(
         "--crank-column",
         metavar="NAME|INDEX",
@@ -209,23 +217,37 @@ def _simulated_span(args: argparse.Namespace, measured: Any) -> float:
 def _compare(args: argparse.Namespace) -> int:
     import json
 
+    from .cli_progress import progress_line
     from .comparison import compare, comparison_figure
     from .plots import save_figures
+    from .report import COMPARISON_JSON, MEASURED_CSV, SIMULATION_DIR
 
     model = _load(args.model)
     measured = _measured(args)
-    result = model.simulate(_simulated_span(args, measured), **_run_options(args))
+    span = _simulated_span(args, measured)
+    with progress_line(span) as progress:
+        result = model.simulate(span, progress=progress, **_run_options(args))
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     comparison = compare(result, measured, args.signal, **_compare_options(args))
     out = Path(args.out or "out/compare")
     out.mkdir(parents=True, exist_ok=True)
-    (out / "comparison.json").write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
+    (out / COMPARISON_JSON).write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
+    # The simulation and the signal as read (SI) beside it: 'jointgap report OUT' redraws
+    # the comparison from them.
+    result.save(out / SIMULATION_DIR)
+    measured.to_csv(out / MEASURED_CSV)
     paths = save_figures({"comparison": comparison_figure(comparison)}, out, args.formats)
+    if args.report:
+        from .cli_report import REPORT_HTML
+        from .report import write_run_report
+
+        paths.append(write_run_report(result, out / REPORT_HTML, comparison=comparison))
     print(comparison.report())
     if args.crank_column is not None:
         print(_angle_report(args, result, measured))
-    print("written    " + ", ".join(str(p) for p in [out / "comparison.json", *paths]))
+    written = [out / COMPARISON_JSON, out / SIMULATION_DIR, out / MEASURED_CSV, *paths]
+    print("written    " + ", ".join(str(p) for p in written))
     return 0
 
 

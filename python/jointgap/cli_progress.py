@@ -1,0 +1,92 @@
+"""The progress line of long runs on the command line: simulated time, steps and
+impacts so far, rewritten in place on stderr (``\\r``) while the engine runs, and only
+when stderr is a terminal (never in a pipe, a file or CI logs)::
+
+    with progress_line(args.t_end) as progress:
+        result = model.simulate(args.t_end, progress=progress)
+
+The engine calls ``progress(t, steps, impacts)`` about every 0.2 s of wall time
+(:meth:`jointgap.Model.simulate`); the line is erased when the run ends, so the
+summary printed after it stands alone.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import TextIO
+
+__all__ = ["ProgressLine", "progress_line"]
+
+
+class ProgressLine:
+    """``progress(t, steps, impacts)`` that writes one line, updated in place.
+
+    Args:
+        t_end: the run's end time [s] (a number or text with a unit, ``"0.5 s"``), for the
+            percentage; None or unreadable: no percentage.
+        stream: where to write (default stderr).
+        label: text before the numbers, e.g. ``"ideal run: "``.
+    """
+
+    def __init__(
+        self, t_end: float | str | None, stream: TextIO | None = None, label: str = ""
+    ) -> None:
+        self.stream = stream if stream is not None else sys.stderr
+        self.t_end = _seconds(t_end)
+        self.label = label
+        self.width = 0
+        self.calls = 0
+
+    def __call__(self, t: float, steps: int, impacts: int) -> None:
+        self.calls += 1
+        done = ""
+        if self.t_end:
+            done = f" ({min(100.0, 100.0 * t / self.t_end):5.1f} %)"
+        end = f" / {self.t_end:g}" if self.t_end else ""
+        text = (
+            f"{self.label}t = {t:.6g}{end} s{done}, {steps} steps, "
+            f"{impacts} impact{'' if impacts == 1 else 's'}"
+        )
+        pad = max(0, self.width - len(text))
+        self.stream.write("\r" + text + " " * pad)
+        self.stream.flush()
+        self.width = len(text)
+
+    def clear(self) -> None:
+        """Erases the line (if one was written)."""
+        if self.width:
+            self.stream.write("\r" + " " * self.width + "\r")
+            self.stream.flush()
+            self.width = 0
+
+
+def _seconds(t_end: float | str | None) -> float | None:
+    if t_end is None:
+        return None
+    from . import units
+
+    try:
+        value = units.to_si(t_end, units.TIME)
+    except ValueError:
+        return None
+    return value if value > 0 else None
+
+
+@contextmanager
+def progress_line(
+    t_end: float | str | None, label: str = "", stream: TextIO | None = None
+) -> Iterator[ProgressLine | None]:
+    """A :class:`ProgressLine` while the block runs, erased after it; None (no
+    progress, no cost) when ``stream`` (default stderr) is not a terminal."""
+    out = stream if stream is not None else sys.stderr
+    isatty = getattr(out, "isatty", None)
+    if not (callable(isatty) and isatty()):
+        yield None
+        return
+    line = ProgressLine(t_end, out, label)
+    try:
+        yield line
+    finally:
+        line.clear()

@@ -1,0 +1,517 @@
+// jointgap report: builds the page from the embedded data (script#jg-data): the
+// mechanism's animation, the journal orbits, the plots with a cursor at the
+// animation's time, the comparison and study sections, and the tables.
+"use strict";
+
+const SVG_NS = "http://www.w3.org/2000/svg";
+const MODE_NAMES = ["free flight", "impact", "continuous contact"];
+const MODE_COLOURS = ["#1f77b4", "#d62728", "#2ca02c"];
+const SPEEDS = [0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1];
+
+function el(tag, attrs, parent, text) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs || {})) {
+    if (k === "class") e.className = v;
+    else e.setAttribute(k, v);
+  }
+  if (text !== undefined) e.textContent = text;
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function svg(tag, attrs, parent) {
+  const e = document.createElementNS(SVG_NS, tag);
+  for (const [k, v] of Object.entries(attrs || {})) e.setAttribute(k, String(v));
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function section(id, title) {
+  const s = el("section", { id, class: "jg-section" }, document.getElementById("report"));
+  el("h2", {}, s, title);
+  return s;
+}
+
+function cssId(name) {
+  return String(name).replace(/[^A-Za-z0-9_-]/g, "_");
+}
+
+// ------------------------------------------------------------------------ tables
+
+function renderTable(parent, table, onSeek) {
+  const box = el("div", { class: "jg-table-box" }, parent);
+  el("h3", {}, box, table.title);
+  if (table.note) el("p", { class: "jg-note" }, box, table.note);
+  const holder = table.rows.length > 14 ? el("div", { class: "jg-scroll" }, box) : box;
+  const t = el("table", { id: table.id, class: "jg-table" + (table.columns[0] === "" ? " jg-kv" : "") }, holder);
+  const keyValue = table.columns.every((c) => c === "");
+  if (!keyValue) {
+    const tr = el("tr", {}, el("thead", {}, t));
+    table.columns.forEach((c, k) => {
+      const th = el("th", {}, tr, c);
+      if (table.sortable) {
+        th.classList.add("jg-sortable");
+        th.title = "sort";
+        th.addEventListener("click", () => sortTable(t, k, table));
+      }
+    });
+  }
+  const body = el("tbody", {}, t);
+  fillRows(body, table.rows, table, onSeek);
+  return t;
+}
+
+function fillRows(body, rows, table, onSeek) {
+  body.textContent = "";
+  rows.forEach((row, k) => {
+    const tr = el("tr", {}, body);
+    const cls = table.row_classes && table.row_classes[row.__index !== undefined ? row.__index : k];
+    if (cls) tr.className = cls;
+    row.forEach((cell) => el("td", { class: typeof cell === "number" ? "num" : "" }, tr, jgFormat(cell)));
+    if (table.seek !== null && table.seek !== undefined && typeof row[table.seek] === "number" && onSeek) {
+      tr.classList.add("jg-seek");
+      tr.dataset.time = String(row[table.seek]);
+      tr.addEventListener("click", () => onSeek(row[table.seek]));
+    }
+  });
+}
+
+function sortTable(t, k, table) {
+  const down = t.dataset.sortColumn === String(k) && t.dataset.sortOrder !== "desc";
+  const rows = table.rows.map((r, i) => Object.assign(r.slice(), { __index: i }));
+  rows.sort((a, b) => {
+    const x = a[k];
+    const y = b[k];
+    if (x === y) return 0;
+    if (x === null) return 1;
+    if (y === null) return -1;
+    const c = typeof x === "number" && typeof y === "number" ? x - y : String(x).localeCompare(String(y));
+    return down ? -c : c;
+  });
+  t.dataset.sortColumn = String(k);
+  t.dataset.sortOrder = down ? "desc" : "asc";
+  fillRows(t.querySelector("tbody"), rows, table, t._onSeek);
+}
+
+// ------------------------------------------------------------------------ mechanism
+
+class Mechanism {
+  constructor(parent, run) {
+    this.run = run;
+    this.scene = run.scene;
+    this.frames = run.frames;
+    const b = this.scene.bounds;
+    const size = Math.max(b[2] - b[0], b[3] - b[1]);
+    const pad = 0.08 * size;
+    this.home = [b[0] - pad, -(b[3] + pad), b[2] - b[0] + 2 * pad, b[3] - b[1] + 2 * pad];
+    this.viewBox = this.home.slice();
+    this.svg = svg("svg", { id: "mechanism", class: "jg-mechanism", preserveAspectRatio: "xMidYMid meet" }, parent);
+    this._setViewBox();
+    const world = svg("g", { transform: "scale(1,-1)" }, this.svg);
+    this.ground = svg("g", { id: "ground" }, world);
+    this.ghostLayer = svg("g", { id: "ghost", opacity: "0.28" }, world);
+    this.bodyLayer = svg("g", { id: "bodies" }, world);
+    this.jointLayer = svg("g", { id: "joints" }, world);
+    this.groups = {};
+    this.ghosts = {};
+    this._drawGround(size);
+    for (const body of this.scene.bodies) {
+      this.groups[body.name] = this._drawBody(this.bodyLayer, body, "body-" + cssId(body.name), false);
+      if (this.frames.ideal && this.frames.ideal[body.name]) {
+        this.ghosts[body.name] = this._drawBody(this.ghostLayer, body, "ghost-" + cssId(body.name), true);
+      }
+    }
+    this.journals = {};
+    for (const c of this.scene.clearances) {
+      const owner = c.bearing_body === null ? this.ground : this.groups[c.bearing_body];
+      svg("circle", { class: "jg-bearing", cx: c.point[0], cy: c.point[1], r: c.drawn_bearing_radius, "vector-effect": "non-scaling-stroke" }, owner);
+      this.journals[c.joint] = svg(
+        "circle",
+        { id: "journal-" + cssId(c.joint), class: "jg-journal", r: c.drawn_journal_radius, "vector-effect": "non-scaling-stroke" },
+        this.jointLayer
+      );
+    }
+    this._listen();
+  }
+
+  _setViewBox() {
+    this.svg.setAttribute("viewBox", this.viewBox.join(" "));
+  }
+
+  _drawGround(size) {
+    const r = this.scene.pin_radius;
+    for (const g of this.scene.ground.guides) {
+      const parent = g.body === null ? this.ground : null;
+      if (!parent) continue;
+      const [ax, ay] = g.axis;
+      const n = Math.hypot(ax, ay) || 1;
+      const L = 4 * size;
+      svg("line", {
+        class: "jg-guide",
+        x1: g.point[0] - (L * ax) / n,
+        y1: g.point[1] - (L * ay) / n,
+        x2: g.point[0] + (L * ax) / n,
+        y2: g.point[1] + (L * ay) / n,
+        "vector-effect": "non-scaling-stroke",
+      }, parent);
+    }
+    for (const p of this.scene.ground.pins) {
+      const s = 2.6 * r;
+      svg("path", {
+        class: "jg-ground",
+        d: `M ${p[0]} ${p[1]} L ${p[0] - s} ${p[1] - 1.7 * s} L ${p[0] + s} ${p[1] - 1.7 * s} Z`,
+        "vector-effect": "non-scaling-stroke",
+      }, this.ground);
+    }
+  }
+
+  _drawBody(layer, body, id, ghost) {
+    const g = svg("g", { id, class: ghost ? "jg-ghost" : "jg-body" }, layer);
+    g.dataset.body = body.name;
+    const colour = ghost ? "#666" : null;
+    for (const s of body.shapes) {
+      if (s.type === "bar") {
+        svg("line", { class: "jg-bar-outline", x1: s.from[0], y1: s.from[1], x2: s.to[0], y2: s.to[1], "stroke-width": s.width }, g);
+        const line = svg("line", { class: "jg-bar", x1: s.from[0], y1: s.from[1], x2: s.to[0], y2: s.to[1], "stroke-width": s.width * 0.86 }, g);
+        if (colour) line.style.stroke = colour;
+      } else if (s.type === "path") {
+        const pts = s.points.map((p) => p.join(",")).join(" ");
+        svg("polyline", { class: "jg-bar-outline", points: pts, "stroke-width": s.width }, g);
+        svg("polyline", { class: "jg-bar", points: pts, "stroke-width": s.width * 0.86 }, g);
+      } else if (s.type === "block") {
+        svg("rect", {
+          class: "jg-block", x: -s.width / 2, y: -s.height / 2, width: s.width, height: s.height,
+          rx: 0.06 * Math.min(s.width, s.height), "vector-effect": "non-scaling-stroke",
+        }, g);
+      } else if (s.type === "disk") {
+        svg("circle", { class: "jg-block", r: s.radius, "vector-effect": "non-scaling-stroke" }, g);
+      }
+    }
+    if (!ghost) {
+      for (const p of body.pins) {
+        svg("circle", { class: "jg-pin", cx: p[0], cy: p[1], r: this.scene.pin_radius, "vector-effect": "non-scaling-stroke" }, g);
+      }
+    }
+    return g;
+  }
+
+  show(k) {
+    const f = this.frames;
+    for (const [name, g] of Object.entries(this.groups)) {
+      const b = f.bodies[name];
+      g.setAttribute("transform", pose(b.x[k], b.y[k], b.angle[k]));
+    }
+    for (const [name, g] of Object.entries(this.ghosts)) {
+      const b = f.ideal[name];
+      if (b.x[k] === null) g.setAttribute("visibility", "hidden");
+      else {
+        g.removeAttribute("visibility");
+        g.setAttribute("transform", pose(b.x[k], b.y[k], b.angle[k]));
+      }
+    }
+    for (const c of this.scene.clearances) {
+      const j = f.joints[c.joint];
+      let cx = c.point[0];
+      let cy = c.point[1];
+      let a = 0;
+      if (c.bearing_body !== null) {
+        const b = f.bodies[c.bearing_body];
+        a = b.angle[k];
+        const ca = Math.cos(a);
+        const sa = Math.sin(a);
+        [cx, cy] = [b.x[k] + ca * c.point[0] - sa * c.point[1], b.y[k] + sa * c.point[0] + ca * c.point[1]];
+      }
+      const m = this.scene.magnify;
+      const ex = j.ex[k] || 0;
+      const ey = j.ey[k] || 0;
+      const gx = Math.cos(a) * ex - Math.sin(a) * ey;
+      const gy = Math.sin(a) * ex + Math.cos(a) * ey;
+      const journal = this.journals[c.joint];
+      journal.setAttribute("cx", (cx + m * gx).toPrecision(9));
+      journal.setAttribute("cy", (cy + m * gy).toPrecision(9));
+      journal.style.fill = MODE_COLOURS[j.mode[k]] || "#888";
+    }
+  }
+
+  setGhost(visible) {
+    this.ghostLayer.style.display = visible ? "" : "none";
+  }
+
+  _listen() {
+    let drag = null;
+    this.svg.addEventListener("wheel", (e) => {
+      e.preventDefault();
+      const r = this.svg.getBoundingClientRect();
+      const scale = Math.max(this.viewBox[2] / r.width, this.viewBox[3] / r.height);
+      const cx = this.viewBox[0] + this.viewBox[2] / 2 + (e.clientX - r.left - r.width / 2) * scale;
+      const cy = this.viewBox[1] + this.viewBox[3] / 2 + (e.clientY - r.top - r.height / 2) * scale;
+      const f = Math.pow(1.0015, e.deltaY);
+      const [x, y, w, h] = this.viewBox;
+      this.viewBox = [cx - (cx - x) * f, cy - (cy - y) * f, w * f, h * f];
+      this._setViewBox();
+    }, { passive: false });
+    this.svg.addEventListener("pointerdown", (e) => {
+      drag = { x: e.clientX, y: e.clientY, box: this.viewBox.slice() };
+      this.svg.setPointerCapture(e.pointerId);
+    });
+    this.svg.addEventListener("pointermove", (e) => {
+      if (!drag) return;
+      const r = this.svg.getBoundingClientRect();
+      const scale = Math.max(drag.box[2] / r.width, drag.box[3] / r.height);
+      this.viewBox = [drag.box[0] - (e.clientX - drag.x) * scale, drag.box[1] - (e.clientY - drag.y) * scale, drag.box[2], drag.box[3]];
+      this._setViewBox();
+    });
+    const end = () => (drag = null);
+    this.svg.addEventListener("pointerup", end);
+    this.svg.addEventListener("pointercancel", end);
+    this.svg.addEventListener("dblclick", () => {
+      this.viewBox = this.home.slice();
+      this._setViewBox();
+    });
+  }
+}
+
+function pose(x, y, angle) {
+  return `translate(${x} ${y}) rotate(${((angle * 180) / Math.PI).toPrecision(8)})`;
+}
+
+// ------------------------------------------------------------------------ orbits
+
+class Orbit {
+  constructor(parent, orbit, frames) {
+    this.orbit = orbit;
+    this.frames = frames.joints[orbit.joint];
+    const box = el("div", { class: "jg-orbit", "data-joint": orbit.joint }, parent);
+    el("h3", {}, box, `${orbit.joint}: journal centre [µm]`);
+    const um = 1e6;
+    let reach = orbit.clearance;
+    for (let i = 0; i < orbit.ex.length; i++) {
+      if (orbit.ex[i] !== null) reach = Math.max(reach, Math.hypot(orbit.ex[i], orbit.ey[i]));
+    }
+    const R = 1.12 * reach * um;
+    this.svg = svg("svg", { id: "orbit-" + cssId(orbit.joint), viewBox: `${-R} ${-R} ${2 * R} ${2 * R}`, class: "jg-orbit-svg" }, box);
+    const g = svg("g", { transform: "scale(1,-1)" }, this.svg);
+    svg("line", { class: "jg-axis", x1: -R, y1: 0, x2: R, y2: 0, "vector-effect": "non-scaling-stroke" }, g);
+    svg("line", { class: "jg-axis", x1: 0, y1: -R, x2: 0, y2: R, "vector-effect": "non-scaling-stroke" }, g);
+    svg("circle", { class: "jg-clearance", r: orbit.clearance * um, "vector-effect": "non-scaling-stroke" }, g);
+    let start = 0;
+    const n = orbit.ex.length;
+    for (let i = 1; i <= n; i++) {
+      if (i === n || orbit.mode[i] !== orbit.mode[start]) {
+        const pts = [];
+        for (let k = start; k <= Math.min(i, n - 1); k++) {
+          if (orbit.ex[k] !== null) pts.push(`${(orbit.ex[k] * um).toFixed(3)},${(orbit.ey[k] * um).toFixed(3)}`);
+        }
+        svg("polyline", { class: "jg-trace", points: pts.join(" "), stroke: MODE_COLOURS[orbit.mode[start]] || "#888", "vector-effect": "non-scaling-stroke" }, g);
+        start = i;
+      }
+    }
+    this.trail = svg("polyline", { class: "jg-trail", points: "", "vector-effect": "non-scaling-stroke" }, g);
+    this.marker = svg("circle", { id: "orbit-marker-" + cssId(orbit.joint), class: "jg-marker", r: 0.045 * R, "vector-effect": "non-scaling-stroke" }, g);
+    const legend = el("div", { class: "jg-mode-legend" }, box);
+    MODE_NAMES.forEach((name, k) => {
+      const item = el("span", {}, legend);
+      el("span", { class: "jg-swatch" }, item).style.borderColor = MODE_COLOURS[k];
+      item.appendChild(document.createTextNode(name));
+    });
+    el("p", { class: "jg-note" }, box, `bearing frame${orbit.bearing_body ? " (" + orbit.bearing_body + ")" : ""}; dashed: the clearance circle, radius ${jgFormat(orbit.clearance * um)} µm`);
+    this.readout = el("p", { class: "jg-readout" }, box, "");
+  }
+
+  show(k) {
+    const f = this.frames;
+    const um = 1e6;
+    const x = (f.ex[k] || 0) * um;
+    const y = (f.ey[k] || 0) * um;
+    this.marker.setAttribute("cx", x.toFixed(3));
+    this.marker.setAttribute("cy", y.toFixed(3));
+    this.marker.style.fill = MODE_COLOURS[f.mode[k]] || "#888";
+    const pts = [];
+    for (let i = Math.max(0, k - 40); i <= k; i++) {
+      if (f.ex[i] !== null) pts.push(`${(f.ex[i] * um).toFixed(3)},${(f.ey[i] * um).toFixed(3)}`);
+    }
+    this.trail.setAttribute("points", pts.join(" "));
+    const e = Math.hypot(x, y);
+    this.readout.textContent = `|e| = ${e.toFixed(1)} µm, ${MODE_NAMES[f.mode[k]] || "-"}`;
+  }
+}
+
+// ------------------------------------------------------------------------ player
+
+class Player {
+  constructor(parent, run, views) {
+    this.time = run.frames.time;
+    this.views = views;
+    this.k = 0;
+    this.t = this.time[0];
+    this.playing = false;
+    const duration = this.time[this.time.length - 1] - this.time[0];
+    this.speed = SPEEDS.filter((s) => s <= duration / 15).pop() || SPEEDS[0];
+    const bar = el("div", { class: "jg-controls" }, parent);
+    this.button = el("button", { type: "button", id: "play", class: "jg-button" }, bar, "▶ play");
+    this.button.addEventListener("click", () => (this.playing ? this.pause() : this.play()));
+    const label = el("label", {}, bar, "speed ");
+    this.select = el("select", { id: "speed" }, label);
+    for (const s of SPEEDS) {
+      const o = el("option", { value: String(s) }, this.select, `${s} × real time`);
+      if (s === this.speed) o.selected = true;
+    }
+    this.select.addEventListener("change", () => (this.speed = Number(this.select.value)));
+    this.slider = el("input", { type: "range", id: "time-slider", min: "0", max: String(this.time.length - 1), step: "1", value: "0" }, bar);
+    this.slider.addEventListener("input", () => this.showFrame(Number(this.slider.value)));
+    this.readout = el("span", { id: "time-readout", class: "jg-readout" }, bar, "");
+    this._tick = this._tick.bind(this);
+  }
+
+  play() {
+    if (this.k >= this.time.length - 1) this.showFrame(0);
+    this.playing = true;
+    this.button.textContent = "❚❚ pause";
+    this.last = null;
+    requestAnimationFrame(this._tick);
+  }
+
+  pause() {
+    this.playing = false;
+    this.button.textContent = "▶ play";
+  }
+
+  _tick(now) {
+    if (!this.playing) return;
+    if (this.last !== null) {
+      this.t += ((now - this.last) / 1000) * this.speed;
+      const end = this.time[this.time.length - 1];
+      if (this.t > end) this.t = this.time[0] + ((this.t - this.time[0]) % (end - this.time[0] || 1));
+      const k = Math.max(0, jgLowerBound(this.time, this.t + 1e-12) - 1);
+      if (k !== this.k) this.showFrame(k, true);
+    }
+    this.last = now;
+    requestAnimationFrame(this._tick);
+  }
+
+  seek(t) {
+    let k = jgLowerBound(this.time, t);
+    if (k > 0 && (k === this.time.length || t - this.time[k - 1] < this.time[k] - t)) k -= 1;
+    this.showFrame(Math.min(k, this.time.length - 1));
+  }
+
+  showFrame(k, fromClock) {
+    this.k = k;
+    if (!fromClock) this.t = this.time[k];
+    this.slider.value = String(k);
+    for (const v of this.views) v.show(k, this.time[k]);
+    this.readout.textContent = `t = ${this.time[k].toFixed(5)} s (frame ${k + 1} of ${this.time.length})`;
+  }
+}
+
+// ------------------------------------------------------------------------ sections
+
+// specs' series may name a shared array of `times` as their x ("run", "ideal").
+function plotGroup(parent, specs, markerTimes, onPick, times) {
+  const group = new JGPlotGroup();
+  const plots = specs.map((spec) => {
+    const series = spec.series.map((s) => (typeof s.x === "string" ? Object.assign({}, s, { x: times[s.x] }) : s));
+    const s = Object.assign({}, spec, { series, markerTimes: spec.markers ? markerTimes : [] });
+    const p = new JGPlot(parent, s, { onPick: spec.time ? onPick : null, height: spec.height });
+    if (spec.time) group.add(p);
+    return p;
+  });
+  return plots;
+}
+
+function renderRun(run) {
+  const mech = section("mechanism-section", "Mechanism");
+  const grid = el("div", { class: "jg-grid" }, mech);
+  const left = el("div", { class: "jg-anim" }, grid);
+  const right = el("div", { class: "jg-orbits", id: "orbits" }, grid);
+  const mechanism = new Mechanism(left, run);
+  const views = [mechanism];
+  const orbits = run.orbits.map((o) => new Orbit(right, o, run.frames));
+  views.push(...orbits);
+  const plotsSection = section("plots-section", "Channels");
+  el("p", { class: "jg-note" }, plotsSection,
+    "wheel: zoom in time (shift+wheel: values) · drag: pan · shift+drag: zoom to a box · double-click: reset · click: move the animation there" +
+      (run.impacts.length ? " · orange lines: impact onsets" : ""));
+  const markerTimes = run.impacts.map((i) => i.t);
+  const p = new Player(left, run, views);
+  const plots = plotGroup(plotsSection, run.plots, markerTimes, (t) => p.seek(t), run.times);
+  const cursorView = { show: (k, t) => plots.forEach((pl) => pl.setCursor(t)) };
+  views.push(cursorView);
+  const notes = el("p", { class: "jg-note", id: "magnify-note" }, left, "");
+  if (run.scene.clearances.length) {
+    notes.textContent = `clearances drawn ${jgFormat(run.scene.magnify)} times larger than they are; journal colour: blue free flight, red impact, green continuous contact; wheel zooms, drag pans, double-click resets`;
+  }
+  if (run.frames.ideal) {
+    const label = el("label", { class: "jg-check" }, left);
+    const box = el("input", { type: "checkbox", id: "show-ideal" }, label);
+    box.checked = true;
+    label.appendChild(document.createTextNode(" ideal run as a grey ghost"));
+    box.addEventListener("change", () => mechanism.setGhost(box.checked));
+  }
+  return p;
+}
+
+function renderTables(parent, tables, onSeek) {
+  const wrap = el("div", { class: "jg-tables" }, parent);
+  for (const t of tables) {
+    const node = renderTable(wrap, t, onSeek);
+    node._onSeek = onSeek;
+  }
+}
+
+function renderComparison(cmp, onSeek) {
+  const s = section("comparison-section", cmp.title);
+  if (cmp.note) el("p", { class: "jg-note" }, s, cmp.note);
+  const plots = plotGroup(s, cmp.plots, [], onSeek);
+  renderTables(s, cmp.tables, onSeek);
+  return plots.filter((p, k) => cmp.plots[k].time);
+}
+
+function renderStudy(study) {
+  const s = section("study-section", "Study");
+  renderTables(s, study.tables, null);
+  if (study.plots.length) {
+    el("h3", {}, s, "Metrics against parameters");
+    el("p", { class: "jg-note" }, s, "hover a point for its case; wheel and drag zoom and pan");
+    const grid = el("div", { class: "jg-plot-grid" }, s);
+    plotGroup(grid, study.plots, [], null);
+  }
+  const cases = section("cases-section", "Cases");
+  renderTables(cases, [study.cases], null);
+  if (study.figures.length) {
+    const f = section("figures-section", "Figures");
+    for (const fig of study.figures) {
+      const fg = el("figure", { class: "jg-figure" }, f);
+      el("img", { src: fig.src, alt: fig.name }, fg);
+      el("figcaption", {}, fg, fig.name);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------ page
+
+function main() {
+  const data = JSON.parse(document.getElementById("jg-data").textContent);
+  document.getElementById("title").textContent = data.title;
+  document.getElementById("subtitle").textContent = data.subtitle || "";
+  let player = null;
+  if (data.run) {
+    if (data.run.status !== "finished") {
+      const warn = el("p", { class: "jg-warning" }, document.getElementById("report"), `the run ${data.run.message || "failed"}: everything shown stops there`);
+      warn.id = "run-failed";
+    }
+    player = renderRun(data.run);
+  }
+  const seek = player ? (t) => player.seek(t) : null;
+  if (data.comparison) {
+    const plots = renderComparison(data.comparison, seek);
+    if (player) player.views.push({ show: (k, t) => plots.forEach((pl) => pl.setCursor(t)) });
+  }
+  if (data.run) renderTables(section("summary-section", "Summary"), data.run.tables, seek);
+  if (data.study) renderStudy(data.study);
+  if (player) player.showFrame(0);
+  window.jointgapReport = { data, player };
+  document.body.dataset.ready = "true";
+}
+
+main();
