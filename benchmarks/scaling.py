@@ -8,26 +8,31 @@ N = 2 x 10^(k/5) (2, 3, 5, 8, 13, 20, 32, 50, 80, 126, 200):
 - ``n_link_chain(N)``: N bars of 1 m and 1 kg pinned end to end, released from
   horizontal, 3N coordinates, 2N rows.
 
-Each runs the same short simulation: 0 to 0.3 s (the four-bar chain's rockers reach the
-singular horizontal position only at 0.72 s), ``method="dopri5"``, rtol 1e-8, atol
-1e-10, one channel recorded at 10 Hz (3 samples, so the output costs nothing next to the
-steps). The engine's own ``stats["wall_time"]`` is the time; cost per step is
+**The run.** ``method="dopri5"``, rtol 1e-8, atol 1e-10, one channel, three samples,
+and ``max_step`` = 0.2 ms, far below the steps the error control would take (30 ms for
+the four-bar chain, 4 ms for the 126-link chain): every step is then a step of 0.2 ms
+doing the same work at every N (6 RHS evaluations, no rejection; projections rare), and
+the motion is the first K steps of the benchmark's, K from 20 to 3000 (0.6 s, before the
+four-bar chain's singular position at 0.708 s). K is chosen per N so that the steps take
+about 1 s (from the cost predicted by the previous N), so that they, not the one-time
+assembly, dominate the run.
 
-    (wall time of the run - wall time of a run to t = 1e-9 s)
-        / (steps of the run - steps of that run)
+**The time.** Cost per step is timed inside the integration, from the run's progress
+reports (``progress=``, about every 0.2 s of wall time): the wall time between the first
+and the last report over the steps between them. Compiling and assembling the model
+(Newton on the positions, redundant-row detection, velocities: dense SVDs) are done
+before the first report and do not enter it, however long they take. A run too short
+for two reports is timed as (engine wall time of the run - of a one-step run) / (K - 1),
+the two runs repeated (medians) while under 1 s in all, at most 5 times. Cost per RHS is
+cost per step x steps / RHS evaluations. The one-time cost ('assembly') is timed on its
+own: ``Model.check()``, which reads, compiles and assembles the model as a run does.
 
-(steps = accepted + rejected), so compiling the model, assembling it (Newton on the
-positions, redundant-row detection, velocities) and setting up the recorder, paid once
-per run, do not enter it; cost per RHS evaluation is the same with the RHS counts. The
-one-time cost ('assembly') is timed on its own: ``Model.check()``, which compiles and
-assembles the model as a run does (and reads it from JSON, as a run does). Small N are
-repeated (medians) until 1 s of runs is spent, at most 5 times; large N run once.
-
-The exponent p of cost per step ~ N^p is fitted by least squares on log-log over
-N >= 20 (the larger N, where fixed per-step overheads no longer dominate); the target of
-issue 6 is linear growth, read as p <= 1.1. The series stops when the next N's predicted
-time (extrapolated from the last two) would overrun the chain's share of the time budget
-(``--budget``, 120 s for both chains by default): what was capped is printed and written.
+**The fit.** The exponent p of cost per step ~ N^p is fitted by least squares on log-log
+over N >= 20 (the larger N, where fixed per-step overheads no longer dominate); the
+target of issue 6 is linear growth, read as p <= 1.1. The series stops when the next N's
+predicted time (extrapolated from the last two) would overrun the chain's share of the
+time budget (``--budget``, 120 s for both chains by default): what was capped is printed
+and written.
 
 Writes benchmarks/output/scaling.md, benchmarks/output/scaling.png (copied to
 docs/images/bench_scaling.png) and benchmarks/results/scaling.json. Run from the
@@ -64,13 +69,13 @@ RESULTS = ROOT / "benchmarks" / "results"
 DOC_IMAGE = ROOT / "docs" / "images" / "bench_scaling.png"
 
 SERIES = sorted({round(2 * 10 ** (k / 5)) for k in range(11)})  # 2 ... 200
-T_END = 0.3  # [s], before the four-bar chain's singular position (0.72 s)
-T_SETUP = 1e-9  # [s], a run that assembles and takes one step
+STEP = 2e-4  # [s], max_step: every step this long
+K_MIN, K_MAX = 20, 3000  # steps per run; K_MAX * STEP = 0.6 s < 0.708 s (singular position)
+STEPS_TIME = 1.0  # [s], wall time the steps of one run should take
 RTOL, ATOL = 1e-8, 1e-10
-RATE = 10.0  # [Hz]: samples at 0, 0.1, 0.2, 0.3 s
 FIT_FROM = 20  # fit the exponent over N >= FIT_FROM
 TARGET = 1.1  # issue 6: cost per step grows linearly with N
-REPEAT_TIME = 1.0  # [s] of runs per point for small N
+REPEAT_TIME = 1.0  # [s] of runs per point when timed by difference
 MAX_REPEATS = 5
 
 
@@ -98,18 +103,17 @@ class Point:
     coordinates: int
     rows: int  # active constraint rows (redundant ones removed)
     redundant: int
-    steps: int  # accepted + rejected, run to T_END
+    steps: int  # accepted + rejected
     rejected: int
     rhs: int
     projections: int
-    setup_steps: int  # of the T_SETUP run
-    setup_rhs: int
-    run_s: float  # median engine wall time, run to T_END
-    setup_s: float  # median engine wall time, run to T_SETUP
+    run_s: float  # engine wall time of the run (median when repeated)
     assembly_s: float  # median time of Model.check(): compile + assemble
+    per_step_s: float
+    per_rhs_s: float
+    timed_by: str  # "progress" (inside the run) or "difference" (of two runs)
+    timed_steps: int  # steps the per-step time is taken over
     repeats: int
-    per_step_s: float = math.nan
-    per_rhs_s: float = math.nan
 
 
 @dataclass
@@ -134,57 +138,86 @@ class ChainResult:
     assembly_fit: Fit | None = None
 
 
-def _run(model: jointgap.Model, t_end: float, channel: str) -> jointgap.Result:
+def _run(
+    model: jointgap.Model,
+    steps: int,
+    channel: str,
+    progress: Callable[[float, int, int], object] | None = None,
+) -> jointgap.Result:
+    # Half a step more: with t_end a whole number of steps, rounding leaves a last step of
+    # about 1e-16 s that the engine refuses (below its smallest resolvable step) for some
+    # step counts (e.g. 259-323 at rtol 1e-8).
+    t_end = (steps - 0.5) * STEP
     result = model.simulate(
-        t_end, rate=RATE, method="dopri5", rtol=RTOL, atol=ATOL, channels=[channel]
+        t_end,
+        rate=2.0 / t_end,
+        method="dopri5",
+        rtol=RTOL,
+        atol=ATOL,
+        max_step=STEP,
+        channels=[channel],
+        progress=progress,
     )
     if result.status != "finished":
         raise RuntimeError(f"{model.name}: {result.message}")
     return result
 
 
-def measure(chain: Chain, n: int) -> Point:
-    """Times ``Model.check`` (compile + assemble), a run to T_SETUP and one to T_END,
-    repeated while cheap."""
+def measure(chain: Chain, n: int, k: int) -> Point:
+    """Times ``Model.check`` (compile + assemble) and a run of ``k`` steps of
+    ``chain`` with ``n``, inside the run from its progress reports, or by difference
+    with a one-step run when it is too short for two reports."""
     model = chain.build(n)
-    runs: list[float] = []
-    setups: list[float] = []
-    checks: list[float] = []
-    spent = 0.0
-    full = setup = None
-    warnings: list[str] = []
-    while len(runs) < MAX_REPEATS and (not runs or spent < REPEAT_TIME):
-        started = time.perf_counter()
-        warnings = model.check()
-        checks.append(time.perf_counter() - started)
-        setup = _run(model, T_SETUP, chain.channel)
-        full = _run(model, T_END, chain.channel)
-        setups.append(setup.stats["wall_time"])
-        runs.append(full.stats["wall_time"])
-        spent += checks[-1] + setups[-1] + runs[-1]
-    assert full is not None and setup is not None
-    s, s0 = full.stats, setup.stats
+    reports: list[tuple[float, int]] = []
+
+    def progress(_t: float, steps: int, _impacts: int) -> None:
+        reports.append((time.perf_counter(), steps))
+
+    started = time.perf_counter()
+    warnings = model.check()
+    checks = [time.perf_counter() - started]
+    full = _run(model, k, chain.channel, progress)
+    runs = [float(full.stats["wall_time"])]
+    s = full.stats
+    steps = s["accepted_steps"] + s["rejected_steps"]
+    timed_by, repeats = "progress", 1
+    if len(reports) >= 2 and reports[-1][1] - reports[0][1] >= 32:
+        timed_steps = reports[-1][1] - reports[0][1]
+        per_step = (reports[-1][0] - reports[0][0]) / timed_steps
+    else:
+        timed_by, timed_steps = "difference", steps - 1
+        ones: list[float] = []
+        spent = checks[0] + runs[0]
+        while True:
+            ones.append(float(_run(model, 1, chain.channel).stats["wall_time"]))
+            spent += ones[-1]
+            if len(runs) >= MAX_REPEATS or spent >= REPEAT_TIME:
+                break
+            started = time.perf_counter()
+            model.check()
+            checks.append(time.perf_counter() - started)
+            runs.append(float(_run(model, k, chain.channel).stats["wall_time"]))
+            spent += checks[-1] + runs[-1]
+        repeats = len(runs)
+        per_step = (statistics.median(runs) - statistics.median(ones)) / timed_steps
     redundant = sum("redundant" in w for w in warnings)
-    point = Point(
+    return Point(
         n=n,
         coordinates=3 * len(model.bodies),
         rows=3 * len(model.bodies) - model.degrees_of_freedom() - redundant,
         redundant=redundant,
-        steps=s["accepted_steps"] + s["rejected_steps"],
+        steps=steps,
         rejected=s["rejected_steps"],
         rhs=s["rhs_evaluations"],
         projections=s["projections"],
-        setup_steps=s0["accepted_steps"] + s0["rejected_steps"],
-        setup_rhs=s0["rhs_evaluations"],
         run_s=statistics.median(runs),
-        setup_s=statistics.median(setups),
         assembly_s=statistics.median(checks),
-        repeats=len(runs),
+        per_step_s=per_step,
+        per_rhs_s=per_step * steps / s["rhs_evaluations"],
+        timed_by=timed_by,
+        timed_steps=timed_steps,
+        repeats=repeats,
     )
-    extra = point.run_s - point.setup_s
-    point.per_step_s = extra / (point.steps - point.setup_steps)
-    point.per_rhs_s = extra / (point.rhs - point.setup_rhs)
-    return point
 
 
 def fit(points: list[Point], cost: Callable[[Point], float]) -> Fit | None:
@@ -200,33 +233,47 @@ def fit(points: list[Point], cost: Callable[[Point], float]) -> Fit | None:
     return Fit(chosen[0].n, chosen[-1].n, len(chosen), float(slope), float(math.exp(intercept)))
 
 
+def _extrapolate(
+    points: list[Point], cost: Callable[[Point], float], n: int
+) -> tuple[float, float]:
+    """Cost at ``n`` from the last two points, with their slope (at least 1) on log-log;
+    the slope too."""
+    a, b = points[-2], points[-1]
+    slope = 1.0
+    if cost(a) > 0 and cost(b) > 0:
+        slope = max(math.log(cost(b) / cost(a)) / math.log(b.n / a.n), 1.0)
+    return max(cost(b), 0.0) * (n / b.n) ** slope, slope
+
+
 def run_chain(chain: Chain, budget: float, max_n: int) -> ChainResult:
     """Measures the series up to ``max_n`` while the predicted time fits in ``budget``."""
     result = ChainResult(chain.name, chain.label)
     series = [n for n in SERIES if n <= max_n]
     started = time.perf_counter()
-    for k, n in enumerate(series):
+    for i, n in enumerate(series):
         pts = result.points
+        k = K_MAX
         if len(pts) >= 2:
-            a, b = pts[-2], pts[-1]
-            cost_a = a.run_s + a.setup_s + a.assembly_s
-            cost_b = b.run_s + b.setup_s + b.assembly_s
-            slope = max(math.log(cost_b / cost_a) / math.log(b.n / a.n), 1.0)
-            predicted = cost_b * (n / b.n) ** slope
+            step, slope = _extrapolate(pts, lambda p: p.per_step_s, n)
+            assembly, _ = _extrapolate(pts, lambda p: p.assembly_s, n)
+            k = min(max(round(STEPS_TIME / max(step, 1e-12)), K_MIN), K_MAX)
+            predicted = 2 * assembly + k * step
             left = budget - (time.perf_counter() - started)
             if predicted > left:
                 result.capped = (
-                    f"stopped after N = {b.n}: N = {n} would take about {predicted:.0f} s "
-                    f"(extrapolated with exponent {slope:.1f}), {max(left, 0):.0f} s of the "
-                    f"{budget:.0f} s budget left; not measured: N = "
-                    + ", ".join(str(m) for m in series[k:])
+                    f"stopped after N = {pts[-1].n}: N = {n} would take about "
+                    f"{predicted:.0f} s ({k} steps of about {step:.2g} s, cost per step "
+                    f"extrapolated with exponent {slope:.1f}, and assembly), "
+                    f"{max(left, 0):.0f} s of the {budget:.0f} s budget left; not measured: "
+                    "N = " + ", ".join(str(m) for m in series[i:])
                 )
                 break
-        point = measure(chain, n)
+        point = measure(chain, n, k)
         pts.append(point)
         print(
-            f"  {chain.name} N = {n}: {point.per_step_s * 1e3:.4g} ms/step, "
-            f"assembly {point.assembly_s * 1e3:.4g} ms ({point.repeats} runs)",
+            f"  {chain.name} N = {n}: {point.per_step_s * 1e3:.4g} ms/step over "
+            f"{point.timed_steps} steps ({point.timed_by}), assembly "
+            f"{point.assembly_s * 1e3:.4g} ms",
             flush=True,
         )
     result.per_step_fit = fit(result.points, lambda p: p.per_step_s)
@@ -244,15 +291,18 @@ def table(results: list[ChainResult], header: str) -> str:
         "## Scale with size: cost per step against N\n",
         header,
         "",
-        f"Each run: 0 to {T_END} s, dopri5, rtol {RTOL:.0e}, atol {ATOL:.0e}, one channel at "
-        f"{RATE:.0f} Hz. 'per step' and 'per RHS' are (run - setup run) / (steps or RHS "
-        f"of the run - of the setup run), the setup run ending at t = {T_SETUP:.0e} s, from "
-        "the engine's wall time (`stats['wall_time']`); 'assembly' is the time of "
-        "`Model.check()` (compile and assemble, once per run). Medians of 'runs' runs. "
-        "'local p' is the slope of cost per step from the previous N.\n",
-        "| mechanism | N | coordinates | rows | steps | RHS | runs | assembly [ms] "
-        "| per step [ms] | per RHS [us] | local p |",
-        "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|",
+        f"Each run: dopri5, rtol {RTOL:.0e}, atol {ATOL:.0e}, max_step {STEP * 1e3:g} ms "
+        f"(every step that long: 6 RHS, no rejection), 'steps' steps from the benchmark's "
+        "initial state, one channel, three samples. 'per step' is timed inside the run "
+        "between its first and last progress report ('progress', over 'timed' steps) or, "
+        "for runs too short for two reports, as (run - one-step run) / (steps - 1) from the "
+        "engine's wall time ('difference', medians of 'runs' runs); 'per RHS' is per step x "
+        "steps / RHS. 'assembly' is the time of `Model.check()` (read, compile and "
+        "assemble, once per run). 'local p' is the slope of cost per step from the "
+        "previous N.\n",
+        "| mechanism | N | coordinates | rows | steps | RHS | projections | timed | runs "
+        "| assembly [ms] | per step [ms] | per RHS [us] | local p |",
+        "|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|",
     ]
     for res in results:
         prev: Point | None = None
@@ -262,7 +312,8 @@ def table(results: list[ChainResult], header: str) -> str:
                 local = f"{math.log(p.per_step_s / prev.per_step_s) / math.log(p.n / prev.n):.2f}"
             lines.append(
                 f"| {res.name} | {p.n} | {p.coordinates} | {p.rows} | {p.steps} | {p.rhs} "
-                f"| {p.repeats} | {p.assembly_s * 1e3:.4g} | {p.per_step_s * 1e3:.4g} "
+                f"| {p.projections} | {p.timed_by} ({p.timed_steps}) | {p.repeats} "
+                f"| {p.assembly_s * 1e3:.4g} | {p.per_step_s * 1e3:.4g} "
                 f"| {p.per_rhs_s * 1e6:.4g} | {local} |"
             )
             prev = p
@@ -313,7 +364,7 @@ def figure(results: list[ChainResult], path: Path) -> None:
         a.set_xlim(1.5, 1.3 * max(SERIES))
     ax.set_xlabel("N (loops or links)")
     ax.set_ylabel("cost per step [ms]")
-    ax.set_title(f"dopri5 step, rtol {RTOL:.0e} (fit over N >= {FIT_FROM})")
+    ax.set_title(f"dopri5 step of {STEP * 1e3:g} ms (fit over N >= {FIT_FROM})")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     bx.set_xlabel("N (loops or links)")
@@ -346,7 +397,7 @@ def main() -> None:
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT
     ).stdout.strip()
     header = machine() + f" Engine built {engine_build()}."
-    four_bar_chain(2).simulate(T_SETUP)  # warm-up: load the extension
+    four_bar_chain(2).simulate(STEP)  # warm-up: load the extension
     results: list[ChainResult] = []
     started = time.perf_counter()
     for k, chain in enumerate(CHAINS):
@@ -376,12 +427,12 @@ def main() -> None:
         "commit": commit,
         "engine_build": engine_build(),
         "settings": {
-            "t_end_s": T_END,
-            "setup_t_end_s": T_SETUP,
             "method": "dopri5",
             "rtol": RTOL,
             "atol": ATOL,
-            "rate_hz": RATE,
+            "max_step_s": STEP,
+            "steps_min_max": [K_MIN, K_MAX],
+            "steps_wall_time_s": STEPS_TIME,
             "fit_from_n": FIT_FROM,
             "series": SERIES,
             "budget_s": args.budget,
