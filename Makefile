@@ -8,7 +8,7 @@ JG := $(VENV)/bin/jointgap
 DEMO := demo-output
 DEMO_RUN := --t-end 0.5 --rate 10000
 
-.PHONY: install demo test test-rust test-python bench bench-peers lint clean
+.PHONY: install demo test test-rust test-python browser bench bench-peers lint clean
 
 $(DEPS_STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -30,14 +30,16 @@ demo: install
 	$(JG) run examples/slider_crank_ideal.toml $(DEMO_RUN) --out $(DEMO)/ideal --plot \
 		| tee $(DEMO)/ideal.txt
 	$(JG) run examples/slider_crank_clearance.toml $(DEMO_RUN) --out $(DEMO)/clearance \
-		--ideal examples/slider_crank_ideal.toml --plot | tee $(DEMO)/clearance.txt
+		--ideal examples/slider_crank_ideal.toml --plot --report $(DEMO)/report.html \
+		| tee $(DEMO)/clearance.txt
 	$(JG) calibrate examples/slider_crank_clearance.toml --restitution 0.55 --t-end 0.5 \
 		--rate 1000 --write $(DEMO)/slider_crank_calibrated.toml \
 		--table $(DEMO)/calibration.csv | tee $(DEMO)/calibration.txt
 	$(JG) run $(DEMO)/slider_crank_calibrated.toml $(DEMO_RUN) --out $(DEMO)/calibrated \
 		--ideal examples/slider_crank_ideal.toml --plot | tee $(DEMO)/calibrated.txt
-	@echo "demo-output/: ideal/, clearance/ and calibrated/ (results, figures, contact statistics)," \
-		"calibration.txt and calibration.csv, the printed summaries *.txt"
+	@echo "demo-output/: report.html (open it in a browser), ideal/, clearance/ and calibrated/" \
+		"(results, figures, contact statistics), calibration.txt and calibration.csv, the" \
+		"printed summaries *.txt"
 
 ## test: Rust tests of the core, then pytest
 test: install test-rust test-python
@@ -45,8 +47,14 @@ test: install test-rust test-python
 test-rust:
 	cargo test --release -p jointgap-core
 
-test-python: install
-	$(VENV)/bin/python -m pytest -q tests
+test-python: install browser
+	JOINTGAP_REQUIRE_BROWSER=1 $(VENV)/bin/python -m pytest -q tests
+
+## browser: Debian's chromium, for the browser tests of the HTML report (when missing)
+browser:
+	@command -v chromium >/dev/null 2>&1 || { echo "installing chromium (report tests)"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+		apt-get install -y -qq --no-install-recommends chromium >/dev/null; }
 
 ## bench: speed and accuracy figures (benchmarks/output/)
 bench: install

@@ -337,6 +337,42 @@ def test_report_of_a_study_folder(tmp_path) -> None:
     assert figure["src"].startswith("data:image/png;base64,")
 
 
+def test_report_of_a_study_run_by_jointgap_study(examples, tmp_path) -> None:
+    study_file = tmp_path / "tiny.toml"
+    study_file.write_text(
+        f"""
+[study]
+name = "tiny"
+model = "{(examples / "slider_crank_clearance.toml").as_posix()}"
+t_end = "0.05 s"
+rate = "2 kHz"
+
+[parameters]
+"rod_slider.clearance" = {{ from = "0.25 mm", to = "0.5 mm", steps = 2 }}
+"motor.speed" = {{ from = "200 rpm", to = "300 rpm", step = "100 rpm" }}
+
+[metrics]
+impacts = "impacts"
+peak_slider_acceleration = {{ stat = "peak", channel = "slider.ax" }}
+"""
+    )
+    out = tmp_path / "study"
+    assert main(["study", str(study_file), "--out", str(out), "--workers", "1"]) == 0
+    assert main(["study-plot", str(out)]) == 0
+    assert main(["report", str(out), "--out", str(tmp_path / "study.html")]) == 0
+    study = embedded((tmp_path / "study.html").read_text(encoding="utf-8"))["study"]
+    import pandas as pd
+
+    cases = pd.read_csv(out / "cases.csv")
+    assert study["n_cases"] == len(cases) == 4 and study["n_failed"] == 0
+    table = study["cases"]
+    assert table["columns"][:3] == ["case", "rod_slider.clearance [m]", "motor.speed [rad/s]"]
+    k = table["columns"].index("impacts")
+    assert [row[k] for row in table["rows"]] == cases["impacts"].tolist()
+    assert len(study["plots"]) == 4  # 2 metrics x 2 parameters
+    assert len(study["figures"]) == len(list((out / "figures").glob("*.png"))) > 0
+
+
 def test_study_folder_missing_a_column(tmp_path) -> None:
     folder = study_folder(tmp_path)
     info = json.loads((folder / "study.json").read_text())

@@ -106,10 +106,17 @@ def study_section(folder: str | Path) -> dict[str, Any]:
     columns += [c for c in _FIXED[1:] if c in cases.columns]
     columns += [c for c in cases.columns if c not in columns]
     rows = [[_cell(v) for v in row] for row in cases[columns].itertuples(index=False, name=None)]
+    given_units = info.get("units")
+    units: Mapping[str, Any] = given_units if isinstance(given_units, Mapping) else {}
+
+    def label(column: str) -> str:
+        unit = units.get(column)
+        return f"{column} [{unit}]" if unit else column
+
     table = Table(
         "cases",
         "Cases",
-        [str(c) for c in columns],
+        [label(str(c)) for c in columns],
         rows,
         sortable=True,
         note=f"{len(rows)} cases: {int(finished.sum())} finished, {int((~finished).sum())} failed"
@@ -132,12 +139,15 @@ def study_section(folder: str | Path) -> dict[str, Any]:
     params = Table(
         "study-parameters",
         "Parameters",
-        ["path", "kind", "settings"],
+        ["path", "kind", "unit", "settings (SI)"],
         [
             [
                 _name(p, "parameter", folder),
                 str(p.get("kind", "")) if isinstance(p, Mapping) else "",
-                _text({k: v for k, v in p.items() if k not in ("path", "kind")})
+                str(p.get("unit", units.get(_name(p, "parameter", folder), "")))
+                if isinstance(p, Mapping)
+                else "",
+                _text({k: v for k, v in p.items() if k not in ("path", "kind", "unit")})
                 if isinstance(p, Mapping)
                 else "",
             ]
@@ -160,8 +170,8 @@ def study_section(folder: str | Path) -> dict[str, Any]:
                 {
                     "id": f"study-{metric}-{parameter}",
                     "title": f"{metric} against {parameter}",
-                    "xlabel": parameter,
-                    "ylabel": metric,
+                    "xlabel": label(parameter),
+                    "ylabel": label(metric),
                     "kind": "scatter",
                     "time": False,
                     "markers": False,

@@ -150,7 +150,7 @@ class JGPlot {
 
     const area = document.createElement("div");
     area.className = "jg-plot-area";
-    area.style.height = (this.options.height || 190) + "px";
+    area.style.height = (this.options.height || 170) + "px";
     this.canvas = document.createElement("canvas");
     area.appendChild(this.canvas);
     this.cursor = document.createElement("div");

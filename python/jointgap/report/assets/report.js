@@ -106,6 +106,7 @@ class Mechanism {
     this.home = [b[0] - pad, -(b[3] + pad), b[2] - b[0] + 2 * pad, b[3] - b[1] + 2 * pad];
     this.viewBox = this.home.slice();
     this.svg = svg("svg", { id: "mechanism", class: "jg-mechanism", preserveAspectRatio: "xMidYMid meet" }, parent);
+    this.svg.style.aspectRatio = String(this.home[2] / this.home[3]); // CSS bounds the height
     this._setViewBox();
     const world = svg("g", { transform: "scale(1,-1)" }, this.svg);
     this.ground = svg("g", { id: "ground" }, world);
