@@ -423,3 +423,41 @@ def test_progress_line_follows_a_run(examples) -> None:
     if seen:  # the engine calls about every 0.2 s: a fast run may end before
         assert seen[-1][2] <= len(result.impacts["rod_slider"])
         assert "steps" in screen.getvalue()
+
+
+def test_cli_progress_line_in_a_terminal_and_not_in_a_pipe(examples, tmp_path) -> None:
+    import os
+    import pty
+    import subprocess
+    import sys
+
+    # The two-clearance model runs for about a second: several progress calls.
+    args = [sys.executable, "-m", "jointgap.cli", "run"]
+    args += [str(examples / "slider_crank_two_clearances.toml"), "--t-end", "0.3"]
+    args += ["--rate", "1000", "--out", str(tmp_path)]
+    master, slave = pty.openpty()
+    try:
+        done = subprocess.run(args, stdout=subprocess.PIPE, stderr=slave, timeout=120)
+    finally:
+        os.close(slave)
+    screen = b""
+    while True:
+        try:
+            chunk = os.read(master, 4096)
+        except OSError:  # EIO: the terminal's other end is closed and drained
+            break
+        if not chunk:
+            break
+        screen += chunk
+    os.close(master)
+    assert done.returncode == 0
+    text = screen.decode()
+    lines = re.findall(
+        r"\rt = ([0-9.e-]+) / 0\.3 s \( *[0-9.]+ %\), (\d+) steps, (\d+) impacts?", text
+    )
+    assert lines, text
+    times = [float(t) for t, _, _ in lines]
+    assert times == sorted(times) and 0 < times[-1] <= 0.3
+    assert text.endswith("\r")  # erased before the summary
+    out = done.stdout.decode()
+    assert "\r" not in out and "model      slider_crank_two_clearances" in out
