@@ -130,10 +130,10 @@ def _describe(study: Any, path: str) -> str:
     """``study  NAME (FILE): N cases, grid over a (4) x b (6); metrics ...``."""
     grid = [f"{p.path} ({len(p.values)})" for p in study.parameters if not p.sampled]
     drawn = [f"{p.path} ({p.kind})" for p in study.parameters if p.sampled]
-    design = " x ".join(grid) or "the base model"
     if drawn:
         how = study.sampling.replace("_", " ")
-        design += f"{' x ' if grid else ''}{study.samples} {how} draws of {', '.join(drawn)}"
+        grid.append(f"{study.samples} {how} draws of {', '.join(drawn)}")
+    design = " x ".join(grid) or "the base model alone"
     return (
         f"study      {study.name} ({path}): {len(study.cases())} cases, {design}\n"
         f"metrics    {', '.join(m.name for m in study.metrics)}"

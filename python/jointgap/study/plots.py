@@ -223,10 +223,11 @@ def _histogram(
     finite = values[np.isfinite(values)]
     bins = np.histogram_bin_edges(finite, bins="auto").tolist() if len(finite) else 10
     groups = list(done.groupby(varied, sort=True)) if varied else [((), done)]
+    style: dict[str, Any] = {"histtype": "step"} if varied else {"alpha": 0.7}
     for key, part in groups:
         fixed = key if isinstance(key, tuple) else (key,)
         label = _panel_title(varied, fixed, units) or None
-        ax.hist(part[metric].astype(float) * scale, bins=bins, histtype="step", label=label)
+        ax.hist(part[metric].astype(float) * scale, bins=bins, label=label, **style)
     ax.set_xlabel(_label(metric, unit))
     ax.set_ylabel("cases")
     if varied:
@@ -235,31 +236,39 @@ def _histogram(
 
 
 def _sensitivity_figure(done: pd.DataFrame, study: Mapping[str, Any], varied: list[str]) -> Figure:
+    """Rank correlations as a table of colours: a row per metric, a column per sampled
+    parameter; one panel per grid point."""
     groups = list(done.groupby(varied, sort=True)) if varied else [((), done)]
-    fig, axes = _panels(len(groups), width=max(_PANEL[0], 0.9 * len(study["metrics"]) + 1.5))
+    n_metrics = len(study["metrics"])
+    n_sampled = sum(p["kind"] in DISTRIBUTIONS for p in study["parameters"])
+    size = (2.2 + 0.8 * n_sampled, 0.9 + 0.3 * n_metrics)
+    fig, axes = _panels(len(groups), size)
     units = study.get("units", {})
     for ax, (key, part) in zip(axes, groups, strict=False):
-        rho = sensitivity(part, study)
-        image = ax.imshow(rho.to_numpy(dtype=float), cmap="RdBu_r", vmin=-1.0, vmax=1.0)
-        for (i, j), r in np.ndenumerate(rho.to_numpy(dtype=float)):
+        rho = sensitivity(part, study).T
+        values = rho.to_numpy(dtype=float)
+        image = ax.imshow(values, cmap="RdBu_r", vmin=-1.0, vmax=1.0, aspect="auto")
+        for (i, j), r in np.ndenumerate(values):
             if math.isfinite(r):
                 ax.text(j, i, f"{r:.2f}", ha="center", va="center", fontsize=7)
-        ax.set_xticks(range(len(rho.columns)), list(rho.columns), rotation=30, ha="right")
+        ax.set_xticks(range(len(rho.columns)), list(rho.columns), rotation=20, ha="right")
         ax.set_yticks(range(len(rho.index)), list(rho.index))
         fixed = key if isinstance(key, tuple) else (key,)
-        ax.set_title(_panel_title(varied, fixed, units) or "rank correlation (Spearman)")
-        fig.colorbar(image, ax=ax, label="Spearman rank correlation")
+        ax.set_title(_panel_title(varied, fixed, units).replace(", ", "\n"))
+    fig.colorbar(image, ax=axes, label="Spearman rank correlation")
     return fig
 
 
 # ------------------------------------------------------------------ helpers
 
 
-def _panels(n: int, width: float = _PANEL[0], sharey: bool = False) -> tuple[Figure, list[Axes]]:
-    """A figure of ``n`` panels, at most three a row."""
+def _panels(
+    n: int, size: tuple[float, float] = _PANEL, sharey: bool = False
+) -> tuple[Figure, list[Axes]]:
+    """A figure of ``n`` panels of ``size`` [in], at most three a row."""
     columns = min(n, 3)
     rows = -(-n // columns)
-    fig = Figure(figsize=(width * columns, _PANEL[1] * rows), layout="constrained")
+    fig = Figure(figsize=(size[0] * columns, size[1] * rows), layout="constrained")
     axes = fig.subplots(rows, columns, squeeze=False, sharey=sharey).ravel().tolist()
     for ax in axes[n:]:
         ax.set_visible(False)

@@ -28,6 +28,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from .sampling import MODEL
+
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped]
 
@@ -197,9 +199,9 @@ def _table(study: Mapping[str, Any], records: Iterable[Mapping[str, Any]]) -> pd
     ]
     columns = ["case", *paths, *study["metrics"], "status", "reason", "run_time_s"]
     table = pd.DataFrame(rows, columns=columns)
-    dtypes: dict[str, Any] = {"case": "int64", "status": "object", "reason": "object"}
+    dtypes: dict[str, Any] = {"case": "int64", "status": "str", "reason": "str"}
     for p in study["parameters"]:
-        dtypes[p["path"]] = "object" if p["path"] == "model" else "float64"
+        dtypes[p["path"]] = "str" if p["path"] == MODEL else "float64"
     for m in study["metrics"]:
         dtypes[m] = "Int64" if m in counts else "float64"
     return table.astype(dtypes)
