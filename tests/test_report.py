@@ -461,3 +461,18 @@ def test_cli_progress_line_in_a_terminal_and_not_in_a_pipe(examples, tmp_path) -
     assert text.endswith("\r")  # erased before the summary
     out = done.stdout.decode()
     assert "\r" not in out and "model      slider_crank_two_clearances" in out
+
+
+def test_a_body_whose_shape_misses_its_joint_is_linked_to_it(examples) -> None:
+    """The pendulum's bob is a disk at the end of an undrawn rod: a line from its centre
+    to the hinge shows what holds it, and the drawing's extent takes in the pivot."""
+    import jointgap
+
+    result = jointgap.load(examples / "pendulum.toml").simulate(0.5, rate=100)
+    scene = run_report_data(result)["run"]["scene"]
+    (bob,) = scene["bodies"]
+    assert bob["shapes"][0]["type"] == "disk"
+    assert bob["links"] == [[-1.0, 0.0]]  # the point 'pivot', 1 m behind the centre
+    (pivot,) = scene["ground"]["pins"]
+    x0, y0, x1, y1 = scene["bounds"]
+    assert x0 <= pivot[0] <= x1 and y0 <= pivot[1] <= y1

@@ -143,11 +143,23 @@ def frame_indices(time: np.ndarray, max_frames: int = DEFAULT_MAX_FRAMES) -> np.
     return np.unique(np.where(nearer_left, k - 1, k))
 
 
-def _bounds(result: Result, bodies: Sequence[_Body], index: np.ndarray) -> list[float]:
+def _bounds(
+    result: Result,
+    bodies: Sequence[_Body],
+    index: np.ndarray,
+    links: Mapping[str, list[list[float]]],
+    ground: Sequence[list[float]],
+) -> list[float]:
+    """The drawing's extent over all frames: shapes, joint points, ground points."""
     lo = np.array([math.inf, math.inf])
     hi = -lo
+    if ground:
+        lo = np.minimum(lo, np.min(np.array(ground), axis=0))
+        hi = np.maximum(hi, np.max(np.array(ground), axis=0))
     for body in bodies:
-        verts = np.vstack([_shape_vertices(s) for s in body.shapes])
+        verts = np.vstack(
+            [_shape_vertices(s) for s in body.shapes] + [np.array(links[body.name] or [[0.0, 0.0]])]
+        )
         x, y, a = _poses(result, body.name, index)
         c, s = np.cos(a)[:, None], np.sin(a)[:, None]
         gx = x[:, None] + c * verts[:, 0] - s * verts[:, 1]
@@ -186,8 +198,9 @@ def auto_magnify(clearance: float, size: float) -> float:
 
 
 def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> dict[str, Any]:
-    """The static drawing: bodies with shapes and pins in their frames, ground points
-    and guides, clearance joints with drawn radii, the extent over all frames, and the
+    """The static drawing: bodies with shapes, pins and joint points (``links``, drawn
+    as thin lines from the centre of mass) in their frames, ground points and guides,
+    clearance joints with drawn radii, the extent over all frames, and the
     magnification used."""
     model = result.model
     if not model.get("bodies"):
@@ -204,6 +217,7 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
         for name, b in bodies_raw.items()
     ]
     pins: dict[str, list[list[float]]] = {b.name: [] for b in bodies}
+    links: dict[str, list[list[float]]] = {b.name: [] for b in bodies}  # joint points
     ground_pins: list[list[float]] = []
     guides: list[dict[str, Any]] = []
     clearances: list[dict[str, Any]] = []
@@ -214,6 +228,9 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
         body_j = None if bj == GROUND else bodies_raw.get(bj)
         pi = _point(body_i, joint.get("point_i"), ground)
         pj = _point(body_j, joint.get("point_j"), ground)
+        for body, point in ((bi, pi), (bj, pj)):
+            if body != GROUND and body in links and list(point) not in links[body]:
+                links[body].append(list(point))
         if kind == "revolute":
             if bj != GROUND:
                 pins[bj].append(list(pj))
@@ -235,7 +252,7 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
                     "journal_body": None if bj == GROUND else bj,
                 }
             )
-    bounds = _bounds(result, bodies, index)
+    bounds = _bounds(result, bodies, index, links, ground_pins)
     extent = max(bounds[2] - bounds[0], bounds[3] - bounds[1], 1e-9)
     smallest = min((radial_clearance(result, c["joint"]) for c in clearances), default=0.0)
     factor = float(magnify) if magnify is not None else auto_magnify(smallest, extent)
@@ -244,7 +261,10 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
     for c in clearances:
         c.update(_drawn_clearance(result, c["joint"], factor))
     return {
-        "bodies": [{"name": b.name, "shapes": b.shapes, "pins": pins[b.name]} for b in bodies],
+        "bodies": [
+            {"name": b.name, "shapes": b.shapes, "pins": pins[b.name], "links": links[b.name]}
+            for b in bodies
+        ],
         "ground": {"pins": ground_pins, "guides": guides},
         "clearances": clearances,
         "magnify": factor,
@@ -255,7 +275,7 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
 
 def _pin_radius(bodies: Sequence[_Body], extent: float) -> float:
     widths = [s["width"] for b in bodies for s in b.shapes if s["type"] in ("bar", "path")]
-    return 0.3 * min(widths) if widths else 0.006 * extent
+    return 0.3 * min(widths) if widths else 0.012 * extent
 
 
 def _drawn_clearance(result: Result, joint: str, factor: float) -> dict[str, float]:

@@ -170,6 +170,11 @@ class Mechanism {
     const g = svg("g", { id, class: ghost ? "jg-ghost" : "jg-body" }, layer);
     g.dataset.body = body.name;
     const colour = ghost ? "#666" : null;
+    // Thin lines from the centre of mass to the joint points: a shape that does not
+    // reach a joint (a pendulum's bob) still shows what holds it.
+    for (const p of body.links || []) {
+      if (p[0] !== 0 || p[1] !== 0) svg("line", { class: "jg-link", x1: 0, y1: 0, x2: p[0], y2: p[1], "vector-effect": "non-scaling-stroke" }, g);
+    }
     for (const s of body.shapes) {
       if (s.type === "bar") {
         svg("line", { class: "jg-bar-outline", x1: s.from[0], y1: s.from[1], x2: s.to[0], y2: s.to[1], "stroke-width": s.width }, g);
@@ -422,7 +427,7 @@ function plotGroup(parent, specs, markerTimes, onPick, times) {
 
 function renderRun(run) {
   const mech = section("mechanism-section", "Mechanism");
-  const grid = el("div", { class: "jg-grid" }, mech);
+  const grid = el("div", { class: run.orbits.length ? "jg-grid" : "jg-grid jg-single" }, mech);
   const left = el("div", { class: "jg-anim" }, grid);
   const right = el("div", { class: "jg-orbits", id: "orbits" }, grid);
   const mechanism = new Mechanism(left, run);
