@@ -105,9 +105,8 @@ def _study(args: argparse.Namespace) -> int:
             "run the same command again to finish",
             EXIT_INTERRUPTED,
         )
-    where = args.scheduler or f"{args.workers or 'every'} local core(s)"
     print(
-        f"ran        {run.ran} cases in {run.wall_time:.3g} s on {where}"
+        f"ran        {run.ran} cases in {run.wall_time:.3g} s on {run.where}"
         f" ({run.skipped} stored before)"
     )
     failed = run.table[run.table["status"] == "failed"]

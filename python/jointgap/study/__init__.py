@@ -58,6 +58,7 @@ class StudyRun:
         n_cases: cases of the study.
         skipped: cases found stored by an earlier run, not run again.
         ran: cases run this time.
+        where: where they ran: ``"2 local threads"`` or the Dask scheduler's address.
         table: the table of every stored case (:func:`load_results`).
         missing: cases the Dask cluster could not run, with why (they stay missing, for
             a rerun to pick up); empty when every case is stored.
@@ -68,6 +69,7 @@ class StudyRun:
     n_cases: int
     skipped: int
     ran: int
+    where: str
     table: pd.DataFrame = field(repr=False)
     missing: dict[int, str]
     wall_time: float
@@ -124,11 +126,12 @@ def run_study(
         bar.add(outcome.status == FAILED)
 
     missing: dict[int, str] = {}
+    threads = workers or _cores()
     try:
         if scheduler is not None:
             missing = run_dask(cases, scheduler, keep)
         else:
-            run_local(cases, workers or _cores(), keep)
+            run_local(cases, threads, keep)
     finally:
         bar.close()
         table = store.write_tables()
@@ -137,6 +140,7 @@ def run_study(
         n_cases=len(values),
         skipped=len(values) - len(cases),
         ran=bar.ran,
+        where=scheduler or f"{threads} local thread{'' if threads == 1 else 's'}",
         table=table,
         missing=missing,
         wall_time=time.perf_counter() - started,

@@ -94,7 +94,6 @@ class Study:
         seed: seed of the draws.
         run: keyword arguments of :meth:`jointgap.Model.simulate`, SI.
         time_series: keep every channel (True), these channels, or none (False).
-        source: the study file.
     """
 
     name: str
@@ -107,7 +106,6 @@ class Study:
     seed: int
     run: Mapping[str, Any]
     time_series: bool | tuple[str, ...]
-    source: str = ""
 
     def cases(self) -> list[dict[str, Any]]:
         """Every case's parameter values in case order (:func:`sampling.design`)."""
@@ -212,6 +210,10 @@ class _Reader:
         )
         sampling, samples, seed = self.sampling(head, parameters)
         metrics = tuple(self.metric(name, raw, run["t_end"]) for name, raw in self.metrics())
+        for m in metrics:
+            if m.name in {p.path for p in parameters}:
+                raw = self.data["metrics"][m.name]
+                raise self.error("metrics", m.name, raw, "a parameter has this name")
         study = Study(
             name=str(head.get("name", Path(self.path).stem)),
             base_model=base,
@@ -223,7 +225,6 @@ class _Reader:
             seed=seed,
             run=run,
             time_series=self.time_series(head),
-            source=self.path,
         )
         self.check_against_models(study)
         return study
