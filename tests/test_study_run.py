@@ -75,6 +75,10 @@ def test_table_columns_and_files(small) -> None:
     np.testing.assert_array_equal(csv[numeric].to_numpy(float), table[numeric].to_numpy(float))
     assert list(csv["reason"].fillna("")) == list(table["reason"])
     pd.testing.assert_frame_equal(load_results(out), table)
+    copy = out.parent / "tables_only"  # the table alone, without the log
+    copy.mkdir()
+    (copy / "cases.parquet").write_bytes((out / "cases.parquet").read_bytes())
+    pd.testing.assert_frame_equal(load_results(copy), table)
 
 
 def test_failed_cases_keep_their_reason_and_the_others_finish(small) -> None:

@@ -26,8 +26,9 @@ the local cores, or on an existing Dask cluster with --scheduler. Writes
   OUT/cases.parquet  file name), the metrics, status, reason, run_time_s
   OUT/series/        with time_series in the study file: case_NNNNNN.parquet
 Run it again into the same OUT to finish an interrupted study: only the missing
-cases run. A case that fails is kept with its reason; the others go on.
-Exit status 3 when cases are missing at the end (the cluster lost them).
+cases run. A case that fails is kept with its reason; the others go on. Ctrl-C
+lets the running cases finish and stores them (exit status 130). Exit status 3 when
+cases are missing at the end (the cluster lost them).
 """
 
 _PLOT_DESCRIPTION = """\
