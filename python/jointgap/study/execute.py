@@ -68,7 +68,7 @@ def run_case(case: Case) -> Outcome:
         metrics = {m.name: m.value(result, ideal) for m in case.metrics}
     except ValueError as exc:  # ModelError too: a variant the model or engine refuses
         return _failed(case, start, str(exc), series)
-    except Exception as exc:  # noqa: BLE001 - one case's surprise must not end the study
+    except Exception as exc:  # one case's surprise must not end the study
         return _failed(case, start, f"{type(exc).__name__}: {exc}", series)
     elapsed = time.perf_counter() - start
     return Outcome(case.case, dict(case.values), metrics, FINISHED, "", elapsed, series)
