@@ -49,7 +49,7 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
                 converged = true;
                 break;
             }
-            let dq = min_norm_solve(&ws.cq, &ws.c);
+            let dq = min_norm_solve(&ws.dense_jacobian(), &ws.c);
             // Damped Newton: halve the step while the residual grows.
             let mut step = 1.0;
             let mut trial = q.clone();
@@ -90,14 +90,15 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
             )));
         }
     }
-    let (active, warnings) = independent_rows(sys, &ws.cq)?;
+    let (active, warnings) = independent_rows(sys, &ws.dense_jacobian())?;
     // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct.
     let mut ws = Workspace::new(sys, active.clone());
     constraints(sys, t, &q, &v0, &mut ws);
     let mut v = v0.clone();
     if !active.is_empty() {
-        let resid = &ws.cq * DVector::from_column_slice(&v0) + &ws.ct;
-        let dv = min_norm_solve(&ws.cq, &resid);
+        let cq = ws.dense_jacobian();
+        let resid = &cq * DVector::from_column_slice(&v0) + &ws.ct;
+        let dv = min_norm_solve(&cq, &resid);
         for j in 0..v.len() {
             v[j] -= dv[j];
         }

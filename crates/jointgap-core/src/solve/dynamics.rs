@@ -1,10 +1,13 @@
 //! Equations of motion: constraints, applied forces and the augmented solve
 //! `[M Cq^T; Cq 0][qdd; lambda] = [Qe; gamma]`, done through the Schur complement
-//! `(Cq M^-1 Cq^T) lambda = Cq M^-1 Qe - gamma` because M is diagonal.
+//! `(Cq M^-1 Cq^T) lambda = Cq M^-1 Qe - gamma` because M is diagonal. The Jacobian is
+//! kept row by row (each row touches at most two bodies), so every product here costs
+//! in proportion to the number of rows.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::contacts::ContactState;
+use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
 use crate::system::System;
 
@@ -24,18 +27,16 @@ pub struct Workspace {
     pub m_inv: Vec<f64>,
     /// Filled by [`constraints`]: residuals; (n_active).
     pub c: DVector<f64>,
-    /// Filled by [`constraints`]: Jacobian; (n_active x n_coords).
-    pub cq: DMatrix<f64>,
+    /// Filled by [`constraints`]: the Jacobian `Cq`, one entry per active row.
+    pub jac: Vec<RowJacobian>,
     /// Filled by [`constraints`]: `dC/dt`; (n_active).
     pub ct: DVector<f64>,
     /// Filled by [`constraints`]: acceleration right-hand side; (n_active).
     pub gamma: DVector<f64>,
     /// Filled by [`applied_forces`]: generalised applied forces; (n_coords).
     pub qe: Vec<f64>,
-    /// Filled by [`accelerations`]: `Cq M^-1`; (n_active x n_coords).
-    pub cq_minv: DMatrix<f64>,
-    /// Filled by [`accelerations`]: Schur complement `Cq M^-1 Cq^T`; (n_active^2).
-    pub schur: DMatrix<f64>,
+    /// The Schur complement `Cq M^-1 Cq^T` and its solver.
+    pub schur: Schur,
     /// Filled by [`accelerations`]: multipliers, one per active row; (n_active).
     pub lambda: DVector<f64>,
     /// Filled by [`accelerations`]: accelerations; (n_coords).
@@ -44,38 +45,88 @@ pub struct Workspace {
     pub t_piece: f64,
     /// Discrete state of each clearance joint; forces filled by [`applied_forces`].
     pub contacts: Vec<ContactState>,
+    /// Scratch of length n_coords.
+    scratch: Vec<f64>,
 }
 
 impl Workspace {
-    /// Allocates for a system whose active rows are `active`.
+    /// Allocates for a system whose active rows are `active`, factoring the Schur
+    /// complement dense or sparse by its size.
     pub fn new(sys: &System, active: Vec<usize>) -> Self {
+        let factorisation = Factorisation::for_rows(active.len());
+        Self::with_factorisation(sys, active, factorisation)
+    }
+
+    /// As [`Workspace::new`] with the factorisation chosen by the caller (tests compare
+    /// both on one system).
+    pub fn with_factorisation(sys: &System, active: Vec<usize>, factorisation: Factorisation) -> Self {
         let n = sys.n_coords();
         let m = active.len();
         let mut m_inv = Vec::with_capacity(n);
         for b in &sys.bodies {
             m_inv.extend([1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia]);
         }
+        let bodies: Vec<[Option<usize>; 2]> =
+            active.iter().map(|&r| [sys.rows[r].body_i, sys.rows[r].body_j]).collect();
         Workspace {
             active,
             m_inv,
             c: DVector::zeros(m),
-            cq: DMatrix::zeros(m, n),
+            jac: vec![RowJacobian::default(); m],
             ct: DVector::zeros(m),
             gamma: DVector::zeros(m),
             qe: vec![0.0; n],
-            cq_minv: DMatrix::zeros(m, n),
-            schur: DMatrix::zeros(m, m),
+            schur: Schur::new(&bodies, factorisation),
             lambda: DVector::zeros(m),
             qdd: vec![0.0; n],
             t_piece: 0.0,
             contacts: vec![ContactState::default(); sys.clearances.len()],
+            scratch: vec![0.0; n],
         }
+    }
+
+    /// The Jacobian as a dense matrix (n_active x n_coords), for the one-time solves
+    /// of assembly.
+    pub fn dense_jacobian(&self) -> DMatrix<f64> {
+        let mut cq = DMatrix::zeros(self.jac.len(), self.m_inv.len());
+        for (a, row) in self.jac.iter().enumerate() {
+            for (k, entries) in row.blocks() {
+                for d in 0..3 {
+                    cq[(a, 3 * k + d)] += entries[d];
+                }
+            }
+        }
+        cq
+    }
+
+    /// `Cq x + ct`: the velocity constraint residual for `x = v`.
+    fn velocity_residual(&self, v: &[f64]) -> DVector<f64> {
+        DVector::from_iterator(
+            self.jac.len(),
+            self.jac.iter().zip(self.ct.iter()).map(|(row, ct)| row.dot(v) + ct),
+        )
+    }
+
+    /// `x -= M^-1 Cq^T mu`.
+    fn subtract_correction(&mut self, mu: &[f64], x: &mut [f64]) {
+        self.scratch.fill(0.0);
+        for (row, &m) in self.jac.iter().zip(mu) {
+            row.add_transposed(m, &mut self.scratch);
+        }
+        for j in 0..x.len() {
+            x[j] -= self.m_inv[j] * self.scratch[j];
+        }
+    }
+
+    /// Solves `S mu = rhs` in place with the current Jacobian.
+    fn schur_solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
+        self.schur.update(&self.jac, &self.m_inv);
+        self.schur.solve(rhs)
     }
 }
 
-/// Evaluates the active constraint rows at `(t, q, v)`: fills `c`, `cq`, `ct`, `gamma`.
+/// Evaluates the active constraint rows at `(t, q, v)`: fills `c`, `jac`, `ct`, `gamma`.
 pub fn constraints(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) {
-    ws.cq.fill(0.0);
     for (a, &r) in ws.active.iter().enumerate() {
         let row = &sys.rows[r];
         let motion = match row.driver {
@@ -86,16 +137,7 @@ pub fn constraints(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspac
         ws.c[a] = ev.c;
         ws.ct[a] = ev.ct;
         ws.gamma[a] = ev.gamma;
-        if let Some(k) = row.body_i {
-            for (d, x) in ev.jac_i.iter().enumerate() {
-                ws.cq[(a, 3 * k + d)] += x;
-            }
-        }
-        if let Some(k) = row.body_j {
-            for (d, x) in ev.jac_j.iter().enumerate() {
-                ws.cq[(a, 3 * k + d)] += x;
-            }
-        }
+        ws.jac[a] = RowJacobian { body_i: row.body_i, jac_i: ev.jac_i, body_j: row.body_j, jac_j: ev.jac_j };
     }
 }
 
@@ -115,85 +157,30 @@ pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Works
     }
 }
 
-/// Solves `S mu = rhs` in place with `S = Cq M^-1 Cq^T` (fills `cq_minv`, `schur`).
-fn schur_solve(ws: &mut Workspace, rhs: &mut DVector<f64>) -> Result<(), Singular> {
-    ws.cq_minv.copy_from(&ws.cq);
-    for (j, mut col) in ws.cq_minv.column_iter_mut().enumerate() {
-        col *= ws.m_inv[j];
-    }
-    // S = (Cq M^-1) Cq^T, entry by entry: S is small and symmetric.
-    let m = ws.cq.nrows();
-    for a in 0..m {
-        for b in 0..=a {
-            let s = ws.cq_minv.row(a).dot(&ws.cq.row(b));
-            ws.schur[(a, b)] = s;
-            ws.schur[(b, a)] = s;
-        }
-    }
-    // S + eps I with iterative refinement: the solution of S x = rhs where S is well
-    // conditioned; near a change point (a parallelogram with all bars collinear), where
-    // S loses rank but the equations stay consistent, the regularisation keeps the
-    // multipliers bounded and the accelerations, which do not depend on the null-space
-    // part of lambda, accurate. This is the dual form of the augmented Lagrangian
-    // method (Bayo and Ledesma 1996).
-    let m = ws.schur.nrows();
-    let scale = (0..m).map(|a| ws.schur[(a, a)]).fold(0.0, f64::max);
-    let mut reg = ws.schur.clone();
-    for a in 0..m {
-        reg[(a, a)] += REGULARISATION * scale;
-    }
-    let chol = nalgebra::Cholesky::new(reg).ok_or(Singular)?;
-    let target = rhs.clone();
-    chol.solve_mut(rhs);
-    for _ in 0..REFINEMENTS {
-        let mut r = &target - &ws.schur * &*rhs;
-        if r.amax() <= 1e-15 * target.amax() {
-            break;
-        }
-        chol.solve_mut(&mut r);
-        *rhs += r;
-    }
-    let residual = (&ws.schur * &*rhs - &target).amax();
-    if residual > 1e-6 * target.amax().max(1e-300) && residual > 1e-12 {
-        return Err(Singular);
-    }
-    if rhs.iter().all(|x| x.is_finite()) {
-        Ok(())
-    } else {
-        Err(Singular)
-    }
-}
-
 /// Accelerations and multipliers at `(t, q, v)`: fills everything in the workspace.
 pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> Result<(), Singular> {
     constraints(sys, t, q, v, ws);
     applied_forces(sys, t, q, v, ws);
     let n = sys.n_coords();
+    for j in 0..n {
+        ws.qdd[j] = ws.m_inv[j] * ws.qe[j];
+    }
     if ws.active.is_empty() {
-        for i in 0..n {
-            ws.qdd[i] = ws.m_inv[i] * ws.qe[i];
-        }
         return Ok(());
     }
-    // rhs = Cq M^-1 Qe - gamma
-    let mut rhs = -ws.gamma.clone();
-    for a in 0..ws.active.len() {
-        let mut s = 0.0;
-        for j in 0..n {
-            s += ws.cq[(a, j)] * ws.m_inv[j] * ws.qe[j];
-        }
-        rhs[a] += s;
+    // lambda solves S lambda = Cq M^-1 Qe - gamma; then qdd = M^-1 (Qe - Cq^T lambda).
+    let mut lambda = std::mem::take(&mut ws.lambda);
+    for (a, row) in ws.jac.iter().enumerate() {
+        lambda[a] = row.dot(&ws.qdd) - ws.gamma[a];
     }
-    schur_solve(ws, &mut rhs)?;
-    ws.lambda.copy_from(&rhs);
-    for j in 0..n {
-        let mut s = ws.qe[j];
-        for a in 0..ws.active.len() {
-            s -= ws.cq[(a, j)] * ws.lambda[a];
-        }
-        ws.qdd[j] = ws.m_inv[j] * s;
+    let solved = ws.schur_solve(lambda.as_mut_slice());
+    if solved.is_ok() {
+        let mut qdd = std::mem::take(&mut ws.qdd);
+        ws.subtract_correction(lambda.as_slice(), &mut qdd);
+        ws.qdd = qdd;
     }
-    Ok(())
+    ws.lambda = lambda;
+    solved
 }
 
 /// Mass-weighted projection of `q` onto `C(q, t) = 0` (a few Newton steps) and of `v`
@@ -208,42 +195,24 @@ pub fn project(
     if ws.active.is_empty() {
         return Ok(());
     }
-    let n = sys.n_coords();
     for _ in 0..4 {
         constraints(sys, t, q, v, ws);
         if ws.c.amax() <= POSITION_TOL {
             break;
         }
         let mut mu = ws.c.clone();
-        schur_solve(ws, &mut mu)?;
-        for j in 0..n {
-            let mut s = 0.0;
-            for a in 0..ws.active.len() {
-                s += ws.cq[(a, j)] * mu[a];
-            }
-            q[j] -= ws.m_inv[j] * s;
-        }
+        ws.schur_solve(mu.as_mut_slice())?;
+        ws.subtract_correction(mu.as_slice(), q);
     }
     constraints(sys, t, q, v, ws);
     if ws.c.amax() > 1e3 * POSITION_TOL {
         return Err(Singular);
     }
-    let mut mu = &ws.cq * DVector::from_column_slice(v) + &ws.ct;
-    schur_solve(ws, &mut mu)?;
-    for j in 0..n {
-        let mut s = 0.0;
-        for a in 0..ws.active.len() {
-            s += ws.cq[(a, j)] * mu[a];
-        }
-        v[j] -= ws.m_inv[j] * s;
-    }
+    let mut mu = ws.velocity_residual(v);
+    ws.schur_solve(mu.as_mut_slice())?;
+    ws.subtract_correction(mu.as_slice(), v);
     Ok(())
 }
-
-/// Relative diagonal shift of the Schur complement (see `schur_solve`).
-const REGULARISATION: f64 = 1e-12;
-/// Iterative-refinement sweeps of the regularised solve.
-const REFINEMENTS: usize = 3;
 
 /// Position residual below which projection stops [m or rad].
 pub const POSITION_TOL: f64 = 1e-13;
@@ -254,6 +223,5 @@ pub fn violation(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace)
         return (0.0, 0.0);
     }
     constraints(sys, t, q, v, ws);
-    let vel = &ws.cq * DVector::from_column_slice(v) + &ws.ct;
-    (ws.c.amax(), vel.amax())
+    (ws.c.amax(), ws.velocity_residual(v).amax())
 }

@@ -87,11 +87,12 @@ pub fn integrate(
                     h = h.min(hmax);
                 }
                 let remaining = segment_end - t;
-                let last = h >= remaining * (1.0 - 1e-12);
+                let hmin = 1e-14 * t.abs().max(1e-3);
+                // A step that would leave a remainder too small to step over ends the segment.
+                let last = h >= remaining * (1.0 - 1e-12) || remaining - h < 4.0 * hmin;
                 if last {
                     h = remaining;
                 }
-                let hmin = 1e-14 * t.abs().max(1e-3);
                 if h < hmin {
                     break 'run fail(
                         t,

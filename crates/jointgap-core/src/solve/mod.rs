@@ -9,6 +9,7 @@ pub mod monitor;
 pub mod ode;
 mod options;
 pub mod record;
+pub mod schur;
 pub mod sdirk4;
 pub mod stepper;
 pub mod switching;

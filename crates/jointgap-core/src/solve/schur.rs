@@ -1,0 +1,278 @@
+//! The Schur complement `S = Cq M^-1 Cq^T` of the augmented system and its solve.
+//!
+//! Each constraint row touches at most two bodies, so `S` has an entry only where two
+//! rows share a body: a chain of N loops gives O(N) entries. The pattern is fixed for a
+//! run and found once; its values are recomputed at every evaluation. Small systems (the
+//! founding slider-crank has 7 rows) are factored dense, where a dense Cholesky is
+//! fastest; larger ones by faer's sparse Cholesky with its fill-reducing ordering,
+//! analysed once, so that cost per evaluation grows linearly with the mechanism's size.
+
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use nalgebra::DMatrix;
+
+use super::dynamics::Singular;
+
+/// Rows above which the sparse factorisation is used.
+pub const DENSE_LIMIT: usize = 48;
+
+/// How `S` is factored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Factorisation {
+    /// Dense Cholesky (nalgebra): small systems.
+    Dense,
+    /// Sparse Cholesky with a fill-reducing ordering (faer): large systems.
+    Sparse,
+}
+
+impl Factorisation {
+    /// The choice for `rows` active rows.
+    pub fn for_rows(rows: usize) -> Self {
+        if rows <= DENSE_LIMIT {
+            Factorisation::Dense
+        } else {
+            Factorisation::Sparse
+        }
+    }
+}
+
+/// One active row's Jacobian `Cq_a`: at most two bodies, three entries each.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RowJacobian {
+    /// First body and its entries (x, y, angle).
+    pub body_i: Option<usize>,
+    /// dC/d(x_i, y_i, phi_i).
+    pub jac_i: [f64; 3],
+    /// Second body and its entries.
+    pub body_j: Option<usize>,
+    /// dC/d(x_j, y_j, phi_j).
+    pub jac_j: [f64; 3],
+}
+
+impl RowJacobian {
+    /// `(body, entries)` of each body the row touches.
+    pub fn blocks(&self) -> impl Iterator<Item = (usize, &[f64; 3])> {
+        let i = self.body_i.map(|k| (k, &self.jac_i));
+        let j = self.body_j.map(|k| (k, &self.jac_j));
+        i.into_iter().chain(j)
+    }
+
+    /// `Cq_a x` for a vector over all coordinates.
+    pub fn dot(&self, x: &[f64]) -> f64 {
+        self.blocks().map(|(k, jac)| jac[0] * x[3 * k] + jac[1] * x[3 * k + 1] + jac[2] * x[3 * k + 2]).sum()
+    }
+
+    /// `y += s Cq_a^T`.
+    pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
+        for (k, jac) in self.blocks() {
+            for d in 0..3 {
+                y[3 * k + d] += s * jac[d];
+            }
+        }
+    }
+}
+
+/// The lower triangle of `S` (diagonal included) in compressed columns, its values, and
+/// the factorisation that solves with it.
+#[derive(Debug, Clone)]
+pub struct Schur {
+    /// `(row, column)` of each stored entry, row >= column, column-major.
+    entries: Vec<(usize, usize)>,
+    /// Position in `entries` of each diagonal entry.
+    diagonal: Vec<usize>,
+    /// Values of `S`, as `entries`.
+    values: Vec<f64>,
+    /// Values of `S + eps I`, which is factored.
+    regularised: Vec<f64>,
+    factorisation: Factorisation,
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: Option<SymbolicLlt<usize>>,
+    dense: DMatrix<f64>,
+    target: Vec<f64>,
+    residual: Vec<f64>,
+}
+
+/// A factored `S + eps I`.
+enum Factor {
+    Dense(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+    Sparse(Llt<usize, f64>),
+}
+
+impl Factor {
+    fn solve_mut(&self, x: &mut [f64]) {
+        match self {
+            Factor::Dense(chol) => {
+                let mut view = nalgebra::DVectorViewMut::from_slice(x, x.len());
+                chol.solve_mut(&mut view);
+            }
+            Factor::Sparse(llt) => {
+                let n = x.len();
+                llt.solve_in_place(faer::MatMut::from_column_major_slice_mut(x, n, 1));
+            }
+        }
+    }
+}
+
+impl Schur {
+    /// The pattern of `S` for rows touching the bodies `bodies[a]`.
+    pub fn new(bodies: &[[Option<usize>; 2]], factorisation: Factorisation) -> Self {
+        let m = bodies.len();
+        // Rows of each body, to find the pairs that share one without testing all pairs.
+        let n_bodies = bodies.iter().flatten().flatten().map(|&k| k + 1).max().unwrap_or(0);
+        let mut rows_of: Vec<Vec<usize>> = vec![Vec::new(); n_bodies];
+        for (a, pair) in bodies.iter().enumerate() {
+            for &k in pair.iter().flatten() {
+                rows_of[k].push(a);
+            }
+        }
+        let mut entries = Vec::new();
+        let mut diagonal = vec![0; m];
+        let mut col_ptr = vec![0usize];
+        let mut row_idx = Vec::new();
+        for b in 0..m {
+            let mut below: Vec<usize> = bodies[b]
+                .iter()
+                .flatten()
+                .flat_map(|&k| rows_of[k].iter().copied())
+                .filter(|&a| a > b)
+                .collect();
+            below.sort_unstable();
+            below.dedup();
+            diagonal[b] = entries.len();
+            entries.push((b, b));
+            row_idx.push(b);
+            for a in below {
+                entries.push((a, b));
+                row_idx.push(a);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
+        let symbolic = match factorisation {
+            Factorisation::Sparse => SymbolicLlt::try_new(pattern.as_ref(), faer::Side::Lower).ok(),
+            Factorisation::Dense => None,
+        };
+        // Without a symbolic analysis (it failed), the dense path still solves.
+        let factorisation = if symbolic.is_some() { Factorisation::Sparse } else { Factorisation::Dense };
+        let dense_size = if factorisation == Factorisation::Dense { m } else { 0 };
+        let k = entries.len();
+        Schur {
+            entries,
+            diagonal,
+            values: vec![0.0; k],
+            regularised: vec![0.0; k],
+            factorisation,
+            pattern,
+            symbolic,
+            dense: DMatrix::zeros(dense_size, dense_size),
+            target: vec![0.0; m],
+            residual: vec![0.0; m],
+        }
+    }
+
+    /// How this `S` is factored.
+    pub fn factorisation(&self) -> Factorisation {
+        self.factorisation
+    }
+
+    /// Stored entries (lower triangle with diagonal).
+    pub fn stored_entries(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Recomputes the values of `S` from the rows' Jacobians and `M^-1`.
+    pub fn update(&mut self, jac: &[RowJacobian], m_inv: &[f64]) {
+        for (value, &(a, b)) in self.values.iter_mut().zip(&self.entries) {
+            let mut s = 0.0;
+            for (k, ja) in jac[a].blocks() {
+                for (l, jb) in jac[b].blocks() {
+                    if k == l {
+                        for d in 0..3 {
+                            s += ja[d] * m_inv[3 * k + d] * jb[d];
+                        }
+                    }
+                }
+            }
+            *value = s;
+        }
+    }
+
+    /// `y = S x`.
+    fn multiply(&self, x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for (&v, &(a, b)) in self.values.iter().zip(&self.entries) {
+            y[a] += v * x[b];
+            if a != b {
+                y[b] += v * x[a];
+            }
+        }
+    }
+
+    /// Solves `S x = rhs` in place (values from the last [`Schur::update`]).
+    ///
+    /// `S + eps I` is factored and the solution refined against `S`: where `S` is well
+    /// conditioned this is the solution of `S x = rhs`; near a change point (a
+    /// parallelogram with all bars collinear), where `S` loses rank but the equations
+    /// stay consistent, the regularisation keeps the multipliers bounded and the
+    /// accelerations, which do not depend on the null-space part of the multipliers,
+    /// accurate. This is the dual form of the augmented Lagrangian method (Bayo and
+    /// Ledesma 1996).
+    pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
+        let m = rhs.len();
+        let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
+        self.regularised.copy_from_slice(&self.values);
+        for &d in &self.diagonal {
+            self.regularised[d] += REGULARISATION * scale;
+        }
+        let factor = match self.factorisation {
+            Factorisation::Dense => {
+                for (&v, &(a, b)) in self.regularised.iter().zip(&self.entries) {
+                    self.dense[(a, b)] = v;
+                    self.dense[(b, a)] = v;
+                }
+                Factor::Dense(nalgebra::Cholesky::new(self.dense.clone()).ok_or(Singular)?)
+            }
+            Factorisation::Sparse => {
+                let symbolic = self.symbolic.clone().ok_or(Singular)?;
+                let matrix = SparseColMatRef::new(self.pattern.as_ref(), &self.regularised);
+                Factor::Sparse(
+                    Llt::try_new_with_symbolic(symbolic, matrix, faer::Side::Lower).map_err(|_| Singular)?,
+                )
+            }
+        };
+        self.target.copy_from_slice(rhs);
+        factor.solve_mut(rhs);
+        let target_max = self.target.iter().fold(0.0, |acc: f64, x| acc.max(x.abs()));
+        let mut residual = std::mem::take(&mut self.residual);
+        let mut worst = f64::INFINITY;
+        for sweep in 0..=REFINEMENTS {
+            self.multiply(rhs, &mut residual);
+            for a in 0..m {
+                residual[a] = self.target[a] - residual[a];
+            }
+            worst = residual.iter().fold(0.0, |acc: f64, x| acc.max(x.abs()));
+            if worst <= 1e-15 * target_max || sweep == REFINEMENTS {
+                break;
+            }
+            factor.solve_mut(&mut residual);
+            for a in 0..m {
+                rhs[a] += residual[a];
+            }
+        }
+        self.residual = residual;
+        if worst > 1e-6 * target_max.max(1e-300) && worst > 1e-12 {
+            return Err(Singular);
+        }
+        if rhs.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(Singular)
+        }
+    }
+}
+
+/// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).
+const REGULARISATION: f64 = 1e-12;
+/// Iterative-refinement sweeps of the regularised solve.
+const REFINEMENTS: usize = 3;
