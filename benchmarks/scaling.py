@@ -67,6 +67,9 @@ from run import machine  # noqa: E402  (one description of the machine for every
 OUT = ROOT / "benchmarks" / "output"
 RESULTS = ROOT / "benchmarks" / "results"
 DOC_IMAGE = ROOT / "docs" / "images" / "bench_scaling.png"
+# The dense engine's figures (commit 90b3374, before the structured solve of 24b34fb),
+# drawn faded behind the new ones for comparison.
+BASELINE = RESULTS / "scaling_dense.json"
 
 SERIES = sorted({round(2 * 10 ** (k / 5)) for k in range(11)})  # 2 ... 200
 STEP = 2e-4  # [s], max_step: every step this long
@@ -144,9 +147,9 @@ def _run(
     channel: str,
     progress: Callable[[float, int, int], object] | None = None,
 ) -> jointgap.Result:
-    # Half a step more: with t_end a whole number of steps, rounding leaves a last step of
-    # about 1e-16 s that the engine refuses (below its smallest resolvable step) for some
-    # step counts (e.g. 259-323 at rtol 1e-8).
+    # Half a step off the grid: before commit 24b34fb, with t_end a whole number of steps,
+    # rounding left a last step of about 1e-16 s that the engine refused (below its
+    # smallest resolvable step) for some step counts (e.g. 259-323 at rtol 1e-8).
     t_end = (steps - 0.5) * STEP
     result = model.simulate(
         t_end,
@@ -338,7 +341,9 @@ def table(results: list[ChainResult], header: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def figure(results: list[ChainResult], path: Path) -> None:
+def figure(results: list[ChainResult], path: Path, baseline: Path | None = None) -> None:
+    """Cost per step (with the fits and slope 1) and assembly against N; the points of
+    an earlier scaling.json ``baseline`` hollow and faded."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -346,6 +351,22 @@ def figure(results: list[ChainResult], path: Path) -> None:
 
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.5))
     colours = {"four_bar_chain": "tab:blue", "n_link_chain": "tab:orange"}
+    if baseline is not None and baseline.exists():
+        old = json.loads(baseline.read_text())
+        for chain in old["chains"]:
+            c = colours.get(chain["name"], "k")
+            ns = [p["n"] for p in chain["points"]]
+            fit_ = chain.get("per_step_fit") or {}
+            label = f"{chain['name']} at {old['commit']}" + (
+                f", p = {fit_['exponent']:.2f}" if "exponent" in fit_ else ""
+            )
+            style = {"color": c, "mfc": "none", "alpha": 0.45}
+            ax.loglog(
+                ns, [p["per_step_s"] * 1e3 for p in chain["points"]], "s--", **style, label=label
+            )
+            bx.loglog(
+                ns, [p["assembly_s"] * 1e3 for p in chain["points"]], "s--", **style, label=label
+            )
     for res in results:
         c = colours.get(res.name, "k")
         n = np.array([p.n for p in res.points], dtype=float)
@@ -390,6 +411,12 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n", 1)[0])
     parser.add_argument("--budget", type=float, default=120.0, help="seconds for both chains")
     parser.add_argument("--max-n", type=int, default=max(SERIES), help="largest N")
+    parser.add_argument(
+        "--baseline",
+        type=Path,
+        default=BASELINE,
+        help="an earlier scaling.json drawn faded for comparison (default: the dense engine's)",
+    )
     args = parser.parse_args()
     OUT.mkdir(parents=True, exist_ok=True)
     RESULTS.mkdir(parents=True, exist_ok=True)
@@ -406,7 +433,7 @@ def main() -> None:
         results.append(run_chain(chain, share, args.max_n))
     text = table(results, header)
     (OUT / "scaling.md").write_text(text)
-    figure(results, OUT / "scaling.png")
+    figure(results, OUT / "scaling.png", args.baseline)
     shutil.copyfile(OUT / "scaling.png", DOC_IMAGE)
     figures = []
     for res in results:
