@@ -121,3 +121,18 @@ def test_exception_in_sink_stops_the_run(model: jointgap.Model, tmp_path: Path) 
 
     with pytest.raises(OSError, match="No space left"):
         _jointgap.simulate(model.to_json(), '{"t_end": 0.05, "rate": 10000}', None, full, 16)
+
+
+def test_profile_accounts_for_the_run(model: jointgap.Model) -> None:
+    plain = model.simulate(T_END, rate=10_000)
+    profiled = model.simulate(T_END, rate=10_000, profile=True)
+    assert "profile" not in plain.stats or plain.stats["profile"] is None
+    # Measuring changes nothing in the results.
+    np.testing.assert_array_equal(profiled.data, plain.data)
+    p = profiled.stats["profile"]
+    stages = ["forces", "linear_solves", "jacobians", "output", "events", "projection"]
+    assert all(p[s] >= 0.0 for s in stages)
+    # Stages exclude what they call, so together they fit inside the integration.
+    assert 0.0 < sum(p[s] for s in stages) <= p["total"] * 1.001
+    assert p["total"] <= profiled.stats["wall_time"]
+    assert p["forces"] > 0.0 and p["linear_solves"] > 0.0 and p["output"] > 0.0

@@ -574,6 +574,7 @@ class Model:
         decimate: int | None = None,
         stream: str | PathLike[str] | None = None,
         progress: Callable[[float, int, int], object] | None = None,
+        profile: bool = False,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -595,6 +596,9 @@ class Model:
             progress: ``progress(t, steps, impacts)``, called about every 0.2 s of wall
                 time (simulated time, steps taken, impacts so far), e.g. for a display;
                 an exception it raises stops the run and propagates.
+            profile: measure where the time goes: ``stats["profile"]`` then holds the
+                seconds spent in force evaluation, linear solves, Jacobians, output,
+                event location and projection, and the integration's total.
 
         A run that stops early is returned with ``status == "failed"`` and everything
         computed up to then. Raises :class:`ModelError` for an invalid model and
@@ -614,6 +618,7 @@ class Model:
             channels=channels,
             max_steps=max_steps,
             decimate=decimate,
+            profile=profile,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

@@ -36,6 +36,8 @@ pub struct RunStats {
     pub method: String,
     /// Wall-clock time of the run [s].
     pub wall_time: f64,
+    /// Time per stage, when the run was asked to measure it.
+    pub profile: Option<crate::solve::profile::Profile>,
 }
 
 /// One impact of a clearance joint: from the located contact onset to separation.

@@ -7,6 +7,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::contacts::ContactState;
+use super::profile::{self, Profile};
 use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
 use crate::system::System;
@@ -45,6 +46,8 @@ pub struct Workspace {
     pub t_piece: f64,
     /// Discrete state of each clearance joint; forces filled by [`applied_forces`].
     pub contacts: Vec<ContactState>,
+    /// Time per stage, when measured.
+    pub profile: Option<Profile>,
     /// Scratch of length n_coords.
     scratch: Vec<f64>,
 }
@@ -81,6 +84,7 @@ impl Workspace {
             qdd: vec![0.0; n],
             t_piece: 0.0,
             contacts: vec![ContactState::default(); sys.clearances.len()],
+            profile: None,
             scratch: vec![0.0; n],
         }
     }
@@ -120,8 +124,11 @@ impl Workspace {
 
     /// Solves `S mu = rhs` in place with the current Jacobian.
     fn schur_solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
+        let lap = profile::start(&self.profile);
         self.schur.update(&self.jac, &self.m_inv);
-        self.schur.solve(rhs)
+        let solved = self.schur.solve(rhs);
+        profile::stop(&mut self.profile, lap, |p| &mut p.linear_solves);
+        solved
     }
 }
 
@@ -159,8 +166,10 @@ pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Works
 
 /// Accelerations and multipliers at `(t, q, v)`: fills everything in the workspace.
 pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> Result<(), Singular> {
+    let lap = profile::start(&ws.profile);
     constraints(sys, t, q, v, ws);
     applied_forces(sys, t, q, v, ws);
+    profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     let n = sys.n_coords();
     for j in 0..n {
         ws.qdd[j] = ws.m_inv[j] * ws.qe[j];

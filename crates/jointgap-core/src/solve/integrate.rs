@@ -7,6 +7,7 @@ use super::dopri5::Dopri5;
 use super::dynamics::{project, violation};
 use super::monitor::{Monitor, Progress};
 use super::ode::{hermite5, Ode};
+use super::profile;
 use super::record::Recorder;
 use super::sdirk4::Sdirk4;
 use super::stepper::{StepFailure, Stepper};
@@ -122,6 +123,7 @@ pub fn integrate(
                     Ok(att) => {
                         stats.accepted_steps += 1;
                         // A contact onset or separation inside the step ends the step there.
+                        let lap = profile::start(&ode.ws.profile);
                         let event = contacts::locate(
                             sys,
                             &ode.ws.contacts,
@@ -133,11 +135,13 @@ pub fn integrate(
                             &f_new,
                             &mut sample,
                         );
+                        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.events);
                         let (t_new, last) = match event {
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
                             _ => (if last { segment_end } else { t + h }, last),
                         };
                         // Output samples inside (t, t_new].
+                        let lap = profile::start(&ode.ws.profile);
                         while let Some(ts) = sample_time(next_sample) {
                             if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
                                 break;
@@ -151,6 +155,7 @@ pub fn integrate(
                             log.update(sys, &mut ode.ws.contacts, q, v);
                             next_sample += 1;
                         }
+                        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.output);
                         let mut refresh = false;
                         if let Some((theta, k)) = event {
                             if theta < 1.0 {
@@ -170,6 +175,7 @@ pub fn integrate(
                             break 'run fail(t, "the state became non-finite".into());
                         }
                         // Keep the drift far below the tolerance: project when it shows.
+                        let lap = profile::start(&ode.ws.profile);
                         let (pos, vel) = {
                             let (q, v) = y.split_at(n);
                             violation(sys, t, q, v, &mut ode.ws)
@@ -182,6 +188,7 @@ pub fn integrate(
                             stats.projections += 1;
                             refresh = true;
                         }
+                        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.projection);
                         if refresh {
                             ode.ws.t_piece = t - 0.5 * h_taken;
                             if ode.rhs(t, y, &mut f).is_err() {
@@ -189,12 +196,14 @@ pub fn integrate(
                             }
                         }
                         log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
+                        let lap = profile::start(&ode.ws.profile);
                         if every_step
                             && rec.last_time.is_none_or(|tl| tl < t)
                             && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
                         {
                             break 'run singular(t);
                         }
+                        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.output);
                         if chunk.is_some_and(|c| rec.time.len() >= c) {
                             if let Err(reason) = monitor.samples(&rec.names(), &rec.time, &rec.data) {
                                 break 'run fail(t, format!("stopped by the output sink: {reason}"));
@@ -255,6 +264,9 @@ pub fn integrate(
         }
         Status::Finished
     };
+    if let Some(p) = ode.ws.profile.as_mut() {
+        p.total = started.elapsed().as_secs_f64();
+    }
     stats.jacobian_evaluations += stepper.jacobian_evaluations();
     stats.method =
         if opts.method == Method::Auto { switch.describe(method, t) } else { stepper.name().to_string() };

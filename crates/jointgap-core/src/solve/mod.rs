@@ -8,6 +8,7 @@ pub mod integrate;
 pub mod monitor;
 pub mod ode;
 mod options;
+pub mod profile;
 pub mod record;
 pub mod schur;
 pub mod sdirk4;
@@ -75,13 +76,9 @@ pub fn simulate_with(
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
     let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref(), opts.decimate)?;
-    let mut ode = ode::Ode {
-        sys: &system,
-        ws: dynamics::Workspace::new(&system, initial.active.clone()),
-        evaluations: 0,
-        rtol: opts.rtol,
-        atol: opts.atol,
-    };
+    let mut ws = dynamics::Workspace::new(&system, initial.active.clone());
+    ws.profile = opts.profile.then(profile::Profile::default);
+    let mut ode = ode::Ode { sys: &system, ws, evaluations: 0, rtol: opts.rtol, atol: opts.atol };
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
@@ -106,6 +103,7 @@ pub fn simulate_with(
         stats.method = opts.method.name().to_string();
     }
     stats.rhs_evaluations = ode.evaluations;
+    stats.profile = ode.ws.profile.take();
     stats.wall_time = started.elapsed().as_secs_f64();
     let impacts = system
         .clearances

@@ -75,6 +75,10 @@ pub struct SimOptions {
     /// Keep every `decimate`-th output record (default 1: all), e.g. of `every_step` output.
     #[serde(default = "default_decimate")]
     pub decimate: usize,
+    /// Measure the time spent per stage (forces, linear solves, Jacobians, output,
+    /// events, projection) into `RunStats::profile`.
+    #[serde(default)]
+    pub profile: bool,
 }
 
 impl SimOptions {
@@ -91,6 +95,7 @@ impl SimOptions {
             max_steps: default_max_steps(),
             channels: None,
             decimate: default_decimate(),
+            profile: false,
         }
     }
 

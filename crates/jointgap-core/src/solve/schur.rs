@@ -3,15 +3,15 @@
 //! Each constraint row touches at most two bodies, so `S` has an entry only where two
 //! rows share a body: a chain of N loops gives O(N) entries. The pattern is fixed for a
 //! run and found once; its values are recomputed at every evaluation. Small systems (the
-//! founding slider-crank has 7 rows) are factored dense, where a dense Cholesky is
-//! fastest; larger ones by faer's sparse Cholesky with its fill-reducing ordering,
+//! founding slider-crank has 7 rows) are factored dense, in place in a buffer kept for
+//! the run (a 7x7 factor costs less than allocating for nalgebra's: measured in the
+//! profile of the founding case, linear solves 0.108 s -> see benchmarks/README.md);
+//! larger ones by faer's sparse Cholesky with its fill-reducing ordering,
 //! analysed once, so that cost per evaluation grows linearly with the mechanism's size.
 
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use nalgebra::DMatrix;
-
 use super::dynamics::Singular;
 
 /// Rows above which the sparse factorisation is used.
@@ -20,7 +20,7 @@ pub const DENSE_LIMIT: usize = 48;
 /// How `S` is factored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Factorisation {
-    /// Dense Cholesky (nalgebra): small systems.
+    /// Dense Cholesky in place: small systems.
     Dense,
     /// Sparse Cholesky with a fill-reducing ordering (faer): large systems.
     Sparse,
@@ -88,23 +88,36 @@ pub struct Schur {
     factorisation: Factorisation,
     pattern: SymbolicSparseColMat<usize>,
     symbolic: Option<SymbolicLlt<usize>>,
-    dense: DMatrix<f64>,
+    /// Row-major lower factor of the dense path; (m x m).
+    dense: Vec<f64>,
     target: Vec<f64>,
     residual: Vec<f64>,
 }
 
 /// A factored `S + eps I`.
-enum Factor {
-    Dense(nalgebra::Cholesky<f64, nalgebra::Dyn>),
+enum Factor<'a> {
+    /// Row-major lower Cholesky factor.
+    Dense(&'a [f64]),
     Sparse(Llt<usize, f64>),
 }
 
-impl Factor {
+impl Factor<'_> {
     fn solve_mut(&self, x: &mut [f64]) {
         match self {
-            Factor::Dense(chol) => {
-                let mut view = nalgebra::DVectorViewMut::from_slice(x, x.len());
-                chol.solve_mut(&mut view);
+            Factor::Dense(l) => {
+                let m = x.len();
+                for i in 0..m {
+                    let row = &l[i * m..i * m + i];
+                    let s: f64 = row.iter().zip(&x[..i]).map(|(a, b)| a * b).sum();
+                    x[i] = (x[i] - s) / l[i * m + i];
+                }
+                for i in (0..m).rev() {
+                    let mut s = x[i];
+                    for k in i + 1..m {
+                        s -= l[k * m + i] * x[k];
+                    }
+                    x[i] = s / l[i * m + i];
+                }
             }
             Factor::Sparse(llt) => {
                 let n = x.len();
@@ -112,6 +125,28 @@ impl Factor {
             }
         }
     }
+}
+
+/// Cholesky factor of the row-major symmetric `a` (lower triangle read) in place;
+/// `Singular` unless positive definite.
+fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<(), Singular> {
+    for i in 0..m {
+        for j in 0..=i {
+            let mut s = a[i * m + j];
+            for k in 0..j {
+                s -= a[i * m + k] * a[j * m + k];
+            }
+            if i == j {
+                if s.is_nan() || s <= 0.0 {
+                    return Err(Singular);
+                }
+                a[i * m + i] = s.sqrt();
+            } else {
+                a[i * m + j] = s / a[j * m + j];
+            }
+        }
+    }
+    Ok(())
 }
 
 impl Schur {
@@ -165,7 +200,7 @@ impl Schur {
             factorisation,
             pattern,
             symbolic,
-            dense: DMatrix::zeros(dense_size, dense_size),
+            dense: vec![0.0; dense_size * dense_size],
             target: vec![0.0; m],
             residual: vec![0.0; m],
         }
@@ -198,6 +233,19 @@ impl Schur {
         }
     }
 
+    /// Factors `S + shift I` into the dense buffer.
+    fn factor_dense(&mut self, shift: f64) -> Result<(), Singular> {
+        let m = self.diagonal.len();
+        self.dense.fill(0.0);
+        for (&v, &(a, b)) in self.values.iter().zip(&self.entries) {
+            self.dense[a * m + b] = v;
+        }
+        for a in 0..m {
+            self.dense[a * m + a] += shift;
+        }
+        cholesky_in_place(&mut self.dense, m)
+    }
+
     /// `y = S x`.
     fn multiply(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
@@ -220,20 +268,27 @@ impl Schur {
     /// Ledesma 1996).
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
         let m = rhs.len();
-        let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
-        self.regularised.copy_from_slice(&self.values);
-        for &d in &self.diagonal {
-            self.regularised[d] += REGULARISATION * scale;
+        // Away from singular positions (nearly always) a plain factor is exact enough and
+        // needs no refinement: its smallest pivot shows the conditioning.
+        if self.factorisation == Factorisation::Dense && self.factor_dense(0.0).is_ok() {
+            let pivots = (0..m).map(|i| self.dense[i * m + i].powi(2));
+            let (low, high) = pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)));
+            if low >= WELL_CONDITIONED * high {
+                Factor::Dense(&self.dense).solve_mut(rhs);
+                return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
+            }
         }
+        let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
         let factor = match self.factorisation {
             Factorisation::Dense => {
-                for (&v, &(a, b)) in self.regularised.iter().zip(&self.entries) {
-                    self.dense[(a, b)] = v;
-                    self.dense[(b, a)] = v;
-                }
-                Factor::Dense(nalgebra::Cholesky::new(self.dense.clone()).ok_or(Singular)?)
+                self.factor_dense(REGULARISATION * scale)?;
+                Factor::Dense(&self.dense)
             }
             Factorisation::Sparse => {
+                self.regularised.copy_from_slice(&self.values);
+                for &d in &self.diagonal {
+                    self.regularised[d] += REGULARISATION * scale;
+                }
                 let symbolic = self.symbolic.clone().ok_or(Singular)?;
                 let matrix = SparseColMatRef::new(self.pattern.as_ref(), &self.regularised);
                 Factor::Sparse(
@@ -274,5 +329,8 @@ impl Schur {
 
 /// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).
 const REGULARISATION: f64 = 1e-12;
+/// Smallest ratio of squared Cholesky pivots at which the plain dense factor is used
+/// without regularisation and refinement (a condition number of S below about 1e8).
+const WELL_CONDITIONED: f64 = 1e-8;
 /// Iterative-refinement sweeps of the regularised solve.
 const REFINEMENTS: usize = 3;

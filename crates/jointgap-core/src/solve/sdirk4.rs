@@ -6,6 +6,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::dynamics::Singular;
 use super::ode::Ode;
+use super::profile;
 use super::stepper::{Attempt, StepFailure, Stepper};
 
 const GAMMA: f64 = 0.25;
@@ -148,8 +149,10 @@ impl Stepper for Sdirk4 {
     }
 
     fn spectral_radius(&mut self, ode: &mut Ode, t: f64, y: &[f64], f: &[f64]) -> Option<f64> {
+        let lap = profile::start(&ode.ws.profile);
         self.jacobian(ode, t, y, f).ok()?;
         let radius = self.jac.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max);
+        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
         radius.is_finite().then_some(radius)
     }
 
@@ -165,10 +168,15 @@ impl Stepper for Sdirk4 {
     ) -> Result<Attempt, StepFailure> {
         let n = y.len();
         if !self.jac_valid || (self.slow && !self.jac_fresh) {
+            let lap = profile::start(&ode.ws.profile);
             self.jacobian(ode, t, y, f0).map_err(|Singular| StepFailure::Singular)?;
+            profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
             self.slow = false;
         }
-        self.factor(h)?;
+        let lap = profile::start(&ode.ws.profile);
+        let factored = self.factor(h);
+        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
+        factored?;
         for s in 0..5 {
             for i in 0..n {
                 let mut acc = 0.0;
