@@ -28,6 +28,19 @@ from jointgap.results import Impact
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "benchmarks" / "output"
+RESULTS = ROOT / "benchmarks" / "results"
+
+
+def write_results(name: str, figures: dict[str, Any]) -> Path:
+    """Writes ``benchmarks/results/<name>.json`` with the machine and commit."""
+    import json
+
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    path = RESULTS / f"{name}.json"
+    path.write_text(json.dumps({"machine": machine(), **figures}, indent=1) + "\n")
+    return path
+
+
 MODEL = ROOT / "examples" / "slider_crank_ideal.toml"
 
 # Founding slider-crank: crank 0.08 m, rod 0.32 m, 0 -> 300 rpm in 0.2 s (PHYSICS.md 6).
@@ -382,6 +395,7 @@ def clearance_table() -> str:
         "x C program | x SciPy |",
         "|---:|---|---:|---:|---:|---:|---:|---:|",
     ]
+    matched: list[dict[str, Any]] = []
     for target, c_ms in C_PROGRAM_MS.items():
         for method in CL_METHODS:
             met = [r for r in runs if r.method == method and r.ok and r.nrmse <= target]
@@ -389,11 +403,45 @@ def clearance_table() -> str:
                 lines.append(f"| {target:.0e} | {method} | not met | | | | | |")
                 continue
             r = min(met, key=lambda r: r.best("cpu_int"))
+            matched.append(
+                {
+                    "target_nrmse": target,
+                    "method": method,
+                    "rtol": r.rtol,
+                    "nrmse": r.nrmse,
+                    "integrate_s": r.best("cpu_int"),
+                    "simulate_10khz_s": r.best("cpu"),
+                    "c_program_s": c_ms * 1e-3,
+                    "ratio_to_c": r.best("cpu") * 1e3 / c_ms,
+                    "target_ratio": 5.0,
+                }
+            )
             lines.append(
                 f"| {target:.0e} | {method} | {r.rtol:.0e} | {r.nrmse:.1e} "
                 f"| {r.best('cpu_int') * 1e3:.1f} | {r.best('cpu') * 1e3:.1f} "
                 f"| {r.best('cpu_int') * 1e3 / c_ms:.0f} | {r.best('cpu_int') / SCIPY_S:.2f} |"
             )
+
+    write_results(
+        "founding",
+        {
+            "case": "examples/slider_crank_clearance.toml, 0.5 s, slider.ax at 10 kHz",
+            "runs": [
+                {
+                    "method": r.method,
+                    "rtol": r.rtol,
+                    "status": r.status,
+                    "nrmse": r.nrmse,
+                    "simulate_10khz_s": r.best("cpu"),
+                    "integrate_s": r.best("cpu_int"),
+                    "rhs_evaluations": r.stats.get("rhs_evaluations"),
+                    "steps": r.stats.get("accepted_steps"),
+                }
+                for r in runs
+            ],
+            "matched_accuracy": matched,
+        },
+    )
 
     # Where the error is: NRMSE per 50 ms window at rtol 1e-8, and the reference's contacts.
     t = np.arange(len(ref_ax)) / CL_RATE
@@ -509,6 +557,17 @@ def batch_table() -> str:
     runs = jointgap.simulate_batch(tiny, 1e-4, threads=1, rate=10_000)
     total = time.perf_counter() - start
     engine = sum(r.stats["wall_time"] for r in runs if isinstance(r, jointgap.Result))
+    write_results(
+        "batch",
+        {
+            "wall_1_thread_s": walls[1],
+            "wall_2_threads_s": walls[2],
+            "throughput_ratio": walls[1] / walls[2],
+            "target_ratio": 1.8,
+            "overhead_per_run_s": (total - engine) / len(tiny),
+            "target_overhead_s": 1e-3,
+        },
+    )
     return "\n".join(
         [
             "## Batch runs (jointgap.simulate_batch)\n",
@@ -551,6 +610,9 @@ def main() -> None:
     parts.append(clearance)
     parts.append(batch_table())
     parts.append(step_history_figure(OUT / "step_history.png"))
+    from targets import targets_table
+
+    parts.append(targets_table())
     text = "\n".join(parts)
     (OUT / "results.md").write_text(text)
     print(text)
