@@ -4,15 +4,14 @@
 //! rows share a body: a chain of N loops gives O(N) entries. The pattern is fixed for a
 //! run and found once; its values are recomputed at every evaluation. Small systems (the
 //! founding slider-crank has 7 rows) are factored dense, in place in a buffer kept for
-//! the run (a 7x7 factor costs less than allocating for nalgebra's: measured in the
-//! profile of the founding case, linear solves 0.108 s -> see benchmarks/README.md);
-//! larger ones by faer's sparse Cholesky with its fill-reducing ordering,
-//! analysed once, so that cost per evaluation grows linearly with the mechanism's size.
+//! the run (against nalgebra's Cholesky, which allocates per call, the founding case's
+//! linear solves went from 0.108 s to 0.075 s in its profile); larger ones by faer's
+//! sparse Cholesky with its fill-reducing ordering, analysed once, so that cost per evaluation grows linearly with the mechanism's size.
 
+use super::dynamics::Singular;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
-use super::dynamics::Singular;
 
 /// Rows above which the sparse factorisation is used.
 pub const DENSE_LIMIT: usize = 48;
