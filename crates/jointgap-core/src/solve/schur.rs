@@ -6,7 +6,8 @@
 //! founding slider-crank has 7 rows) are factored dense, in place in a buffer kept for
 //! the run (against nalgebra's Cholesky, which allocates per call, the founding case's
 //! linear solves went from 0.108 s to 0.075 s in its profile); larger ones by faer's
-//! sparse Cholesky with its fill-reducing ordering, analysed once, so that cost per evaluation grows linearly with the mechanism's size.
+//! sparse Cholesky with its fill-reducing ordering, analysed once, so that cost per
+//! evaluation grows linearly with the mechanism's size.
 
 use super::dynamics::Singular;
 use faer::linalg::solvers::Solve;
