@@ -6,10 +6,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import jointgap
 import numpy as np
 import pytest
-
-import jointgap
 from jointgap import run as run_module
 from jointgap.results import RESULTS_PARQUET, Result
 from jointgap.stream import StoredChannels
