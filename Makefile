@@ -63,9 +63,20 @@ bench: install
 	$(PY) benchmarks/run.py
 	$(PY) benchmarks/scaling.py
 
-## bench-peers: the SciPy peer of the founding clearance case (about 4 min)
-bench-peers: install
+# Exudyn goes into its own venv, never into .venv or the package's dependencies.
+PEER_VENV := benchmarks/peers/.venv
+PEER_STAMP := $(PEER_VENV)/.deps-installed
+
+## bench-peers: the SciPy and Exudyn peers of the founding clearance case (about 8 min)
+bench-peers: install $(PEER_STAMP)
 	$(PY) benchmarks/peers/scipy_slider_crank.py
+	$(PY) benchmarks/peers/exudyn_slider_crank.py
+
+$(PEER_STAMP):
+	test -x $(PEER_VENV)/bin/python || python3 -m venv $(PEER_VENV)
+	$(PEER_VENV)/bin/python -m pip install -q --disable-pip-version-check "exudyn==1.13.6" \
+		"numpy>=1.26"
+	touch $(PEER_STAMP)
 
 ## lint: rustfmt, clippy, ruff
 lint: install

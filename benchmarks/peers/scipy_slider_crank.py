@@ -24,38 +24,47 @@ Run from the repository root after ``make install``:
 
     .venv/bin/python benchmarks/peers/scipy_slider_crank.py [--cap SECONDS] [--quick]
 
-Writes benchmarks/output/peers_scipy.md. About 3-4 minutes on 2 shared cores.
+Writes benchmarks/output/peers_scipy.md and benchmarks/results/peers_scipy.json. About
+3-4 minutes on 2 shared cores.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
-import os
-import sys
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 import jointgap
 import numpy as np
 import scipy
+from common import (
+    MODEL,
+    OUTPUT,
+    ROOT,
+    T_END,
+    TARGETS,
+    Row,
+    fastest,
+    fmt,
+    grid,
+    load_text,
+    machine,
+    nrmse,
+    reference,
+    row_dict,
+    run_jointgap,
+    write_json,
+)
 from scipy.integrate import solve_ivp
 
-ROOT = Path(__file__).resolve().parents[2]
-sys.path.insert(0, str(ROOT / "benchmarks"))
-from run import machine  # noqa: E402  (one description of the machine for every table)
-
-MODEL = ROOT / "examples" / "slider_crank_clearance.toml"
-OUT = ROOT / "benchmarks" / "output" / "peers_scipy.md"
+OUT = OUTPUT / "peers_scipy.md"
 
 # --- the founding clearance case, SI units -----------------------------------------------
 
 G = 9.81  # gravity, along -y [m/s^2]
 OMEGA = 300 * 2 * math.pi / 60  # final crank speed, 300 rpm [rad/s]
 RAMP = 0.2  # time to reach it from rest [s]
-T_END = 0.5  # [s]
-RATE = 10_000  # output samples per second [Hz]
 
 R_CRANK = 0.08  # crank length [m]
 L_ROD = 0.32  # rod length, crank pin A to journal centre B [m]
@@ -223,33 +232,10 @@ def solve(method: str, rtol: float, cap: float) -> Solution:
 # --- the benchmark -----------------------------------------------------------------------
 
 
-def nrmse(actual: np.ndarray, reference: np.ndarray) -> float:
-    return float(np.sqrt(np.mean((actual - reference) ** 2)) / np.ptp(reference))
-
-
-@dataclass
-class Row:
-    peer: str  # "SciPy" or "jointgap"
-    method: str
-    rtol: float
-    wall: float | None = None  # best of the repetitions [s], solve + 10 kHz output
-    solve: float | None = None  # of which the solve alone (SciPy) [s]
-    runs: int = 0
-    error: float | None = None
-    nfev: int | None = None
-    njev: int | None = None
-    steps: int | None = None
-    note: str = ""
-
-
-def load_text() -> str:
-    return ", ".join(f"{x:.2f}" for x in os.getloadavg())
-
-
 def run_scipy(method: str, rtol: float, t: np.ndarray, ref: np.ndarray, cap: float) -> Row:
     row = Row("SciPy", method, rtol)
     for _ in range(2):
-        start = time.perf_counter()
+        start, cpu_start = time.perf_counter(), time.process_time()
         try:
             sol = solve(method, rtol, cap)
         except OverBudget:
@@ -257,39 +243,15 @@ def run_scipy(method: str, rtol: float, t: np.ndarray, ref: np.ndarray, cap: flo
             return row
         solved = time.perf_counter()
         ax = sol.slider_ax(t)
-        end = time.perf_counter()
+        end, cpu = time.perf_counter(), time.process_time() - cpu_start
         row.runs += 1
         if row.wall is None or end - start < row.wall:
             row.wall, row.solve = end - start, solved - start
+        row.cpu = cpu if row.cpu is None else min(row.cpu, cpu)
         row.error, row.nfev, row.njev, row.steps = nrmse(ax, ref), sol.nfev, sol.njev, sol.steps
         if end - start > cap / 4:  # long enough that a second run would change little
             break
     return row
-
-
-def run_jointgap(model: jointgap.Model, rtol: float, ref: np.ndarray) -> Row:
-    row = Row("jointgap", "auto", rtol)
-    for _ in range(2):
-        start = time.perf_counter()
-        result = model.simulate(
-            T_END, rate=RATE, rtol=rtol, atol=1e-3 * rtol, method="auto", channels=["slider.ax"]
-        )
-        wall = time.perf_counter() - start
-        row.runs += 1
-        if result.status != "finished":
-            row.note = f"{result.status}: {result.message}"
-            return row
-        if row.wall is None or wall < row.wall:
-            row.wall = wall
-        row.error = nrmse(result["slider.ax"], ref)
-        stats = result.stats
-        row.nfev, row.njev = stats["rhs_evaluations"], stats["jacobian_evaluations"]
-        row.steps = stats["accepted_steps"] + stats["rejected_steps"]
-    return row
-
-
-def fmt(x: float | None, spec: str) -> str:
-    return "" if x is None else format(x, spec)
 
 
 def main() -> None:
@@ -301,18 +263,11 @@ def main() -> None:
     methods = ["RK45", "DOP853", "Radau", "BDF", "LSODA"]
     load_start, begun = load_text(), time.perf_counter()
 
-    # The reference: jointgap at rtol 1e-11, checked against rtol 1e-12.
+    # The reference: jointgap at rtol 1e-11, checked against rtol 1e-12 (common.py).
     model = jointgap.load(MODEL)
-    t = np.arange(int(round(T_END * RATE)) + 1) / RATE
-    start = time.perf_counter()
-    reference = model.simulate(T_END, rate=RATE, rtol=1e-11, atol=1e-14)
-    ref_wall = time.perf_counter() - start
-    assert reference.status == "finished", reference.message
-    assert np.allclose(reference.time, t, rtol=0.0, atol=1e-12)
-    ref = reference["slider.ax"]
-    check = model.simulate(T_END, rate=RATE, rtol=1e-12, atol=1e-15, channels=["slider.ax"])
-    assert check.status == "finished", check.message
-    ref_error = nrmse(check["slider.ax"], ref)
+    t = grid()
+    converged = reference(model)
+    ref, ref_wall, ref_error = converged.ax, converged.wall, converged.error
     print(f"reference: {ref_wall:.2f} s; rtol 1e-12 differs by NRMSE {ref_error:.1e}")
 
     # The vectorised slider acceleration is the same law as rhs's.
@@ -346,11 +301,6 @@ def main() -> None:
             flush=True,
         )
     write(rows, ref_wall, ref_error, load_start, time.perf_counter() - begun, args.cap)
-
-
-def fastest(rows: list[Row], peer: str, target: float) -> Row | None:
-    ok = [r for r in rows if r.peer == peer and r.error is not None and r.error <= target]
-    return min(ok, key=lambda r: r.wall or math.inf, default=None)
 
 
 def write(
@@ -397,9 +347,19 @@ def write(
         "jointgap wall [s] | ratio |",
         "|---:|---|---:|---:|---:|---:|",
     ]
-    for target in (1e-3, 1e-4, 2e-5):
+    summary = []
+    for target in TARGETS:
         s, j = fastest(rows, "SciPy", target), fastest(rows, "jointgap", target)
         ratio = f"{s.wall / j.wall:.1f}x" if s and j and s.wall and j.wall else ""
+        summary.append(
+            {
+                "target": target,
+                "scipy": None if s is None else row_dict(s),
+                "jointgap": None if j is None else row_dict(j),
+                "ratio_wall": s.wall / j.wall if s and j and s.wall and j.wall else None,
+                "ratio_cpu": s.cpu / j.cpu if s and j and s.cpu and j.cpu else None,
+            }
+        )
         lines.append(
             f"| {target:.0e} | "
             + (f"{s.method} {s.rtol:.0e} (NRMSE {s.error:.1e})" if s else "not met")
@@ -410,6 +370,28 @@ def write(
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text("\n".join(lines) + "\n")
     print(f"wrote {OUT.relative_to(ROOT)}")
+    path = write_json(
+        "peers_scipy.json",
+        {
+            "case": "examples/slider_crank_clearance.toml, 0 to 0.5 s, slider.ax at 10 kHz",
+            "scipy": scipy.__version__,
+            "target_ratio": 30,
+            "targets_nrmse": list(TARGETS),
+            "timing": "wall time (and process CPU time), best of 2; solve + 10 kHz output",
+            "reference": {
+                "rtol": 1e-11,
+                "atol": 1e-14,
+                "wall": ref_wall,
+                "nrmse_vs_rtol_1e-12": ref_error,
+            },
+            "runs": [row_dict(r) for r in rows],
+            "matched_accuracy": summary,
+            "cap_s": cap,
+            "load_average_start": load_start,
+            "total_s": total,
+        },
+    )
+    print(f"wrote {path.relative_to(ROOT)}")
 
 
 if __name__ == "__main__":
