@@ -60,8 +60,8 @@ browser:
 bench: install
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
-	$(PY) benchmarks/run.py
 	$(PY) benchmarks/scaling.py
+	$(PY) benchmarks/run.py
 
 # Exudyn goes into its own venv, never into .venv or the package's dependencies.
 PEER_VENV := benchmarks/peers/.venv
