@@ -80,8 +80,23 @@ def test_calibrated_c_max_satisfies_eq_10_11_with_the_last_runs_impacts(
     h_avg = 3 * cal.stiffness * (1 - 0.55**2) / (4 * v_avg)
     assert cal.c_max == pytest.approx(h_avg * D_MAX**N, rel=1e-12)
     assert cal.stiffness == pytest.approx(K_FOUNDING, rel=1e-3)
-    # The last run used (almost) the answer: within the noise of V_avg against C_max.
-    assert cal.c_max == pytest.approx(cal.iterations[-1].c_max, rel=2e-3)
+    last, before = cal.iterations[-1], cal.iterations[-2]
+    if math.floor(last.c_max) == math.floor(cal.c_max):
+        # The last run used (almost) the answer: within the noise of V_avg against C_max.
+        assert cal.c_max == pytest.approx(last.c_max, rel=2e-3)
+        assert not cal.notes
+    else:
+        # V_avg jumps with C_max at the answer (an impact more or less): bisection closed
+        # the bracket on the jump. The last two runs share the integer part of C_max, differ
+        # by an impact, and their restitutions lie on either side of the target.
+        assert math.floor(before.c_max) == math.floor(last.c_max)
+        assert before.impacts != last.impacts
+        implied = [
+            restitution_from_damping(it.c_max, it.v_avg, cal.stiffness, D_MAX, N)
+            for it in (before, last)
+        ]
+        assert min(implied) < 0.55 < max(implied)
+        assert cal.notes and f"r = {implied[1]:.4f}" in cal.notes[0]
     # The calibrated model carries the answer and nothing else changed.
     joints = {j["name"]: j for j in cal.model.to_dict()["joints"]}
     assert joints["rod_slider"]["clearance"]["normal_law"]["c_max"] == cal.c_max
