@@ -330,7 +330,8 @@ impl Schur {
 /// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).
 const REGULARISATION: f64 = 1e-12;
 /// Smallest ratio of squared Cholesky pivots at which the plain dense factor is used
-/// without regularisation and refinement (a condition number of S below about 1e8).
-const WELL_CONDITIONED: f64 = 1e-8;
+/// without regularisation and refinement: S's condition number is then of the order of
+/// 1e4 or less, so the plain solve is accurate to about 1e-12, below any tolerance.
+const WELL_CONDITIONED: f64 = 1e-4;
 /// Iterative-refinement sweeps of the regularised solve.
 const REFINEMENTS: usize = 3;
