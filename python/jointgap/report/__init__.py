@@ -38,9 +38,9 @@ from .sources import (
     folder_kind,
     folder_report_data,
 )
+from .sources import report_data as run_report_data
 
 if TYPE_CHECKING:
-    from ..comparison import Comparison
     from ..results import Result
 
 __all__ = [
@@ -62,44 +62,6 @@ __all__ = [
     "write_folder_report",
     "write_run_report",
 ]
-
-
-def run_report_data(
-    result: Result,
-    *,
-    ideal: Result | None = None,
-    comparison: Comparison | None = None,
-    source: str | None = None,
-    magnify: float | None = None,
-    max_frames: int = DEFAULT_MAX_FRAMES,
-    max_points: int = DEFAULT_MAX_POINTS,
-) -> dict[str, Any]:
-    """The data of a run's report (what the page embeds as JSON).
-
-    Args:
-        result: the run, with its model.
-        ideal: the same mechanism with ideal joints, to compare with.
-        comparison: a comparison of ``result`` with a measurement
-            (:func:`jointgap.compare`).
-        source: the model file's path, shown in the model table.
-        magnify: drawn clearance over true clearance (default :func:`auto_magnify`).
-        max_frames: most animation frames (evenly spaced in time).
-        max_points: most points per plotted series (min/max decimation keeps peaks).
-
-    Raises:
-        ReportError: the result lacks a channel the animation needs or has no model.
-    """
-    from .sources import report_data
-
-    return report_data(
-        result,
-        ideal=ideal,
-        comparison=comparison,
-        source=source,
-        magnify=magnify,
-        max_frames=max_frames,
-        max_points=max_points,
-    )
 
 
 def write_run_report(result: Result, path: str | PathLike[str], **options: Any) -> Path:

@@ -89,7 +89,21 @@ def report_data(
     max_frames: int = DEFAULT_MAX_FRAMES,
     max_points: int = DEFAULT_MAX_POINTS,
 ) -> dict[str, Any]:
-    """The page's data for a run (see :func:`jointgap.report.run_report_data`)."""
+    """The data of a run's report (what the page embeds as JSON).
+
+    Args:
+        result: the run, with its model.
+        ideal: the same mechanism with ideal joints, to compare with.
+        comparison: a comparison of ``result`` with a measurement
+            (:func:`jointgap.compare`).
+        source: the model file's path, shown in the model table.
+        magnify: drawn clearance over true clearance (default :func:`auto_magnify`).
+        max_frames: most animation frames (evenly spaced in time).
+        max_points: most points per plotted series (min/max decimation keeps peaks).
+
+    Raises:
+        ReportError: the result lacks a channel the animation needs or has no model.
+    """
     name = str(result.model.get("name") or "run")
     if comparison is not None:
         title, kind = f"{name}: simulation against measurement", "comparison"
