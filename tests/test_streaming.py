@@ -4,6 +4,8 @@ an exception in a callback stops the run and propagates."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
 from pathlib import Path
 
 import jointgap
@@ -11,7 +13,7 @@ import numpy as np
 import pytest
 from jointgap import run as run_module
 from jointgap.results import RESULTS_PARQUET, Result
-from jointgap.stream import StoredChannels
+from jointgap.stream import StoredChannels, read_column
 
 CLEARANCE = Path(__file__).parent.parent / "examples" / "slider_crank_clearance.toml"
 T_END = 0.12
@@ -63,6 +65,45 @@ def test_streamed_result_saves_and_loads(
     copy = tmp_path / "copy"
     loaded.save(copy)
     np.testing.assert_array_equal(Result.load(copy)["motor.torque"], in_memory["motor.torque"])
+
+
+def test_streamed_file_is_plain_parquet(
+    model: jointgap.Model, in_memory: Result, tmp_path: Path
+) -> None:
+    import pandas as pd
+
+    path = tmp_path / "run.parquet"
+    model.simulate(T_END, rate=10_000, stream=path)
+    frame = pd.read_parquet(path)
+    assert list(frame.columns) == ["time", *in_memory.channels]
+    np.testing.assert_array_equal(frame["time"].to_numpy(), in_memory.time)
+    np.testing.assert_array_equal(frame[in_memory.channels].to_numpy().T, in_memory.data)
+
+
+def test_streaming_imports_no_pandas(tmp_path: Path) -> None:
+    # pa.array and Array.to_numpy import pandas (about 45 MB of a streamed run's peak
+    # memory, issue 6); the sink and the reader go around them.
+    script = (
+        "import sys, jointgap\n"
+        f"r = jointgap.load({str(CLEARANCE)!r}).simulate(0.02, rate=10_000, "
+        f"stream={str(tmp_path / 'run.parquet')!r})\n"
+        "r['slider.ax']\n"
+        "assert 'pyarrow' in sys.modules and 'pandas' not in sys.modules\n"
+    )
+    subprocess.run([sys.executable, "-c", script], check=True)
+
+
+def test_read_column_of_other_files(tmp_path: Path) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    path = tmp_path / "other.parquet"
+    table = pa.table({"a": pa.array([1.5, None, 3.0], pa.float32()), "b": [1.0, 2.0, 3.0]})
+    pq.write_table(table, path, row_group_size=2)
+    np.testing.assert_array_equal(read_column(path, "a"), [1.5, np.nan, 3.0])
+    np.testing.assert_array_equal(read_column(path, "b"), [1.0, 2.0, 3.0])
+    with pytest.raises(KeyError, match="no column 'c'"):
+        read_column(path, "c")
 
 
 def test_selected_channels_stream(model: jointgap.Model, in_memory: Result, tmp_path: Path) -> None:
