@@ -1,7 +1,7 @@
 //! Applied forces: gravity, spring-dampers and prescribed loads, as generalised forces
 //! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
 
-use crate::math::{cross, perp, rotate, Vec2};
+use crate::math::{cross, perp, Vec2};
 use crate::model::{Force, Signal};
 use crate::planar::BodyState;
 use crate::system::Resolver;
@@ -130,11 +130,11 @@ pub enum ForceElement {
 
 /// Adds force `f` acting at body-frame point `s` of body `b` to `qe`.
 #[inline]
-pub fn add_point_force(qe: &mut [f64], b: Option<usize>, phi: f64, s: Vec2, f: Vec2) {
+pub fn add_point_force(qe: &mut [f64], b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
     if let Some(k) = b {
         qe[3 * k] += f.x;
         qe[3 * k + 1] += f.y;
-        qe[3 * k + 2] += cross(rotate(phi, s), f);
+        qe[3 * k + 2] += cross(state.rotate(s), f);
     }
 }
 
@@ -234,7 +234,7 @@ impl ForceElement {
                 body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
             } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));
-                let (a_i, a_j) = (rotate(bi.phi, *s_i), rotate(bj.phi, *s_j));
+                let (a_i, a_j) = (bi.rotate(*s_i), bj.rotate(*s_j));
                 let d = bj.r + a_j - bi.r - a_i;
                 let length = d.norm();
                 if length < 1e-12 {
@@ -243,20 +243,20 @@ impl ForceElement {
                 let u = d / length;
                 let rate = u.dot(&(bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega));
                 let tension = stiffness * (length - free_length) + damping * rate;
-                add_point_force(qe, *body_i, bi.phi, *s_i, u * tension);
-                add_point_force(qe, *body_j, bj.phi, *s_j, -u * tension);
+                add_point_force(qe, *body_i, &bi, *s_i, u * tension);
+                add_point_force(qe, *body_j, &bj, *s_j, -u * tension);
             }
             ForceElement::RotationalSpringDamper {
                 body_i, body_j, stiffness, damping, free_angle, ..
             } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));
-                let tau = -stiffness * (bj.phi - bi.phi - free_angle) - damping * (bj.omega - bi.omega);
+                let tau = -stiffness * (bj.phi() - bi.phi() - free_angle) - damping * (bj.omega - bi.omega);
                 add_torque(qe, *body_j, tau);
                 add_torque(qe, *body_i, -tau);
             }
             ForceElement::AppliedForce { body, s, force, .. } => {
                 let f = force.at(t);
-                add_point_force(qe, *body, state(*body).phi, *s, Vec2::new(f[0], f[1]));
+                add_point_force(qe, *body, &state(*body), *s, Vec2::new(f[0], f[1]));
             }
             ForceElement::AppliedTorque { body, torque, .. } => add_torque(qe, *body, torque.at(t)[0]),
         }
@@ -267,12 +267,12 @@ impl ForceElement {
         match self {
             ForceElement::SpringDamper { body_i, s_i, body_j, s_j, stiffness, free_length, .. } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));
-                let d = bj.r + rotate(bj.phi, *s_j) - bi.r - rotate(bi.phi, *s_i);
+                let d = bj.r + bj.rotate(*s_j) - bi.r - bi.rotate(*s_i);
                 0.5 * stiffness * (d.norm() - free_length).powi(2)
             }
             ForceElement::RotationalSpringDamper { body_i, body_j, stiffness, free_angle, .. } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));
-                0.5 * stiffness * (bj.phi - bi.phi - free_angle).powi(2)
+                0.5 * stiffness * (bj.phi() - bi.phi() - free_angle).powi(2)
             }
             _ => 0.0,
         }

@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, HashMap};
 use crate::contact::ClearanceRevolute;
 use crate::drivers::MotionProfile;
 use crate::forces::ForceElement;
-use crate::math::{rotate, Vec2};
+use crate::math::Vec2;
 use crate::model::{JointKind, Model, PointRef, GROUND};
 use crate::planar::{BodyState, RowKind};
 use crate::Error;
@@ -167,12 +167,12 @@ impl<'a> Resolver<'a> {
             None => BodyState::default(),
             Some(k) => {
                 let b = &self.model.bodies[k];
-                BodyState {
-                    r: Vec2::new(b.position[0], b.position[1]),
-                    phi: b.angle,
-                    v: Vec2::new(b.velocity[0], b.velocity[1]),
-                    omega: b.omega,
-                }
+                BodyState::new(
+                    Vec2::new(b.position[0], b.position[1]),
+                    b.angle,
+                    Vec2::new(b.velocity[0], b.velocity[1]),
+                    b.omega,
+                )
             }
         }
     }
@@ -236,7 +236,7 @@ impl System {
             let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
             let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
             let (pi, pj) = (res.placement(bi), res.placement(bj));
-            let rel_angle = pj.phi - pi.phi;
+            let rel_angle = pj.phi() - pi.phi();
             let first = rows.len();
             let mut push = |kind: RowKind, tag: &str| {
                 rows.push(Row {
@@ -325,13 +325,13 @@ impl System {
             let (pi, pj) = (res.placement(joint.body_i), res.placement(joint.body_j));
             let (kind, rotation) = match joint.kind {
                 JointKind::Revolute => {
-                    (RowKind::Angle { offset: d.initial.unwrap_or(pj.phi - pi.phi) }, true)
+                    (RowKind::Angle { offset: d.initial.unwrap_or(pj.phi() - pi.phi()) }, true)
                 }
                 JointKind::Prismatic => {
                     let axis = model.joints[jk].axis.expect("checked above");
                     let u = Vec2::new(axis[0], axis[1]).normalize();
-                    let here = pj.r + rotate(pj.phi, joint.s_j) - pi.r - rotate(pi.phi, joint.s_i);
-                    let placed = rotate(pi.phi, u).dot(&here);
+                    let here = pj.r + pj.rotate(joint.s_j) - pi.r - pi.rotate(joint.s_i);
+                    let placed = pi.rotate(u).dot(&here);
                     (
                         RowKind::Along {
                             s_i: joint.s_i,
@@ -412,12 +412,12 @@ impl System {
     pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
         match b {
             None => BodyState::default(),
-            Some(k) => BodyState {
-                r: Vec2::new(q[3 * k], q[3 * k + 1]),
-                phi: q[3 * k + 2],
-                v: Vec2::new(v[3 * k], v[3 * k + 1]),
-                omega: v[3 * k + 2],
-            },
+            Some(k) => BodyState::new(
+                Vec2::new(q[3 * k], q[3 * k + 1]),
+                q[3 * k + 2],
+                Vec2::new(v[3 * k], v[3 * k + 1]),
+                v[3 * k + 2],
+            ),
         }
     }
 }

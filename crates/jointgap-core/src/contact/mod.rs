@@ -6,7 +6,7 @@ pub mod friction;
 pub mod materials;
 pub mod normal;
 
-use crate::math::{cross, perp, rotate, Vec2};
+use crate::math::{cross, perp, Vec2};
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
 use crate::planar::BodyState;
@@ -167,8 +167,8 @@ impl ClearanceRevolute {
 
     /// Journal-in-bearing geometry and relative motion (`contact_journal_bearing`).
     pub fn kinematics(&self, bearing: &BodyState, journal: &BodyState) -> ContactKinematics {
-        let centre_b = bearing.r + rotate(bearing.phi, self.s_bearing);
-        let centre_j = journal.r + rotate(journal.phi, self.s_journal);
+        let centre_b = bearing.r + bearing.rotate(self.s_bearing);
+        let centre_j = journal.r + journal.rotate(self.s_journal);
         let e = centre_j - centre_b;
         let ecc = e.norm();
         // Concentric: any normal will do; the force is zero there.

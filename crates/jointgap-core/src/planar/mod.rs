@@ -5,19 +5,53 @@
 //! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
 
 use crate::drivers::Motion;
-use crate::math::{perp, rotate, Vec2};
+use crate::math::{perp, Vec2};
 
-/// Position and velocity of one body (the ground: all zero).
-#[derive(Debug, Clone, Copy, Default)]
+/// Position and velocity of one body (the ground: all zero), with the sine and cosine
+/// of its angle computed once: every joint row and force on the body rotates by them.
+#[derive(Debug, Clone, Copy)]
 pub struct BodyState {
     /// Centre of mass [m].
     pub r: Vec2,
-    /// Angle [rad].
-    pub phi: f64,
+    /// Angle [rad]; read by [`BodyState::phi`], set only with its sine and cosine.
+    phi: f64,
     /// Velocity of the centre of mass [m/s].
     pub v: Vec2,
     /// Angular velocity [rad/s].
     pub omega: f64,
+    sin: f64,
+    cos: f64,
+}
+
+impl BodyState {
+    /// The ground: at rest at the origin, angle zero.
+    pub const GROUND: BodyState =
+        BodyState { r: Vec2::new(0.0, 0.0), phi: 0.0, v: Vec2::new(0.0, 0.0), omega: 0.0, sin: 0.0, cos: 1.0 };
+
+    /// The state at centre `r`, angle `phi`, velocity `v`, angular velocity `omega`.
+    pub fn new(r: Vec2, phi: f64, v: Vec2, omega: f64) -> Self {
+        let (sin, cos) = phi.sin_cos();
+        BodyState { r, phi, v, omega, sin, cos }
+    }
+
+    /// Angle [rad].
+    #[inline]
+    pub fn phi(&self) -> f64 {
+        self.phi
+    }
+
+    /// `A(phi) s`: a body-frame vector in global axes.
+    #[inline]
+    pub fn rotate(&self, s: Vec2) -> Vec2 {
+        Vec2::new(self.cos * s.x - self.sin * s.y, self.sin * s.x + self.cos * s.y)
+    }
+}
+
+impl Default for BodyState {
+    /// The ground: at rest at the origin, angle zero.
+    fn default() -> Self {
+        BodyState::GROUND
+    }
 }
 
 /// One scalar constraint equation between body i and body j.
@@ -72,8 +106,8 @@ impl RowKind {
     pub fn eval(&self, bi: &BodyState, bj: &BodyState, motion: Motion) -> RowEval {
         match *self {
             RowKind::Coincide { axis, s_i, s_j } => {
-                let a_i = rotate(bi.phi, s_i);
-                let a_j = rotate(bj.phi, s_j);
+                let a_i = bi.rotate(s_i);
+                let a_j = bj.rotate(s_j);
                 let c = bi.r + a_i - bj.r - a_j;
                 let (pi, pj) = (perp(a_i), perp(a_j));
                 let g = a_i * bi.omega.powi(2) - a_j * bj.omega.powi(2);
@@ -93,9 +127,9 @@ impl RowKind {
                 gamma: motion.acceleration,
             },
             RowKind::Along { s_i, w, s_j, offset } => {
-                let wg = rotate(bi.phi, w);
-                let a_i = rotate(bi.phi, s_i);
-                let a_j = rotate(bj.phi, s_j);
+                let wg = bi.rotate(w);
+                let a_i = bi.rotate(s_i);
+                let a_j = bj.rotate(s_j);
                 let d = bj.r + a_j - bi.r - a_i;
                 let d_dot = bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega;
                 let (wi, wj) = (bi.omega, bj.omega);
@@ -119,12 +153,12 @@ mod tests {
     use super::*;
 
     fn state(x: f64, y: f64, phi: f64, vx: f64, vy: f64, w: f64) -> BodyState {
-        BodyState { r: Vec2::new(x, y), phi, v: Vec2::new(vx, vy), omega: w }
+        BodyState::new(Vec2::new(x, y), phi, Vec2::new(vx, vy), w)
     }
 
     /// Advances both bodies along their velocities (and the driver along its speed).
     fn moved(b: &BodyState, e: f64) -> BodyState {
-        BodyState { r: b.r + b.v * e, phi: b.phi + b.omega * e, ..*b }
+        BodyState::new(b.r + b.v * e, b.phi + b.omega * e, b.v, b.omega)
     }
 
     /// Checks jac against finite differences of C, ct against dC/dt, and gamma against
@@ -134,13 +168,13 @@ mod tests {
         let e = 1e-6;
         for k in 0..3 {
             let perturb = |b: &BodyState, s: f64| {
-                let mut b = *b;
+                let (mut r, mut phi) = (b.r, b.phi);
                 match k {
-                    0 => b.r.x += s,
-                    1 => b.r.y += s,
-                    _ => b.phi += s,
+                    0 => r.x += s,
+                    1 => r.y += s,
+                    _ => phi += s,
                 }
-                b
+                BodyState::new(r, phi, b.v, b.omega)
             };
             let di = (kind.eval(&perturb(&bi, e), &bj, motion).c
                 - kind.eval(&perturb(&bi, -e), &bj, motion).c)

@@ -10,6 +10,7 @@ use super::contacts::ContactState;
 use super::profile::{self, Profile};
 use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
+use crate::planar::BodyState;
 use crate::system::System;
 
 const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
@@ -48,6 +49,9 @@ pub struct Workspace {
     pub contacts: Vec<ContactState>,
     /// Time per stage, when measured.
     pub profile: Option<Profile>,
+    /// Each body's state at the last evaluation, its rotation computed once for all rows
+    /// and forces; (n_bodies).
+    bodies: Vec<BodyState>,
     /// Scratch of length n_coords.
     scratch: Vec<f64>,
 }
@@ -85,6 +89,7 @@ impl Workspace {
             t_piece: 0.0,
             contacts: vec![ContactState::default(); sys.clearances.len()],
             profile: None,
+            bodies: vec![BodyState::default(); sys.bodies.len()],
             scratch: vec![0.0; n],
         }
     }
@@ -101,6 +106,13 @@ impl Workspace {
             }
         }
         cq
+    }
+
+    /// Loads every body's state at `(q, v)`.
+    fn load_bodies(&mut self, sys: &System, q: &[f64], v: &[f64]) {
+        for (k, state) in self.bodies.iter_mut().enumerate() {
+            *state = sys.body_state(Some(k), q, v);
+        }
     }
 
     /// `Cq x + ct`: the velocity constraint residual for `x = v`.
@@ -134,13 +146,19 @@ impl Workspace {
 
 /// Evaluates the active constraint rows at `(t, q, v)`: fills `c`, `jac`, `ct`, `gamma`.
 pub fn constraints(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) {
+    ws.load_bodies(sys, q, v);
+    constraint_rows(sys, t, ws);
+}
+
+/// [`constraints`] at the loaded body states.
+fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
     for (a, &r) in ws.active.iter().enumerate() {
         let row = &sys.rows[r];
         let motion = match row.driver {
             Some(d) => sys.drivers[d].profile.motion_on(t, ws.t_piece),
             None => NO_MOTION,
         };
-        let ev = row.kind.eval(&sys.body_state(row.body_i, q, v), &sys.body_state(row.body_j, q, v), motion);
+        let ev = row.kind.eval(&body_of(&ws.bodies, row.body_i), &body_of(&ws.bodies, row.body_j), motion);
         ws.c[a] = ev.c;
         ws.ct[a] = ev.ct;
         ws.gamma[a] = ev.gamma;
@@ -148,27 +166,40 @@ pub fn constraints(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspac
     }
 }
 
+/// The loaded state of body `b` (the ground for `None`).
+fn body_of(bodies: &[BodyState], b: Option<usize>) -> BodyState {
+    b.map_or(BodyState::GROUND, |k| bodies[k])
+}
+
 /// Fills `qe` with gravity and every force element at `(t, q, v)`.
 pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) {
+    ws.load_bodies(sys, q, v);
+    forces_at_bodies(sys, t, ws);
+}
+
+/// [`applied_forces`] at the loaded body states.
+fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
     ws.qe.fill(0.0);
     for (k, b) in sys.bodies.iter().enumerate() {
         ws.qe[3 * k] += b.mass * sys.gravity.x;
         ws.qe[3 * k + 1] += b.mass * sys.gravity.y;
     }
+    let bodies = &ws.bodies;
+    let state = |b: Option<usize>| body_of(bodies, b);
     for f in &sys.forces {
-        f.add_to(t, |b| sys.body_state(b, q, v), &mut ws.qe);
+        f.add_to(t, state, &mut ws.qe);
     }
-    for (c, state) in sys.clearances.iter().zip(&ws.contacts) {
-        let (bearing, journal) = (sys.body_state(c.bearing, q, v), sys.body_state(c.journal, q, v));
-        c.add_to(&bearing, &journal, state, &mut ws.qe);
+    for (c, contact) in sys.clearances.iter().zip(&ws.contacts) {
+        c.add_to(&state(c.bearing), &state(c.journal), contact, &mut ws.qe);
     }
 }
 
 /// Accelerations and multipliers at `(t, q, v)`: fills everything in the workspace.
 pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> Result<(), Singular> {
     let lap = profile::start(&ws.profile);
-    constraints(sys, t, q, v, ws);
-    applied_forces(sys, t, q, v, ws);
+    ws.load_bodies(sys, q, v);
+    constraint_rows(sys, t, ws);
+    forces_at_bodies(sys, t, ws);
     profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     let n = sys.n_coords();
     for j in 0..n {

@@ -163,7 +163,7 @@ impl Recorder {
                 let state = &ws.contacts[k];
                 let (f_n, f_t) = c.contact_force(&kin, state.onset_for(&kin));
                 let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
-                let bearing_angle = sys.body_state(c.bearing, q, v).phi;
+                let bearing_angle = sys.body_state(c.bearing, q, v).phi();
                 let e_local = rotate(-bearing_angle, kin.e);
                 // The located state decides, not the sign of the penetration: right after
                 // an onset, projection may leave the penetration a hair below zero.
@@ -201,7 +201,7 @@ impl Recorder {
             put(f.y);
             if j.kind != JointKind::Revolute {
                 // Couple about the joint point of body j.
-                put(m - cross(rotate(bj.phi, j.s_j), f));
+                put(m - cross(bj.rotate(j.s_j), f));
             }
         }
         for d in &sys.drivers {

@@ -81,6 +81,9 @@ pub struct Schur {
     entries: Vec<(usize, usize)>,
     /// Position in `entries` of each diagonal entry.
     diagonal: Vec<usize>,
+    /// Every body shared by the two rows of an entry, so that an update visits only
+    /// products that are not zero.
+    shared: Vec<SharedBody>,
     /// Values of `S`, as `entries`.
     values: Vec<f64>,
     /// Values of `S + eps I`, which is factored.
@@ -92,6 +95,29 @@ pub struct Schur {
     dense: Vec<f64>,
     target: Vec<f64>,
     residual: Vec<f64>,
+}
+
+/// Body `body` appears in rows `a` and `b` of entry `entry` of `S`, as each row's
+/// first (0) or second (1) body.
+#[derive(Debug, Clone, Copy)]
+struct SharedBody {
+    entry: usize,
+    a: usize,
+    side_a: usize,
+    b: usize,
+    side_b: usize,
+    body: usize,
+}
+
+impl RowJacobian {
+    /// The entries of the row's first (0) or second (1) body.
+    fn side(&self, side: usize) -> &[f64; 3] {
+        if side == 0 {
+            &self.jac_i
+        } else {
+            &self.jac_j
+        }
+    }
 }
 
 /// A factored `S + eps I`.
@@ -131,22 +157,26 @@ impl Factor<'_> {
 /// `Singular` unless positive definite.
 fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<(), Singular> {
     for i in 0..m {
-        for j in 0..=i {
-            let mut s = a[i * m + j];
-            for k in 0..j {
-                s -= a[i * m + k] * a[j * m + k];
-            }
-            if i == j {
-                if s.is_nan() || s <= 0.0 {
-                    return Err(Singular);
-                }
-                a[i * m + i] = s.sqrt();
-            } else {
-                a[i * m + j] = s / a[j * m + j];
-            }
+        let (above, rest) = a.split_at_mut(i * m);
+        let row_i = &mut rest[..m];
+        for j in 0..i {
+            let row_j = &above[j * m..j * m + j + 1];
+            let s = minus_dot(row_i[j], &row_i[..j], &row_j[..j]);
+            row_i[j] = s / row_j[j];
         }
+        let s = minus_dot(row_i[i], &row_i[..i], &row_i[..i]);
+        if s.is_nan() || s <= 0.0 {
+            return Err(Singular);
+        }
+        row_i[i] = s.sqrt();
     }
     Ok(())
+}
+
+/// `s - a . b`, subtracting in index order (the order fixes the round-off).
+#[inline]
+fn minus_dot(s: f64, a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).fold(s, |s, (x, y)| s - x * y)
 }
 
 impl Schur {
@@ -183,6 +213,17 @@ impl Schur {
             }
             col_ptr.push(row_idx.len());
         }
+        let sides = |a: usize| bodies[a].iter().enumerate().filter_map(|(side, k)| k.map(|k| (side, k)));
+        let mut shared = Vec::new();
+        for (entry, &(a, b)) in entries.iter().enumerate() {
+            for (side_a, k) in sides(a) {
+                for (side_b, l) in sides(b) {
+                    if k == l {
+                        shared.push(SharedBody { entry, a, side_a, b, side_b, body: k });
+                    }
+                }
+            }
+        }
         let pattern = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
         let symbolic = match factorisation {
             Factorisation::Sparse => SymbolicLlt::try_new(pattern.as_ref(), faer::Side::Lower).ok(),
@@ -195,6 +236,7 @@ impl Schur {
         Schur {
             entries,
             diagonal,
+            shared,
             values: vec![0.0; k],
             regularised: vec![0.0; k],
             factorisation,
@@ -218,18 +260,14 @@ impl Schur {
 
     /// Recomputes the values of `S` from the rows' Jacobians and `M^-1`.
     pub fn update(&mut self, jac: &[RowJacobian], m_inv: &[f64]) {
-        for (value, &(a, b)) in self.values.iter_mut().zip(&self.entries) {
-            let mut s = 0.0;
-            for (k, ja) in jac[a].blocks() {
-                for (l, jb) in jac[b].blocks() {
-                    if k == l {
-                        for d in 0..3 {
-                            s += ja[d] * m_inv[3 * k + d] * jb[d];
-                        }
-                    }
-                }
+        self.values.fill(0.0);
+        for s in &self.shared {
+            let (ja, jb) = (jac[s.a].side(s.side_a), jac[s.b].side(s.side_b));
+            let w = &m_inv[3 * s.body..3 * s.body + 3];
+            let value = &mut self.values[s.entry];
+            for d in 0..3 {
+                *value += ja[d] * w[d] * jb[d];
             }
-            *value = s;
         }
     }
 
