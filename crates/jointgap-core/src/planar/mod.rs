@@ -25,8 +25,14 @@ pub struct BodyState {
 
 impl BodyState {
     /// The ground: at rest at the origin, angle zero.
-    pub const GROUND: BodyState =
-        BodyState { r: Vec2::new(0.0, 0.0), phi: 0.0, v: Vec2::new(0.0, 0.0), omega: 0.0, sin: 0.0, cos: 1.0 };
+    pub const GROUND: BodyState = BodyState {
+        r: Vec2::new(0.0, 0.0),
+        phi: 0.0,
+        v: Vec2::new(0.0, 0.0),
+        omega: 0.0,
+        sin: 0.0,
+        cos: 1.0,
+    };
 
     /// The state at centre `r`, angle `phi`, velocity `v`, angular velocity `omega`.
     pub fn new(r: Vec2, phi: f64, v: Vec2, omega: f64) -> Self {
