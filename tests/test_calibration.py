@@ -87,16 +87,21 @@ def test_calibrated_c_max_satisfies_eq_10_11_with_the_last_runs_impacts(
         assert not cal.notes
     else:
         # V_avg jumps with C_max at the answer (an impact more or less): bisection closed
-        # the bracket on the jump. The last two runs share the integer part of C_max, differ
-        # by an impact, and their restitutions lie on either side of the target.
+        # the bracket on the jump. Its ends (the largest C_max whose update went up, the
+        # smallest whose update went down) share the integer part of C_max, differ by an
+        # impact, and their restitutions lie on either side of the target.
+        below = max((it for it in cal.iterations if it.update >= it.c_max), key=lambda it: it.c_max)
+        above = min((it for it in cal.iterations if it.update < it.c_max), key=lambda it: it.c_max)
         assert math.floor(before.c_max) == math.floor(last.c_max)
-        assert before.impacts != last.impacts
+        assert math.floor(below.c_max) == math.floor(above.c_max)
+        assert below.impacts != above.impacts
         implied = [
             restitution_from_damping(it.c_max, it.v_avg, cal.stiffness, D_MAX, N)
-            for it in (before, last)
+            for it in (above, below)
         ]
         assert min(implied) < 0.55 < max(implied)
-        assert cal.notes and f"r = {implied[1]:.4f}" in cal.notes[0]
+        last_r = restitution_from_damping(last.c_max, last.v_avg, cal.stiffness, D_MAX, N)
+        assert cal.notes and f"r = {last_r:.4f}" in cal.notes[0]
     # The calibrated model carries the answer and nothing else changed.
     joints = {j["name"]: j for j in cal.model.to_dict()["joints"]}
     assert joints["rod_slider"]["clearance"]["normal_law"]["c_max"] == cal.c_max
