@@ -5,6 +5,7 @@ pub mod contacts;
 pub mod dopri5;
 pub mod dynamics;
 pub mod integrate;
+pub mod jacobian;
 pub mod monitor;
 pub mod ode;
 mod options;

@@ -2,7 +2,27 @@
 //! `f = (v, qdd)`, plus the tolerance-weighted error norm the integrators share.
 
 use super::dynamics::{accelerations, Singular, Workspace};
+use super::profile::Profile;
 use crate::system::System;
+
+/// A first-order system `y' = f(t, y)` as the implicit methods see it: the equations of
+/// motion ([`Ode`]), or a model problem in their tests.
+pub trait Rhs {
+    /// Writes `f(t, y)` into `dy`.
+    fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular>;
+    /// Where stage times are booked when the run measures them.
+    fn profile(&mut self) -> &mut Option<Profile>;
+}
+
+impl Rhs for Ode<'_> {
+    fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
+        self.rhs(t, y, dy)
+    }
+
+    fn profile(&mut self) -> &mut Option<Profile> {
+        &mut self.ws.profile
+    }
+}
 
 /// One run's ODE: system, scratch and counters.
 pub struct Ode<'a> {

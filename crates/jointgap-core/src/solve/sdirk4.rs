@@ -5,6 +5,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::dynamics::Singular;
+use super::jacobian;
 use super::ode::Ode;
 use super::profile;
 use super::stepper::{Attempt, StepFailure, Stepper};
@@ -56,17 +57,7 @@ impl Sdirk4 {
 
     /// Forward-difference Jacobian of f at (t, y).
     fn jacobian(&mut self, ode: &mut Ode, t: f64, y: &[f64], f0: &[f64]) -> Result<(), Singular> {
-        let n = y.len();
-        let mut yp = y.to_vec();
-        for j in 0..n {
-            let dy = f64::EPSILON.sqrt() * y[j].abs().max(1e-5);
-            yp[j] = y[j] + dy;
-            ode.rhs(t, &yp, &mut self.work)?;
-            yp[j] = y[j];
-            for i in 0..n {
-                self.jac[(i, j)] = (self.work[i] - f0[i]) / dy;
-            }
-        }
+        jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?;
         self.jac_evals += 1;
         self.jac_fresh = true;
         self.jac_valid = true;
