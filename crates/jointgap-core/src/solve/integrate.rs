@@ -8,6 +8,7 @@ use super::dynamics::{project, violation};
 use super::monitor::{Monitor, Progress};
 use super::ode::{hermite5, Ode};
 use super::profile;
+use super::radau5::Radau5;
 use super::record::Recorder;
 use super::sdirk4::Sdirk4;
 use super::stepper::{StepFailure, Stepper};
@@ -33,9 +34,10 @@ pub fn integrate(
     let n_state = ode.state_len();
     let n = n_state / 2;
     let sys = ode.sys;
-    let mut method = if opts.method == Method::Sdirk4 { Method::Sdirk4 } else { Method::Dopri5 };
+    let mut method = if opts.method == Method::Auto { Method::Dopri5 } else { opts.method };
     let mut stepper: Box<dyn Stepper> = match method {
         Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
+        Method::Radau5 => Box::new(Radau5::new(n_state)),
         _ => Box::new(Dopri5::new(n_state)),
     };
     let mut switch = AutoSwitch::default();
@@ -106,13 +108,15 @@ pub fn integrate(
                     Err(StepFailure::Convergence) => {
                         stats.rejected_steps += 1;
                         stepper.rejected();
-                        h *= 0.5;
+                        h *= stepper.step_factor().map_or(0.5, |f| f.clamp(0.1, 0.9));
                         last_rejected = true;
                     }
                     Ok(att) if att.error > 1.0 || att.error.is_nan() => {
                         stats.rejected_steps += 1;
                         stepper.rejected();
-                        let factor = if att.error.is_finite() {
+                        let factor = if let Some(f) = stepper.step_factor() {
+                            f
+                        } else if att.error.is_finite() {
                             0.9 * att.error.powf(-stepper.error_exponent())
                         } else {
                             0.1
@@ -248,7 +252,9 @@ pub fn integrate(
                                 };
                             }
                         }
-                        let factor = if att.error > 0.0 {
+                        let factor = if let Some(f) = stepper.step_factor() {
+                            f
+                        } else if att.error > 0.0 {
                             0.9 * att.error.powf(-stepper.error_exponent())
                         } else {
                             5.0

@@ -10,6 +10,7 @@ pub mod monitor;
 pub mod ode;
 mod options;
 pub mod profile;
+pub mod radau5;
 pub mod record;
 pub mod schur;
 pub mod sdirk4;

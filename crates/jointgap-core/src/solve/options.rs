@@ -15,6 +15,10 @@ pub enum Method {
     /// L-stable singly diagonally implicit Runge-Kutta of order 4 with embedded order 3
     /// (Hairer and Wanner, Solving ODEs II, Table IV.6.5), for stiff contact and friction.
     Sdirk4,
+    /// L-stable 3-stage Radau IIA collocation method of order 5 with embedded order 3
+    /// (Hairer and Wanner, Solving ODEs II, section IV.8, the method of RADAU5), for stiff
+    /// contact and friction at tight tolerances.
+    Radau5,
 }
 
 impl Method {
@@ -24,6 +28,7 @@ impl Method {
             Method::Auto => "auto",
             Method::Dopri5 => "dopri5",
             Method::Sdirk4 => "sdirk4",
+            Method::Radau5 => "radau5",
         }
     }
 }

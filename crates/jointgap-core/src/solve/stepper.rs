@@ -46,6 +46,12 @@ pub trait Stepper {
     }
     /// Called after a rejected step.
     fn rejected(&mut self) {}
+    /// Methods that choose their own step size: `h_next / h` after the last attempt
+    /// (accepted, rejected, or failed to converge), which the loop then bounds as its own
+    /// rule's. `None`: the loop's rule from `error` and `error_exponent`.
+    fn step_factor(&self) -> Option<f64> {
+        None
+    }
     /// Implicit methods: the spectral radius of the Jacobian at `(t, y)`, evaluated
     /// afresh, so that `auto` can tell whether an explicit step would be stable.
     fn spectral_radius(&mut self, _ode: &mut Ode, _t: f64, _y: &[f64], _f: &[f64]) -> Option<f64> {
