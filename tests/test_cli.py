@@ -42,7 +42,7 @@ def test_run_help_lists_every_option(capsys) -> None:
         "--plot",
     ):
         assert option in out
-    assert "{auto,dopri5,sdirk4}" in out
+    assert "{auto,dopri5,sdirk4,radau5}" in out
 
 
 def test_check_help(capsys) -> None:

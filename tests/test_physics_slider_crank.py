@@ -25,7 +25,7 @@ VERTICAL = SliderCrank(gravity=(0.0, -9.81))
 HORIZONTAL = SliderCrank(gravity=(0.0, 0.0))
 
 # Integrator tolerances per method (the test's accuracy bounds do not depend on them).
-RTOL = {"dopri5": 1e-10, "sdirk4": 1e-10}
+RTOL = {"dopri5": 1e-10, "sdirk4": 1e-10, "radau5": 1e-10}
 ATOL = 1e-12
 
 
@@ -129,7 +129,7 @@ def test_generalized_mass_and_potential_derivatives():
 # --- the engine against the closed form ------------------------------------------------
 
 
-@pytest.mark.parametrize("method", ["dopri5", "sdirk4"])
+@pytest.mark.parametrize("method", ["dopri5", "sdirk4", "radau5"])
 def test_slider_kinematics_match_closed_form(method):
     sc = VERTICAL
     r = simulate_ok(build(sc), T_END, rate=RATE, rtol=RTOL[method], atol=ATOL, method=method)

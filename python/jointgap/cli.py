@@ -332,7 +332,8 @@ def _add_run_options(
         choices=METHODS,
         default=DEFAULT_OPTIONS["method"],
         help="integrator: auto (explicit dopri5, switching to implicit sdirk4 when the "
-        "problem turns stiff), dopri5 or sdirk4 (default %(default)s)",
+        "problem turns stiff), dopri5, sdirk4 or radau5 (implicit Radau IIA of order 5) "
+        "(default %(default)s)",
     )
     parser.add_argument("--max-step", metavar="H", help="largest step [s]; default unbounded")
     parser.add_argument(

@@ -584,7 +584,8 @@ class Model:
                 accepted step.
             rtol, atol: tolerances of the local error test (atol in m, rad, m/s, rad/s).
             method: ``"auto"`` (explicit Dormand-Prince, switching to the implicit SDIRK4
-                when the problem turns stiff), ``"dopri5"`` or ``"sdirk4"``.
+                when the problem turns stiff), ``"dopri5"``, ``"sdirk4"`` or ``"radau5"``
+                (implicit Radau IIA of order 5, for stiff contact at tight tolerances).
             every_step: also record every accepted step.
             max_step: largest step [s]; unbounded by default.
             channels: channels to record (exact names or ``"element.*"``); all by default.

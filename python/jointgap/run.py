@@ -13,8 +13,9 @@ from .results import Result
 
 __all__ = ["DEFAULT_OPTIONS", "METHODS", "run_options", "simulate", "simulate_many"]
 
-METHODS = ("auto", "dopri5", "sdirk4")
-"""Integration methods: automatic choice, explicit Dormand-Prince 5(4), implicit SDIRK4."""
+METHODS = ("auto", "dopri5", "sdirk4", "radau5")
+"""Integration methods: automatic choice, explicit Dormand-Prince 5(4), implicit SDIRK4,
+implicit Radau IIA of order 5."""
 
 DEFAULT_OPTIONS: dict[str, Any] = {
     "rate": None,
