@@ -13,10 +13,12 @@ fn opts(t_end: f64, rate: f64, rtol: f64, method: Method) -> SimOptions {
 }
 
 #[test]
-fn slider_crank_matches_closed_form_with_both_methods() {
-    for method in [Method::Dopri5, Method::Sdirk4] {
+fn slider_crank_matches_closed_form_with_every_method() {
+    for method in [Method::Dopri5, Method::Sdirk4, Method::Radau5] {
         let res = simulate(&slider_crank(9.81), &opts(0.5, 2000.0, 1e-10, method)).unwrap();
         assert_eq!(res.status, Status::Finished, "{method:?}");
+        assert_eq!(res.stats.method, method.name());
+        assert_eq!(res.stats.jacobian_evaluations > 0, method != Method::Dopri5, "{:?}", res.stats);
         let (x, vx, ax) = (
             res.channel("slider.x").unwrap(),
             res.channel("slider.vx").unwrap(),
@@ -38,7 +40,7 @@ fn slider_crank_matches_closed_form_with_both_methods() {
 /// Steps stop exactly at the end of the ramp, where the crank acceleration jumps.
 #[test]
 fn ramp_corner_is_a_step_boundary() {
-    for method in [Method::Dopri5, Method::Sdirk4] {
+    for method in [Method::Dopri5, Method::Sdirk4, Method::Radau5] {
         let o = SimOptions { rate: None, ..opts(0.3, 1.0, 1e-6, method) };
         let res = simulate(&slider_crank(0.0), &o).unwrap();
         assert!(res.time.contains(&T_RAMP), "{method:?}: no step ends at {T_RAMP}");

@@ -1,43 +1,12 @@
-//! The Radau IIA method end to end: closed-form kinematics, corners, and a stiff
-//! spring-damper where it takes a small fraction of the explicit method's steps.
+//! The Radau IIA method end to end on a stiff spring-damper, where it takes a small
+//! fraction of the explicit method's steps (closed-form kinematics and corners: with
+//! every method in engine.rs).
 
-mod common;
-
-use common::*;
 use jointgap_core::{simulate, Method, Model, SimOptions, Status};
 use serde_json::json;
 
 fn opts(t_end: f64, rate: f64, rtol: f64, method: Method) -> SimOptions {
     SimOptions { rate: Some(rate), rtol, atol: rtol * 1e-2, method, ..SimOptions::new(t_end) }
-}
-
-#[test]
-fn slider_crank_matches_closed_form() {
-    let res = simulate(&slider_crank(9.81), &opts(0.5, 2000.0, 1e-10, Method::Radau5)).unwrap();
-    assert_eq!(res.status, Status::Finished);
-    assert_eq!(res.stats.method, "radau5");
-    assert!(res.stats.jacobian_evaluations > 0, "{:?}", res.stats);
-    let (x, vx, ax) = (
-        res.channel("slider.x").unwrap(),
-        res.channel("slider.vx").unwrap(),
-        res.channel("slider.ax").unwrap(),
-    );
-    let peak = (0..res.time.len()).map(|i| slider_closed_form(res.time[i]).2.abs()).fold(0.0, f64::max);
-    assert!(peak > 95.0, "peak acceleration {peak}");
-    for (i, &t) in res.time.iter().enumerate() {
-        let (xe, ve, ae) = slider_closed_form(t);
-        assert!((x[i] - xe).abs() < 1e-9, "x at t={t}: {} vs {xe}", x[i]);
-        assert!((vx[i] - ve).abs() < 1e-7, "vx at t={t}: {} vs {ve}", vx[i]);
-        assert!((ax[i] - ae).abs() < 1e-6 * peak, "ax at t={t}: {} vs {ae}", ax[i]);
-    }
-}
-
-/// Steps stop exactly at the end of the ramp, where the crank acceleration jumps.
-#[test]
-fn ramp_corner_is_a_step_boundary() {
-    let o = SimOptions { rate: None, ..opts(0.3, 1.0, 1e-6, Method::Radau5) };
-    let res = simulate(&slider_crank(0.0), &o).unwrap();
-    assert!(res.time.contains(&T_RAMP), "no step ends at {T_RAMP}");
 }
 
 /// A 1 kg slider on a spring-damper along its guide, overdamped:
