@@ -165,7 +165,6 @@ pub struct Radau5 {
     /// Rows `n/2..n` of the Jacobian, `[Jq Jv]`; (n/2 x n).
     jac: DMatrix<f64>,
     jac_evals: usize,
-    decompositions: usize,
     /// `J` was evaluated at the start of the step being attempted (RADAU5's CALJAC).
     jac_current: bool,
     /// Evaluate `J` afresh at the start of the next attempt.
@@ -225,7 +224,6 @@ impl Radau5 {
         Radau5 {
             jac: DMatrix::zeros(m, n),
             jac_evals: 0,
-            decompositions: 0,
             jac_current: false,
             need_jac: true,
             factors: None,
@@ -252,11 +250,6 @@ impl Radau5 {
             #[cfg(test)]
             fixed: false,
         }
-    }
-
-    /// LU decompositions so far (each one real and one complex, of size n/2).
-    pub fn decompositions(&self) -> usize {
-        self.decompositions
     }
 
     /// Newton's starting point: the last step's collocation polynomial extrapolated to
@@ -332,7 +325,6 @@ impl Radau5 {
         }
         if result.is_ok() && self.factors.as_ref().is_none_or(|f| f.h != h) {
             self.factors = Factors::new(&self.jac, h);
-            self.decompositions += 1;
             if self.factors.is_none() {
                 result = Err(self.fail(0.5));
             }
