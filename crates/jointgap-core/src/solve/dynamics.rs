@@ -10,6 +10,7 @@ use super::contacts::ContactState;
 use super::profile::{self, Profile};
 use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
+use crate::math::Vec2;
 use crate::planar::BodyState;
 use crate::system::System;
 
@@ -221,6 +222,68 @@ pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Worksp
     }
     ws.lambda = lambda;
     solved
+}
+
+/// The acceleration rows of `df/dy` for the implicit methods, `jac = [dqdd/dq dqdd/dv]`
+/// (n_coords x 2 n_coords), taken through the applied forces alone: column `j` is
+/// `P dQe/dy_j` with `P = M^-1 - M^-1 Cq^T S^-1 Cq M^-1`, the constrained inverse mass
+/// at `(t, q, v)`, and `dQe/dy_j` a forward difference of the forces only (increment as
+/// [`super::jacobian::forward_difference`]). What it leaves out is the derivative of
+/// `P` and of `gamma`: the geometric stiffness of the constraint forces and the
+/// velocity terms, which scale with the mechanism's speeds and loads, not with a
+/// contact's or a spring's stiffness, so the Newton iteration keeps the stiff part it
+/// needs. It costs a force evaluation per coordinate and one solve with the factor
+/// already in hand per column that is not zero, against a full evaluation (forces,
+/// constraints, factor and solve) per column for forward differences.
+pub fn force_jacobian(
+    sys: &System,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    ws: &mut Workspace,
+    jac: &mut DMatrix<f64>,
+) -> Result<(), Singular> {
+    let n = sys.n_coords();
+    ws.load_bodies(sys, q, v);
+    constraint_rows(sys, t, ws);
+    forces_at_bodies(sys, t, ws);
+    let qe0 = ws.qe.clone();
+    if !ws.active.is_empty() {
+        // Factor S at the base point; the columns below reuse it.
+        let mut probe = vec![0.0; ws.active.len()];
+        ws.schur_solve(&mut probe)?;
+    }
+    let mut col = vec![0.0; n];
+    let mut mu = vec![0.0; ws.active.len()];
+    for j in 0..2 * n {
+        let (k, d) = (j % n / 3, j % n % 3);
+        let base = ws.bodies[k];
+        let y = if j < n { q[j] } else { v[j - n] };
+        let dy = f64::EPSILON.sqrt() * y.abs().max(1e-5);
+        let mut bumped = [base.r.x, base.r.y, base.phi(), base.v.x, base.v.y, base.omega];
+        bumped[d + if j < n { 0 } else { 3 }] += dy;
+        let [x, yy, phi, vx, vy, omega] = bumped;
+        ws.bodies[k] = BodyState::new(Vec2::new(x, yy), phi, Vec2::new(vx, vy), omega);
+        forces_at_bodies(sys, t, ws);
+        ws.bodies[k] = base;
+        let mut nonzero = false;
+        for i in 0..n {
+            col[i] = ws.m_inv[i] * (ws.qe[i] - qe0[i]) / dy;
+            nonzero |= col[i] != 0.0;
+        }
+        if nonzero && !ws.active.is_empty() {
+            for (a, row) in ws.jac.iter().enumerate() {
+                mu[a] = row.dot(&col);
+            }
+            ws.schur.solve_again(&mut mu)?;
+            ws.subtract_correction(&mu, &mut col);
+        }
+        for i in 0..n {
+            jac[(i, j)] = col[i];
+        }
+    }
+    ws.qe = qe0;
+    Ok(())
 }
 
 /// Mass-weighted projection of `q` onto `C(q, t) = 0` (a few Newton steps) and of `v`

@@ -93,6 +93,8 @@ pub struct Schur {
     symbolic: Option<SymbolicLlt<usize>>,
     /// Row-major lower factor of the dense path; (m x m).
     dense: Vec<f64>,
+    /// `dense` holds the plain factor of the current values (see [`Schur::solve_again`]).
+    plain_factor: bool,
     target: Vec<f64>,
     residual: Vec<f64>,
 }
@@ -243,6 +245,7 @@ impl Schur {
             pattern,
             symbolic,
             dense: vec![0.0; dense_size * dense_size],
+            plain_factor: false,
             target: vec![0.0; m],
             residual: vec![0.0; m],
         }
@@ -260,6 +263,7 @@ impl Schur {
 
     /// Recomputes the values of `S` from the rows' Jacobians and `M^-1`.
     pub fn update(&mut self, jac: &[RowJacobian], m_inv: &[f64]) {
+        self.plain_factor = false;
         self.values.fill(0.0);
         for s in &self.shared {
             let (ja, jb) = (jac[s.a].side(s.side_a), jac[s.b].side(s.side_b));
@@ -312,10 +316,12 @@ impl Schur {
             let pivots = (0..m).map(|i| self.dense[i * m + i].powi(2));
             let (low, high) = pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)));
             if low >= WELL_CONDITIONED * high {
+                self.plain_factor = true;
                 Factor::Dense(&self.dense).solve_mut(rhs);
                 return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
             }
         }
+        self.plain_factor = false;
         let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
         let factor = match self.factorisation {
             Factorisation::Dense => {
@@ -357,6 +363,23 @@ impl Schur {
         if worst > 1e-6 * target_max.max(1e-300) && worst > 1e-12 {
             return Err(Singular);
         }
+        if rhs.iter().all(|x| x.is_finite()) {
+            Ok(())
+        } else {
+            Err(Singular)
+        }
+    }
+}
+
+impl Schur {
+    /// Solves `S x = rhs` in place for another right-hand side with the same values:
+    /// with the factor already in hand where the last [`Schur::solve`] used the plain
+    /// dense one, else as [`Schur::solve`].
+    pub fn solve_again(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
+        if !self.plain_factor {
+            return self.solve(rhs);
+        }
+        Factor::Dense(&self.dense).solve_mut(rhs);
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {

@@ -1,0 +1,124 @@
+//! The force Jacobian of the implicit methods (`dynamics::force_jacobian`) against
+//! forward differences of the whole equations of motion: equal where there are no
+//! constraints, and within the geometric terms it leaves out on the founding
+//! slider-crank in contact, where the contact's stiffness dominates.
+
+use jointgap_core::solve::dynamics::{force_jacobian, Workspace};
+use jointgap_core::solve::jacobian::forward_difference;
+use jointgap_core::solve::ode::Ode;
+use jointgap_core::solve::prepare;
+use jointgap_core::{simulate, Model, SimOptions, SimResult, Status};
+use nalgebra::DMatrix;
+use serde_json::json;
+
+/// Both Jacobians `[dqdd/dq dqdd/dv]` of `model` at state `y = (q, v)`, time `t`.
+fn both_jacobians(model: &Model, t: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
+    let prepared = prepare(model).unwrap();
+    let sys = &prepared.system;
+    let n = sys.n_coords();
+    let mut ode = Ode {
+        sys,
+        ws: Workspace::new(sys, prepared.initial.active.clone()),
+        evaluations: 0,
+        rtol: 1e-7,
+        atol: 1e-10,
+    };
+    let mut f0 = vec![0.0; 2 * n];
+    ode.rhs(t, y, &mut f0).unwrap();
+    let mut by_forces = DMatrix::zeros(n, 2 * n);
+    force_jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut by_forces).unwrap();
+    let mut full = DMatrix::zeros(n, 2 * n);
+    let mut work = vec![0.0; 2 * n];
+    forward_difference(&mut ode, t, y, &f0, n, &mut full, &mut work).unwrap();
+    (by_forces, full)
+}
+
+/// The state `(q, v)` of `bodies` at sample `i` of a run with every channel.
+fn state_at(res: &SimResult, bodies: &[&str], i: usize) -> Vec<f64> {
+    let channel = |name: String| res.channel(&name).unwrap_or_else(|| panic!("channel {name}"))[i];
+    let mut q = Vec::new();
+    let mut v = Vec::new();
+    for b in bodies {
+        for c in ["x", "y", "angle"] {
+            q.push(channel(format!("{b}.{c}")));
+        }
+        for c in ["vx", "vy", "omega"] {
+            v.push(channel(format!("{b}.{c}")));
+        }
+    }
+    q.extend(v);
+    q
+}
+
+fn largest(m: &DMatrix<f64>) -> f64 {
+    m.amax()
+}
+
+/// A free journal pressed into its bearing and sliding (ADAMS impact law, Coulomb
+/// friction), no constraints: `P = M^-1`, so both are `M^-1 dQe/dy` and agree to
+/// round-off.
+#[test]
+fn equals_forward_differences_without_constraints() {
+    let model = Model::from_json(
+        &json!({
+            "gravity": [0.0, -9.81],
+            "bodies": [{"name": "pin", "mass": 0.72, "inertia": 1e-5}],
+            "joints": [{
+                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin",
+                "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3, "stiffness": 3.136e10,
+                              "normal_law": {"type": "adams_impact", "c_max": 27960.0, "d_max": 1e-5},
+                              "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05,
+                                           "v_s": 1e-4, "v_d": 0.01016}}
+            }]
+        })
+        .to_string(),
+    )
+    .unwrap();
+    // 2 um into the wall below the centre, approaching at 0.05 m/s, sliding at 0.3 m/s
+    // and spinning: normal, damping and friction forces all depend on the state.
+    let y = [0.0, -0.502e-3, 0.3, 0.3, -0.05, 40.0];
+    let (by_forces, full) = both_jacobians(&model, 0.0, &y);
+    let scale = largest(&full);
+    assert!(scale > 1e8, "contact stiffness / mass {scale:.3e} 1/s^2");
+    let diff = largest(&(&by_forces - &full));
+    assert!(diff <= 1e-9 * scale, "differ by {diff:.3e} of {scale:.3e}");
+}
+
+/// The founding slider-crank with its rod-slider joint in sliding contact, mid-run: the
+/// terms left out (the constraint forces' geometric stiffness and the velocity terms,
+/// of the order of the crank speed squared, 1e3 1/s^2, and of the joint loads over the
+/// rod's inertia) are a small part of the contact's stiffness through the constraints.
+#[test]
+fn keeps_the_stiff_part_on_the_founding_case_in_contact() {
+    let mut raw = serde_json::to_value(common::slider_crank(9.81)).unwrap();
+    let joints = raw["joints"].as_array_mut().unwrap();
+    let k = joints.iter().position(|j| j["name"] == "rod_slider").unwrap();
+    joints[k] = json!({
+        "name": "rod_slider", "type": "clearance_revolute", "body_i": "slider", "body_j": "rod",
+        "point_j": "B",
+        "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3,
+                      "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
+                      "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
+                      "normal_law": {"type": "adams_impact", "exponent": 1.5, "c_max": 27960.0,
+                                     "d_max": 1e-5},
+                      "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4,
+                                   "v_d": 0.01016}}
+    });
+    let model: Model = serde_json::from_value(raw).unwrap();
+    let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
+    let res = simulate(&model, &opts).unwrap();
+    assert_eq!(res.status, Status::Finished);
+    let pen = res.channel("rod_slider.penetration").unwrap();
+    let slip = res.channel("rod_slider.slip").unwrap();
+    let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
+    let y = state_at(&res, &["crank", "rod", "slider"], i);
+    let (by_forces, full) = both_jacobians(&model, res.time[i], &y);
+    let scale = largest(&full);
+    assert!(scale > 1e6, "contact stiffness through the constraints {scale:.3e} 1/s^2");
+    let diff = largest(&(&by_forces - &full));
+    // Measured: 2.4e3 of 4.0e7 at t = 0.3 s.
+    assert!(diff <= 1e-3 * scale, "differ by {diff:.3e} of {scale:.3e}");
+}
+
+#[path = "common.rs"]
+mod common;
