@@ -130,7 +130,7 @@ impl NormalForce {
         if delta <= 0.0 {
             return 0.0;
         }
-        let elastic = self.stiffness * delta.powf(self.exponent);
+        let elastic = self.stiffness * power(delta, self.exponent);
         let f = match self.law {
             NormalLaw::Hertz => elastic,
             NormalLaw::KelvinVoigt { damping } => elastic + damping * delta_dot,
@@ -145,6 +145,37 @@ impl NormalForce {
             f.max(0.0)
         } else {
             f
+        }
+    }
+}
+
+/// `delta^n` for `delta > 0`: Hertz's `n = 1.5` as `delta sqrt(delta)`, a few times
+/// cheaper than `powf` (the force law runs at every evaluation and is a tenth of its
+/// cost with `powf`) and, like it, within an ulp of the exact power.
+#[inline]
+fn power(delta: f64, n: f64) -> f64 {
+    if n == 1.5 {
+        delta * delta.sqrt()
+    } else if n == 1.0 {
+        delta
+    } else {
+        delta.powf(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::power;
+
+    /// Against `powf` over penetrations from 1e-12 m to 1 mm: within two ulps.
+    #[test]
+    fn power_matches_powf() {
+        for n in [1.0, 1.5, 2.2] {
+            for k in 0..=180 {
+                let delta = 1e-12 * 10f64.powf(k as f64 / 20.0);
+                let (fast, exact) = (power(delta, n), delta.powf(n));
+                assert!((fast - exact).abs() <= 2.0 * f64::EPSILON * exact, "n = {n}, delta = {delta:e}");
+            }
         }
     }
 }

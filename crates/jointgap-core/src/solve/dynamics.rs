@@ -163,7 +163,7 @@ fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
         ws.c[a] = ev.c;
         ws.ct[a] = ev.ct;
         ws.gamma[a] = ev.gamma;
-        ws.jac[a] = RowJacobian { body_i: row.body_i, jac_i: ev.jac_i, body_j: row.body_j, jac_j: ev.jac_j };
+        ws.jac[a] = RowJacobian { bodies: [row.body_i, row.body_j], entries: [ev.jac_i, ev.jac_j] };
     }
 }
 

@@ -40,34 +40,46 @@ impl Factorisation {
 /// One active row's Jacobian `Cq_a`: at most two bodies, three entries each.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RowJacobian {
-    /// First body and its entries (x, y, angle).
-    pub body_i: Option<usize>,
-    /// dC/d(x_i, y_i, phi_i).
-    pub jac_i: [f64; 3],
-    /// Second body and its entries.
-    pub body_j: Option<usize>,
-    /// dC/d(x_j, y_j, phi_j).
-    pub jac_j: [f64; 3],
+    /// The bodies i and j (`None`: the ground).
+    pub bodies: [Option<usize>; 2],
+    /// dC/d(x, y, phi) of body i, then of body j.
+    pub entries: [[f64; 3]; 2],
 }
 
 impl RowJacobian {
     /// `(body, entries)` of each body the row touches.
     pub fn blocks(&self) -> impl Iterator<Item = (usize, &[f64; 3])> {
-        let i = self.body_i.map(|k| (k, &self.jac_i));
-        let j = self.body_j.map(|k| (k, &self.jac_j));
-        i.into_iter().chain(j)
+        self.bodies.iter().zip(&self.entries).filter_map(|(k, jac)| k.map(|k| (k, jac)))
     }
 
     /// `Cq_a x` for a vector over all coordinates.
+    #[inline]
     pub fn dot(&self, x: &[f64]) -> f64 {
-        self.blocks().map(|(k, jac)| jac[0] * x[3 * k] + jac[1] * x[3 * k + 1] + jac[2] * x[3 * k + 2]).sum()
+        // Body i's products, then body j's, in the order the sum has always been taken.
+        let part = |side: usize| {
+            self.bodies[side].map(|k| {
+                let jac = &self.entries[side];
+                let x = &x[3 * k..3 * k + 3];
+                jac[0] * x[0] + jac[1] * x[1] + jac[2] * x[2]
+            })
+        };
+        match (part(0), part(1)) {
+            (Some(a), Some(b)) => a + b,
+            (Some(a), None) | (None, Some(a)) => a,
+            (None, None) => 0.0,
+        }
     }
 
     /// `y += s Cq_a^T`.
+    #[inline]
     pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
-        for (k, jac) in self.blocks() {
-            for d in 0..3 {
-                y[3 * k + d] += s * jac[d];
+        for side in 0..2 {
+            if let Some(k) = self.bodies[side] {
+                let jac = &self.entries[side];
+                let y = &mut y[3 * k..3 * k + 3];
+                for d in 0..3 {
+                    y[d] += s * jac[d];
+                }
             }
         }
     }
@@ -81,6 +93,8 @@ pub struct Schur {
     entries: Vec<(usize, usize)>,
     /// Position in `entries` of each diagonal entry.
     diagonal: Vec<usize>,
+    /// Each row's first column with an entry: the envelope of the dense factor.
+    first: Vec<usize>,
     /// Every body shared by the two rows of an entry, so that an update visits only
     /// products that are not zero.
     shared: Vec<SharedBody>,
@@ -111,38 +125,30 @@ struct SharedBody {
     body: usize,
 }
 
-impl RowJacobian {
-    /// The entries of the row's first (0) or second (1) body.
-    fn side(&self, side: usize) -> &[f64; 3] {
-        if side == 0 {
-            &self.jac_i
-        } else {
-            &self.jac_j
-        }
-    }
-}
-
 /// A factored `S + eps I`.
 enum Factor<'a> {
-    /// Row-major lower Cholesky factor.
-    Dense(&'a [f64]),
+    /// Row-major lower Cholesky factor, and each row's first column in the envelope.
+    Dense(&'a [f64], &'a [usize]),
     Sparse(Llt<usize, f64>),
 }
 
 impl Factor<'_> {
     fn solve_mut(&self, x: &mut [f64]) {
         match self {
-            Factor::Dense(l) => {
+            Factor::Dense(l, first) => {
+                // Entries left of a row's envelope are zero and skipped.
                 let m = x.len();
                 for i in 0..m {
-                    let row = &l[i * m..i * m + i];
-                    let s: f64 = row.iter().zip(&x[..i]).map(|(a, b)| a * b).sum();
+                    let row = &l[i * m + first[i]..i * m + i];
+                    let s: f64 = row.iter().zip(&x[first[i]..i]).map(|(a, b)| a * b).sum();
                     x[i] = (x[i] - s) / l[i * m + i];
                 }
                 for i in (0..m).rev() {
                     let mut s = x[i];
                     for k in i + 1..m {
-                        s -= l[k * m + i] * x[k];
+                        if first[k] <= i {
+                            s -= l[k * m + i] * x[k];
+                        }
                     }
                     x[i] = s / l[i * m + i];
                 }
@@ -156,17 +162,19 @@ impl Factor<'_> {
 }
 
 /// Cholesky factor of the row-major symmetric `a` (lower triangle read) in place;
-/// `Singular` unless positive definite.
-fn cholesky_in_place(a: &mut [f64], m: usize) -> Result<(), Singular> {
+/// `Singular` unless positive definite. Row `i` has no entry left of column `first[i]`
+/// (its envelope, which the factor keeps), so those products, all zero, are skipped.
+fn cholesky_in_place(a: &mut [f64], m: usize, first: &[usize]) -> Result<(), Singular> {
     for i in 0..m {
         let (above, rest) = a.split_at_mut(i * m);
         let row_i = &mut rest[..m];
-        for j in 0..i {
+        for j in first[i]..i {
             let row_j = &above[j * m..j * m + j + 1];
-            let s = minus_dot(row_i[j], &row_i[..j], &row_j[..j]);
+            let k0 = first[i].max(first[j]);
+            let s = minus_dot(row_i[j], &row_i[k0..j], &row_j[k0..j]);
             row_i[j] = s / row_j[j];
         }
-        let s = minus_dot(row_i[i], &row_i[..i], &row_i[..i]);
+        let s = minus_dot(row_i[i], &row_i[first[i]..i], &row_i[first[i]..i]);
         if s.is_nan() || s <= 0.0 {
             return Err(Singular);
         }
@@ -215,6 +223,10 @@ impl Schur {
             }
             col_ptr.push(row_idx.len());
         }
+        let mut first: Vec<usize> = (0..m).collect();
+        for &(a, b) in &entries {
+            first[a] = first[a].min(b);
+        }
         let sides = |a: usize| bodies[a].iter().enumerate().filter_map(|(side, k)| k.map(|k| (side, k)));
         let mut shared = Vec::new();
         for (entry, &(a, b)) in entries.iter().enumerate() {
@@ -238,6 +250,7 @@ impl Schur {
         Schur {
             entries,
             diagonal,
+            first,
             shared,
             values: vec![0.0; k],
             regularised: vec![0.0; k],
@@ -266,7 +279,7 @@ impl Schur {
         self.plain_factor = false;
         self.values.fill(0.0);
         for s in &self.shared {
-            let (ja, jb) = (jac[s.a].side(s.side_a), jac[s.b].side(s.side_b));
+            let (ja, jb) = (&jac[s.a].entries[s.side_a], &jac[s.b].entries[s.side_b]);
             let w = &m_inv[3 * s.body..3 * s.body + 3];
             let value = &mut self.values[s.entry];
             for d in 0..3 {
@@ -285,7 +298,7 @@ impl Schur {
         for a in 0..m {
             self.dense[a * m + a] += shift;
         }
-        cholesky_in_place(&mut self.dense, m)
+        cholesky_in_place(&mut self.dense, m, &self.first)
     }
 
     /// `y = S x`.
@@ -317,7 +330,7 @@ impl Schur {
             let (low, high) = pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)));
             if low >= WELL_CONDITIONED * high {
                 self.plain_factor = true;
-                Factor::Dense(&self.dense).solve_mut(rhs);
+                Factor::Dense(&self.dense, &self.first).solve_mut(rhs);
                 return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
             }
         }
@@ -326,7 +339,7 @@ impl Schur {
         let factor = match self.factorisation {
             Factorisation::Dense => {
                 self.factor_dense(REGULARISATION * scale)?;
-                Factor::Dense(&self.dense)
+                Factor::Dense(&self.dense, &self.first)
             }
             Factorisation::Sparse => {
                 self.regularised.copy_from_slice(&self.values);
@@ -379,7 +392,7 @@ impl Schur {
         if !self.plain_factor {
             return self.solve(rhs);
         }
-        Factor::Dense(&self.dense).solve_mut(rhs);
+        Factor::Dense(&self.dense, &self.first).solve_mut(rhs);
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
