@@ -1,12 +1,14 @@
 //! L-stable SDIRK of order 4 with an embedded order-3 estimate, gamma = 1/4 (Hairer and
 //! Wanner, Solving ODEs II, Table IV.6.5). Stages are solved by simplified Newton with a
-//! finite-difference Jacobian reused across steps while Newton converges fast.
+//! Jacobian reused across steps while Newton converges fast: the force Jacobian
+//! (`dynamics::force_jacobian`), or forward differences of the whole right-hand side
+//! after Newton fails with a fresh force Jacobian, until Newton converges again.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::dynamics::Singular;
 use super::jacobian;
-use super::ode::Ode;
+use super::ode::{Ode, Rhs};
 use super::profile;
 use super::stepper::{Attempt, StepFailure, Stepper};
 
@@ -27,6 +29,12 @@ pub struct Sdirk4 {
     jac: DMatrix<f64>,
     jac_fresh: bool,
     jac_valid: bool,
+    /// The current Jacobian is the force Jacobian.
+    jac_from_forces: bool,
+    /// Newton failed with a fresh force Jacobian: forward differences until it converges.
+    full_jacobian: bool,
+    /// The force Jacobian's rows `[dqdd/dq dqdd/dv]`; (n/2 x n).
+    lower: DMatrix<f64>,
     jac_evals: usize,
     lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
     lu_h: f64,
@@ -44,6 +52,9 @@ impl Sdirk4 {
             jac: DMatrix::zeros(n, n),
             jac_fresh: false,
             jac_valid: false,
+            jac_from_forces: false,
+            full_jacobian: false,
+            lower: DMatrix::zeros(n / 2, n),
             jac_evals: 0,
             lu: None,
             lu_h: 0.0,
@@ -55,9 +66,20 @@ impl Sdirk4 {
         }
     }
 
-    /// Forward-difference Jacobian of f at (t, y).
+    /// Jacobian of f at (t, y): `[0 I; force Jacobian]`, or forward differences.
     fn jacobian(&mut self, ode: &mut Ode, t: f64, y: &[f64], f0: &[f64]) -> Result<(), Singular> {
-        jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?;
+        self.jac_from_forces = !self.full_jacobian;
+        if self.full_jacobian {
+            jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?;
+        } else {
+            let m = y.len() / 2;
+            ode.force_jacobian(t, y, &mut self.lower).unwrap_or(Err(Singular))?;
+            self.jac.fill(0.0);
+            for i in 0..m {
+                self.jac[(i, m + i)] = 1.0;
+            }
+            self.jac.rows_mut(m, m).copy_from(&self.lower);
+        }
         self.jac_evals += 1;
         self.jac_fresh = true;
         self.jac_valid = true;
@@ -179,11 +201,13 @@ impl Stepper for Sdirk4 {
             if let Err(e) = self.solve_stage(ode, t, h, s, y) {
                 if e == StepFailure::Convergence {
                     self.slow = true;
+                    self.full_jacobian |= self.jac_fresh && self.jac_from_forces;
                 }
                 return Err(e);
             }
         }
         self.jac_fresh = false;
+        self.full_jacobian = false;
         // Stiffly accurate: the last stage is the solution.
         y_new.copy_from_slice(&self.stage);
         ode.rhs(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
