@@ -175,3 +175,67 @@ fn failed_run_reports_its_counters() {
     assert!(res.stats.jacobian_evaluations > 0, "{:?}", res.stats);
     assert_eq!(res.stats.method, "sdirk4");
 }
+
+/// The friction rate that `auto` reads is the law's damping `|dF_T/dv_t|` times the
+/// slip's inverse mass through the constraints. A bar pinned to the ground at A with its
+/// journal in a ground bearing can only turn about A, so that inverse mass is
+/// `cross(P - A, t)^2 / I_A` (P the contact point, t the tangent, I_A the inertia about A).
+#[test]
+fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
+    use jointgap_core::solve::dynamics::{accelerations, friction_rate, Workspace};
+    let (length, mass, inertia) = (0.3, 0.72, 0.0069);
+    let (clearance, depth, angle) = (CLEARANCE, 2e-6, 30f64.to_radians());
+    let n = [angle.cos(), angle.sin()];
+    // Bearing centre placed so that the journal (at the bar's end) sinks `depth` along n.
+    let centre = [length - (clearance + depth) * n[0], -(clearance + depth) * n[1]];
+    let friction = json!({"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4, "v_d": 0.01016});
+    let model = Model::from_json(
+        &json!({
+            "gravity": [0.0, 0.0],
+            "ground_points": {"A": [0.0, 0.0], "G": centre},
+            "bodies": [{"name": "bar", "mass": mass, "inertia": inertia, "position": [length / 2.0, 0.0],
+                        "points": {"A": [-length / 2.0, 0.0], "B": [length / 2.0, 0.0]}}],
+            "joints": [
+                {"name": "pin", "type": "revolute", "body_i": "ground", "point_i": "A",
+                 "body_j": "bar", "point_j": "A"},
+                {"name": "gap", "type": "clearance_revolute", "body_i": "ground", "point_i": "G",
+                 "body_j": "bar", "point_j": "B",
+                 "clearance": {"bearing_radius": 7.5e-3, "clearance": clearance, "stiffness": K,
+                               "normal_law": {"type": "hertz"}, "friction": friction}}
+            ]
+        })
+        .to_string(),
+    )
+    .unwrap();
+    let prepared = jointgap_core::solve::prepare(&model).unwrap();
+    let sys = &prepared.system;
+    let q = prepared.initial.q.clone();
+    let i_a = inertia + mass * (length / 2.0).powi(2);
+    let gap = &sys.clearances[0];
+    let r_journal = gap.r_journal;
+    // Contact point P = B + r_j n; tangent t = perp(n); slip = omega cross(P - A, t).
+    let p = [length + r_journal * n[0], r_journal * n[1]];
+    let lever = p[0] * n[0] + p[1] * n[1];
+    for slip in [3e-5, -8e-5, 2e-3, 0.5] {
+        let omega = slip / lever;
+        let v = vec![0.0, omega * length / 2.0, omega];
+        let mut ws = Workspace::new(sys, prepared.initial.active.clone());
+        accelerations(sys, 0.0, &q, &v, &mut ws).unwrap();
+        let bearing = sys.body_state(gap.bearing, &q, &v);
+        let journal = sys.body_state(gap.journal, &q, &v);
+        let kin = gap.kinematics(&bearing, &journal);
+        assert!((kin.penetration - depth).abs() < 1e-12, "penetration {}", kin.penetration);
+        assert!((kin.slip - slip).abs() < 1e-9 * slip.abs().max(1e-3), "slip {} vs {slip}", kin.slip);
+        let (f_n, _) = gap.contact_force(&kin, kin.penetration_rate);
+        let expected = gap.friction.damping(slip, f_n) * lever * lever / i_a;
+        let rate = friction_rate(sys, &q, &v, &mut ws);
+        assert!((rate - expected).abs() <= 1e-9 * expected.max(1e-300), "slip {slip}: {rate} vs {expected}");
+        if slip.abs() > 0.01016 {
+            assert_eq!(rate, 0.0, "no damping while sliding");
+        } else {
+            // Without the pin the inverse mass would be 1/m + cross(P - G, t)^2 / I, 30 % more.
+            let free = 1.0 / mass + (lever - length / 2.0 * n[0]).powi(2) / inertia;
+            assert!(rate < 0.8 * gap.friction.damping(slip, f_n) * free, "{rate} vs free {free}");
+        }
+    }
+}

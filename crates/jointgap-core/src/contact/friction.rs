@@ -2,7 +2,7 @@
 //! (PHYSICS.md section 4). The model's `FrictionSpec` is the law; this module checks its
 //! values and evaluates it.
 
-use super::normal::step;
+use super::normal::{step, step_slope};
 use crate::model::FrictionSpec;
 use crate::Error;
 
@@ -89,6 +89,36 @@ impl FrictionSpec {
             }
         }
     }
+
+    /// `|dF_T / dv_t|` [N s/m] at slip `v_t` and normal force `f_n`: the damping the law
+    /// puts on the slip. Near sticking it is large (`mu_s f_n / v_s` and more), and it is
+    /// what makes an explicit step unstable there.
+    pub fn damping(&self, v_t: f64, f_n: f64) -> f64 {
+        let a = v_t.abs();
+        match *self {
+            FrictionSpec::None => 0.0,
+            FrictionSpec::Coulomb { mu_s, mu_d, v_s, v_d } => {
+                let slope = if a <= v_s {
+                    step_slope(v_t, -v_s, -mu_s, v_s, mu_s)
+                } else {
+                    step_slope(a, v_s, mu_s, v_d, mu_d)
+                };
+                slope.abs() * f_n
+            }
+            FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
+                if a > v_0 && a <= v_1 {
+                    mu * f_n / (v_1 - v_0)
+                } else {
+                    0.0
+                }
+            }
+            FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {
+                let sech = 1.0 / (v_t / v_s).cosh();
+                let coulomb = if f_n > 0.0 { mu * f_n * sech * sech / v_s } else { 0.0 };
+                coulomb + viscous
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -107,6 +137,29 @@ mod tests {
         assert!(
             (law.force(3e-5, 100.0) + law.force(-3e-5, 100.0)).abs() < 1e-14 * law.force(3e-5, 100.0).abs()
         );
+    }
+
+    /// The damping rate is |dF_T/dv_t| of each law, by central differences, at slips in
+    /// every zone of each law (sticking, transition, sliding, both signs).
+    #[test]
+    fn damping_is_the_slope_of_the_force() {
+        let laws = [
+            FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 },
+            FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 },
+            FrictionSpec::ViscousCoulomb { mu: 0.1, v_s: 1e-3, viscous: 2.0 },
+        ];
+        let f_n = 150.0;
+        for law in &laws {
+            for v_t in [-0.3, -5e-3, -3e-4, -6e-5, 0.0, 2e-5, 7e-5, 4e-4, 2e-3, 9e-3, 0.2] {
+                let e = 1e-9;
+                let fd = (law.force(v_t + e, f_n) - law.force(v_t - e, f_n)) / (2.0 * e);
+                let d = law.damping(v_t, f_n);
+                assert!((d - fd.abs()).abs() <= 1e-5 * d.max(1.0), "{law:?} at {v_t}: {d} vs {fd}");
+            }
+        }
+        // Sticking: the peak rate of the ADAMS law is 1.5 mu_s f_n / v_s, at zero slip.
+        let adams = &laws[0];
+        assert!((adams.damping(0.0, f_n) - 1.5 * 0.08 * f_n / 1e-4).abs() < 1e-6);
     }
 
     #[test]

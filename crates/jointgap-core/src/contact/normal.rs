@@ -51,6 +51,16 @@ pub fn step(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
     h0 + (h1 - h0) * s * s * (3.0 - 2.0 * s)
 }
 
+/// `d/dx` of [`step`].
+pub fn step_slope(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
+    let s = (x - x0) / (x1 - x0);
+    if (0.0..=1.0).contains(&s) {
+        (h1 - h0) * 6.0 * s * (1.0 - s) / (x1 - x0)
+    } else {
+        0.0
+    }
+}
+
 impl NormalForce {
     /// Checks a law; `who` names the joint. `d_max_default` comes from the material.
     pub fn new(

@@ -10,7 +10,7 @@ use super::contacts::ContactState;
 use super::profile::{self, Profile};
 use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
-use crate::math::Vec2;
+use crate::math::{cross, perp, Vec2};
 use crate::planar::BodyState;
 use crate::system::System;
 
@@ -315,6 +315,50 @@ pub fn project(
     ws.schur_solve(mu.as_mut_slice())?;
     ws.subtract_correction(mu.as_slice(), v);
     Ok(())
+}
+
+/// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`:
+/// `|dF_T/dv_t|` times the slip's inverse mass through the constraints,
+/// `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the slip's direction in coordinates.
+/// An explicit step is stable only below about 3.3 divided by it, so this is the
+/// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
+/// evaluation.
+pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
+    let mut rate = 0.0f64;
+    for (k, c) in sys.clearances.iter().enumerate() {
+        let contact = ws.contacts[k];
+        let (bearing, journal) = (sys.body_state(c.bearing, q, v), sys.body_state(c.journal, q, v));
+        let kin = c.kinematics(&bearing, &journal);
+        let (f_n, _) = c.contact_force(&kin, contact.onset_for(&kin));
+        let damping = if f_n > 0.0 { c.friction.damping(kin.slip, f_n) } else { 0.0 };
+        if damping == 0.0 {
+            continue;
+        }
+        // Slip = g . qdot: each body's point velocity along the tangent.
+        let t = perp(kin.n);
+        let mut g = vec![0.0; ws.m_inv.len()];
+        for (body, state, point, sign) in
+            [(c.journal, &journal, kin.point_journal, 1.0), (c.bearing, &bearing, kin.point_bearing, -1.0)]
+        {
+            if let Some(k) = body {
+                g[3 * k] += sign * t.x;
+                g[3 * k + 1] += sign * t.y;
+                g[3 * k + 2] += sign * cross(point - state.r, t);
+            }
+        }
+        let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
+        let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
+        let mut inverse_mass = free;
+        if !ws.jac.is_empty() {
+            let mut mu: Vec<f64> = ws.jac.iter().map(|row| row.dot(&u)).collect();
+            let r = mu.clone();
+            if ws.schur_solve(&mut mu).is_ok() {
+                inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
+            }
+        }
+        rate = rate.max(damping * inverse_mass.clamp(0.0, free));
+    }
+    rate
 }
 
 /// Position residual below which projection stops [m or rad].
