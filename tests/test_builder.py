@@ -245,7 +245,7 @@ def test_slider_crank_run_matches_the_closed_form(result: Result) -> None:
 def test_result_metadata(result: Result) -> None:
     assert result.model == slider_crank().to_dict()
     assert result.options["t_end"] == 0.5 and result.options["rate"] == 10000.0
-    assert result.options["rtol"] == 1e-7 and result.options["method"] == "auto"
+    assert result.options["rtol"] == 1e-8 and result.options["method"] == "auto"
     assert result.stats["accepted_steps"] > 0
     assert set(result.stats) >= {"rhs_evaluations", "rejected_steps", "wall_time", "method"}
     assert result.warnings == []

@@ -42,8 +42,8 @@ def test_loose_tolerance_is_flagged(founding, engine) -> None:
 def test_default_tolerance_passes(founding, engine) -> None:
     check = check_convergence(founding, 0.5)
     assert check.ok, check.verdict()
-    assert check.verdict().startswith("converged: at rtol 1e-07")
-    assert [r.options["rtol"] for r in check.runs] == [1e-7, 1e-8, 1e-9]
+    assert check.verdict().startswith("converged: at rtol 1e-08")
+    assert [r.options["rtol"] for r in check.runs] == [1e-8, 1e-9, 1e-10]
     assert check.impacts[0] == check.impacts[-1]
     assert check.onset_shift[0] <= 1e-4
 
@@ -53,5 +53,5 @@ def test_converge_command(capsys, engine) -> None:
     assert main([*args, "--rtol", "1e-5", "--atol", "1e-8"]) == EXIT_NOT_CONVERGED
     out = capsys.readouterr().out
     assert "NOT converged" in out and "too loose" in out
-    assert main([*args, "--rtol", "1e-7", "--atol", "1e-10"]) == 0
-    assert "converged: at rtol 1e-07" in capsys.readouterr().out
+    assert main([*args, "--rtol", "1e-8", "--atol", "1e-11"]) == 0
+    assert "converged: at rtol 1e-08" in capsys.readouterr().out

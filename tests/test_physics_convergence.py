@@ -12,9 +12,9 @@ import numpy as np
 def test_founding_case_peaks_converge_at_default_tolerance(examples, engine) -> None:
     model = jointgap.load(examples / "slider_crank_clearance.toml")
     default = model.simulate(0.5, rate=10_000, every_step=True)
-    tighter = model.simulate(0.5, rate=10_000, every_step=True, rtol=1e-8, atol=1e-11)
+    tighter = model.simulate(0.5, rate=10_000, every_step=True, rtol=1e-9, atol=1e-12)
     assert default.ok and tighter.ok
-    assert default.options["rtol"] == 1e-7  # what "default" means here
+    assert default.options["rtol"] == 1e-8  # what "default" means here
     on_grid = [
         np.isclose(r.time * 1e4, np.round(r.time * 1e4), rtol=0, atol=1e-6)
         for r in (default, tighter)

@@ -101,8 +101,8 @@ def test_integrator_giving_up_is_a_failed_case(tmp_path, engine) -> None:
     text = f"""
     [study]
     model = "{CLEARANCE}"
-    t_end = "0.05 s"
-    max_steps = 3000
+    t_end = "0.2 s"
+    max_steps = 5000
     [parameters]
     "motor.speed" = ["100 rpm", "3000 rpm"]
     [metrics]
@@ -112,7 +112,7 @@ def test_integrator_giving_up_is_a_failed_case(tmp_path, engine) -> None:
     assert list(run.table["status"]) == ["finished", "failed"]
     assert run.failed == 1
     assert run.table.loc[1, "reason"].startswith("failed at t = ")
-    assert "step budget of 3000 steps spent" in run.table.loc[1, "reason"]
+    assert "step budget of 5000 steps spent" in run.table.loc[1, "reason"]
     assert run.table.loc[0, "impacts"] > 0
 
 

@@ -20,8 +20,8 @@ implicit Radau IIA of order 5."""
 DEFAULT_OPTIONS: dict[str, Any] = {
     "rate": None,
     "every_step": False,
-    "rtol": 1e-7,
-    "atol": 1e-10,
+    "rtol": 1e-8,
+    "atol": 1e-11,
     "method": "auto",
     "max_step": None,
     "max_steps": 10_000_000,

@@ -38,6 +38,26 @@ pub fn slider_crank(gravity: f64) -> Model {
     .unwrap()
 }
 
+/// The founding slider-crank with the rod-slider joint a clearance joint (PHYSICS.md
+/// section 5: 0.5 mm radial clearance, ADAMS impact law, ADAMS Coulomb friction).
+pub fn slider_crank_clearance() -> Model {
+    let mut raw = serde_json::to_value(slider_crank(9.81)).unwrap();
+    let joints = raw["joints"].as_array_mut().unwrap();
+    let k = joints.iter().position(|j| j["name"] == "rod_slider").unwrap();
+    joints[k] = json!({
+        "name": "rod_slider", "type": "clearance_revolute", "body_i": "slider", "body_j": "rod",
+        "point_j": "B",
+        "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3,
+                      "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
+                      "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
+                      "normal_law": {"type": "adams_impact", "exponent": 1.5, "c_max": 27960.0,
+                                     "d_max": 1e-5},
+                      "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4,
+                                   "v_d": 0.01016}}
+    });
+    serde_json::from_value(raw).unwrap()
+}
+
 /// Crank angle and its derivatives for the ramp.
 pub fn crank(t: f64) -> (f64, f64, f64) {
     if t < T_RAMP {

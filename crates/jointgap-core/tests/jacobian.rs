@@ -90,21 +90,7 @@ fn equals_forward_differences_without_constraints() {
 /// rod's inertia) are a small part of the contact's stiffness through the constraints.
 #[test]
 fn keeps_the_stiff_part_on_the_founding_case_in_contact() {
-    let mut raw = serde_json::to_value(common::slider_crank(9.81)).unwrap();
-    let joints = raw["joints"].as_array_mut().unwrap();
-    let k = joints.iter().position(|j| j["name"] == "rod_slider").unwrap();
-    joints[k] = json!({
-        "name": "rod_slider", "type": "clearance_revolute", "body_i": "slider", "body_j": "rod",
-        "point_j": "B",
-        "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3,
-                      "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
-                      "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
-                      "normal_law": {"type": "adams_impact", "exponent": 1.5, "c_max": 27960.0,
-                                     "d_max": 1e-5},
-                      "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4,
-                                   "v_d": 0.01016}}
-    });
-    let model: Model = serde_json::from_value(raw).unwrap();
+    let model = common::slider_crank_clearance();
     let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
     let res = simulate(&model, &opts).unwrap();
     assert_eq!(res.status, Status::Finished);

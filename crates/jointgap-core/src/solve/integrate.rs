@@ -4,7 +4,7 @@
 
 use super::contacts::{self, ImpactLog};
 use super::dopri5::Dopri5;
-use super::dynamics::{project, violation};
+use super::dynamics::{friction_rate, project, violation};
 use super::monitor::{Monitor, Progress};
 use super::ode::{hermite5, Ode};
 use super::profile;
@@ -236,18 +236,21 @@ pub fn integrate(
                             } else {
                                 None
                             };
+                            let (q, v) = y.split_at(n);
+                            let friction = friction_rate(sys, q, v, &mut ode.ws);
                             let next = switch.after_step(
                                 method,
-                                (t, h_taken),
+                                (t, h_taken, h_taken * stepper.step_factor().unwrap_or(1.0)),
                                 ode.evaluations,
-                                att.stiffness,
-                                radius,
+                                (att.stiffness, radius),
+                                friction,
                             );
                             if let Some(next) = next {
                                 method = next;
                                 stats.jacobian_evaluations += stepper.jacobian_evaluations();
                                 stepper = match next {
                                     Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
+                                    Method::Radau5 => Box::new(Radau5::new(n_state)),
                                     _ => Box::new(Dopri5::new(n_state)),
                                 };
                             }

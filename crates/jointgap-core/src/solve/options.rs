@@ -34,10 +34,10 @@ impl Method {
 }
 
 fn default_rtol() -> f64 {
-    1e-7
+    1e-8
 }
 fn default_atol() -> f64 {
-    1e-10
+    1e-11
 }
 fn default_max_steps() -> usize {
     10_000_000
@@ -58,11 +58,11 @@ pub struct SimOptions {
     /// Record every accepted step in addition to the sampled output.
     #[serde(default)]
     pub every_step: bool,
-    /// Relative tolerance of the local error test (default 1e-7).
+    /// Relative tolerance of the local error test (default 1e-8).
     #[serde(default = "default_rtol")]
     pub rtol: f64,
     /// Absolute tolerance of the local error test, in state units m, rad, m/s, rad/s
-    /// (default 1e-10).
+    /// (default 1e-11).
     #[serde(default = "default_atol")]
     pub atol: f64,
     /// Integration method (default `auto`).
