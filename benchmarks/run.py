@@ -136,8 +136,10 @@ CLEARANCE = ROOT / "examples" / "slider_crank_clearance.toml"
 CL_T_END = 0.5  # simulated time [s]
 CL_RATE = 10_000  # output grid of the accuracy measure [Hz]
 CL_METHODS = ("dopri5", "sdirk4", "auto", "radau5")
-# The issue asks for 1e-4 to 1e-9; 1e-10 is there to reach its NRMSE 1e-7 figure.
-CL_RTOLS = (1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+# The issue asks for 1e-4 to 1e-9; 1e-10 is there to reach its NRMSE 1e-7 figure. The
+# half decades between 1e-7 and 1e-9 match the two NRMSE targets more closely than a
+# decade apart would (the cheapest run that meets a target is compared).
+CL_RTOLS = (1e-4, 1e-5, 1e-6, 3e-7, 1e-7, 3e-8, 1e-8, 3e-9, 1e-9, 1e-10)
 CL_REPEATS = 3  # timings are the best of up to this many passes over all configurations
 CL_REPEAT_BUDGET = 2.0  # [s]: a configuration that has used this much CPU is not repeated
 CL_MAX_STEPS = 200_000  # step budget: the slowest configuration would stop within ~15 s

@@ -68,7 +68,7 @@ def memory_of_long_run() -> dict[str, Any]:
 
 
 PROFILED = {
-    "founding case, auto, rtol 1e-7, 0.5 s at 10 kHz": (
+    "founding case, auto, default tolerances, 0.5 s at 10 kHz": (
         lambda: jointgap.load(CLEARANCE),
         {"t_end": 0.5, "rate": 10_000},
     ),
