@@ -59,10 +59,9 @@ pub struct Workspace {
 
 impl Workspace {
     /// Allocates for a system whose active rows are `active`, factoring the Schur
-    /// complement dense or sparse by its size.
+    /// complement over its envelope or sparse by its pattern ([`Factorisation::Auto`]).
     pub fn new(sys: &System, active: Vec<usize>) -> Self {
-        let factorisation = Factorisation::for_rows(active.len());
-        Self::with_factorisation(sys, active, factorisation)
+        Self::with_factorisation(sys, active, Factorisation::Auto)
     }
 
     /// As [`Workspace::new`] with the factorisation chosen by the caller (tests compare

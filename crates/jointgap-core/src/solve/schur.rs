@@ -2,39 +2,40 @@
 //!
 //! Each constraint row touches at most two bodies, so `S` has an entry only where two
 //! rows share a body: a chain of N loops gives O(N) entries. The pattern is fixed for a
-//! run and found once; its values are recomputed at every evaluation. Small systems (the
-//! founding slider-crank has 7 rows) are factored dense, in place in a buffer kept for
-//! the run (against nalgebra's Cholesky, which allocates per call, the founding case's
-//! linear solves went from 0.108 s to 0.075 s in its profile); larger ones by faer's
-//! sparse Cholesky with its fill-reducing ordering, analysed once, so that cost per
-//! evaluation grows linearly with the mechanism's size.
+//! run and found once; its values are recomputed at every evaluation. `S` is factored in
+//! place over its envelope (each row from its first entry to the diagonal, where the
+//! Cholesky factor's fill stays), in a buffer kept for the run: small systems (the
+//! founding slider-crank has 7 rows) and mechanisms whose rows follow their topology (a
+//! chain's envelope is a band) cost O(rows) per evaluation. Where the envelope would be
+//! much larger than the pattern, faer's sparse Cholesky with its fill-reducing ordering,
+//! analysed once, factors instead. Against nalgebra's Cholesky, which allocates per call,
+//! the founding case's linear solves went from 0.108 s to 0.075 s in its profile. On an
+//! N-link chain (a band) the envelope factor is 1.2-2x faster than faer's sparse one per
+//! evaluation (N = 126: 27-37 against 57 us); on the chain of four-bar loops, whose rows
+//! are not in band order, its envelope is wide (N = 50: 2.0 ms against 71 us) and the
+//! choice falls to faer.
 
 use super::dynamics::Singular;
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 
-/// Rows above which the sparse factorisation is used.
+/// Rows up to which the envelope factor is used whatever its size.
 pub const DENSE_LIMIT: usize = 48;
+/// Above [`DENSE_LIMIT`] rows, the envelope factor is used while its entries are at most
+/// this many times the pattern's (a band: about 1.5 for a chain).
+pub const ENVELOPE_LIMIT: usize = 4;
 
 /// How `S` is factored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Factorisation {
-    /// Dense Cholesky in place: small systems.
+    /// Chosen from the pattern: the envelope factor up to [`DENSE_LIMIT`] rows or while
+    /// the envelope is at most [`ENVELOPE_LIMIT`] times the pattern, else sparse.
+    Auto,
+    /// Cholesky in place over the envelope (dense within each row's envelope).
     Dense,
-    /// Sparse Cholesky with a fill-reducing ordering (faer): large systems.
+    /// Sparse Cholesky with a fill-reducing ordering (faer).
     Sparse,
-}
-
-impl Factorisation {
-    /// The choice for `rows` active rows.
-    pub fn for_rows(rows: usize) -> Self {
-        if rows <= DENSE_LIMIT {
-            Factorisation::Dense
-        } else {
-            Factorisation::Sparse
-        }
-    }
 }
 
 /// One active row's Jacobian `Cq_a`: at most two bodies, three entries each.
@@ -93,8 +94,8 @@ pub struct Schur {
     entries: Vec<(usize, usize)>,
     /// Position in `entries` of each diagonal entry.
     diagonal: Vec<usize>,
-    /// Each row's first column with an entry: the envelope of the dense factor.
-    first: Vec<usize>,
+    /// The envelope of the dense factor and its storage.
+    envelope: Envelope,
     /// Every body shared by the two rows of an entry, so that an update visits only
     /// products that are not zero.
     shared: Vec<SharedBody>,
@@ -105,7 +106,7 @@ pub struct Schur {
     factorisation: Factorisation,
     pattern: SymbolicSparseColMat<usize>,
     symbolic: Option<SymbolicLlt<usize>>,
-    /// Row-major lower factor of the dense path; (m x m).
+    /// Lower factor of the dense path, row by row over the envelope.
     dense: Vec<f64>,
     /// `dense` holds the plain factor of the current values (see [`Schur::solve_again`]).
     plain_factor: bool,
@@ -125,62 +126,108 @@ struct SharedBody {
     body: usize,
 }
 
+/// Row `i` of the lower factor holds columns `first[i]..=i`, at `start[i]..start[i + 1]`
+/// of the packed values; `below` lists, per column, the rows below the diagonal whose
+/// envelope reaches it, in increasing order (the back substitution's order).
+#[derive(Debug, Clone)]
+struct Envelope {
+    first: Vec<usize>,
+    start: Vec<usize>,
+    below_ptr: Vec<usize>,
+    below: Vec<usize>,
+}
+
+impl Envelope {
+    /// The envelope of a lower triangle with entries `(row, column)`, for `m` rows.
+    fn new(m: usize, entries: &[(usize, usize)]) -> Self {
+        let mut first: Vec<usize> = (0..m).collect();
+        for &(a, b) in entries {
+            first[a] = first[a].min(b);
+        }
+        let mut start = vec![0];
+        for (i, &f) in first.iter().enumerate() {
+            start.push(start[i] + i - f + 1);
+        }
+        let mut below_ptr = vec![0];
+        let mut below = Vec::new();
+        for i in 0..m {
+            below.extend((i + 1..m).filter(|&k| first[k] <= i));
+            below_ptr.push(below.len());
+        }
+        Envelope { first, start, below_ptr, below }
+    }
+
+    /// Stored entries of the factor.
+    fn len(&self) -> usize {
+        self.start[self.start.len() - 1]
+    }
+
+    /// Position of `(i, j)`, `first[i] <= j <= i`, in the packed values.
+    #[inline]
+    fn at(&self, i: usize, j: usize) -> usize {
+        self.start[i] + j - self.first[i]
+    }
+
+    /// Cholesky factor of the packed symmetric matrix `a` (lower envelope) in place;
+    /// `Singular` unless positive definite. Products left of an envelope are zero and
+    /// skipped; the rest are subtracted in index order.
+    fn factor(&self, a: &mut [f64]) -> Result<(), Singular> {
+        for i in 0..self.first.len() {
+            let fi = self.first[i];
+            let (above, rest) = a.split_at_mut(self.start[i]);
+            let row_i = &mut rest[..=i - fi];
+            for j in fi..i {
+                let fj = self.first[j];
+                let row_j = &above[self.start[j]..self.start[j + 1]];
+                let k0 = fi.max(fj);
+                let s = minus_dot(row_i[j - fi], &row_i[k0 - fi..j - fi], &row_j[k0 - fj..j - fj]);
+                row_i[j - fi] = s / row_j[j - fj];
+            }
+            let s = minus_dot(row_i[i - fi], &row_i[..i - fi], &row_i[..i - fi]);
+            if s.is_nan() || s <= 0.0 {
+                return Err(Singular);
+            }
+            row_i[i - fi] = s.sqrt();
+        }
+        Ok(())
+    }
+
+    /// Solves `L L^T x = b` in place with the packed factor `l`.
+    fn solve(&self, l: &[f64], x: &mut [f64]) {
+        let m = x.len();
+        for i in 0..m {
+            let fi = self.first[i];
+            let row = &l[self.start[i]..self.start[i + 1] - 1];
+            let s: f64 = row.iter().zip(&x[fi..i]).map(|(a, b)| a * b).sum();
+            x[i] = (x[i] - s) / l[self.start[i + 1] - 1];
+        }
+        for i in (0..m).rev() {
+            let mut s = x[i];
+            for &k in &self.below[self.below_ptr[i]..self.below_ptr[i + 1]] {
+                s -= l[self.at(k, i)] * x[k];
+            }
+            x[i] = s / l[self.start[i + 1] - 1];
+        }
+    }
+}
+
 /// A factored `S + eps I`.
 enum Factor<'a> {
-    /// Row-major lower Cholesky factor, and each row's first column in the envelope.
-    Dense(&'a [f64], &'a [usize]),
+    /// The envelope factor.
+    Dense(&'a Envelope, &'a [f64]),
     Sparse(Llt<usize, f64>),
 }
 
 impl Factor<'_> {
     fn solve_mut(&self, x: &mut [f64]) {
         match self {
-            Factor::Dense(l, first) => {
-                // Entries left of a row's envelope are zero and skipped.
-                let m = x.len();
-                for i in 0..m {
-                    let row = &l[i * m + first[i]..i * m + i];
-                    let s: f64 = row.iter().zip(&x[first[i]..i]).map(|(a, b)| a * b).sum();
-                    x[i] = (x[i] - s) / l[i * m + i];
-                }
-                for i in (0..m).rev() {
-                    let mut s = x[i];
-                    for k in i + 1..m {
-                        if first[k] <= i {
-                            s -= l[k * m + i] * x[k];
-                        }
-                    }
-                    x[i] = s / l[i * m + i];
-                }
-            }
+            Factor::Dense(envelope, l) => envelope.solve(l, x),
             Factor::Sparse(llt) => {
                 let n = x.len();
                 llt.solve_in_place(faer::MatMut::from_column_major_slice_mut(x, n, 1));
             }
         }
     }
-}
-
-/// Cholesky factor of the row-major symmetric `a` (lower triangle read) in place;
-/// `Singular` unless positive definite. Row `i` has no entry left of column `first[i]`
-/// (its envelope, which the factor keeps), so those products, all zero, are skipped.
-fn cholesky_in_place(a: &mut [f64], m: usize, first: &[usize]) -> Result<(), Singular> {
-    for i in 0..m {
-        let (above, rest) = a.split_at_mut(i * m);
-        let row_i = &mut rest[..m];
-        for j in first[i]..i {
-            let row_j = &above[j * m..j * m + j + 1];
-            let k0 = first[i].max(first[j]);
-            let s = minus_dot(row_i[j], &row_i[k0..j], &row_j[k0..j]);
-            row_i[j] = s / row_j[j];
-        }
-        let s = minus_dot(row_i[i], &row_i[first[i]..i], &row_i[first[i]..i]);
-        if s.is_nan() || s <= 0.0 {
-            return Err(Singular);
-        }
-        row_i[i] = s.sqrt();
-    }
-    Ok(())
 }
 
 /// `s - a . b`, subtracting in index order (the order fixes the round-off).
@@ -223,10 +270,14 @@ impl Schur {
             }
             col_ptr.push(row_idx.len());
         }
-        let mut first: Vec<usize> = (0..m).collect();
-        for &(a, b) in &entries {
-            first[a] = first[a].min(b);
-        }
+        let envelope = Envelope::new(m, &entries);
+        let factorisation = match factorisation {
+            Factorisation::Auto if m <= DENSE_LIMIT || envelope.len() <= ENVELOPE_LIMIT * entries.len() => {
+                Factorisation::Dense
+            }
+            Factorisation::Auto => Factorisation::Sparse,
+            chosen => chosen,
+        };
         let sides = |a: usize| bodies[a].iter().enumerate().filter_map(|(side, k)| k.map(|k| (side, k)));
         let mut shared = Vec::new();
         for (entry, &(a, b)) in entries.iter().enumerate() {
@@ -241,23 +292,23 @@ impl Schur {
         let pattern = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
         let symbolic = match factorisation {
             Factorisation::Sparse => SymbolicLlt::try_new(pattern.as_ref(), faer::Side::Lower).ok(),
-            Factorisation::Dense => None,
+            _ => None,
         };
         // Without a symbolic analysis (it failed), the dense path still solves.
         let factorisation = if symbolic.is_some() { Factorisation::Sparse } else { Factorisation::Dense };
-        let dense_size = if factorisation == Factorisation::Dense { m } else { 0 };
+        let dense_size = if factorisation == Factorisation::Dense { envelope.len() } else { 0 };
         let k = entries.len();
         Schur {
             entries,
             diagonal,
-            first,
+            envelope,
             shared,
             values: vec![0.0; k],
             regularised: vec![0.0; k],
             factorisation,
             pattern,
             symbolic,
-            dense: vec![0.0; dense_size * dense_size],
+            dense: vec![0.0; dense_size],
             plain_factor: false,
             target: vec![0.0; m],
             residual: vec![0.0; m],
@@ -293,12 +344,12 @@ impl Schur {
         let m = self.diagonal.len();
         self.dense.fill(0.0);
         for (&v, &(a, b)) in self.values.iter().zip(&self.entries) {
-            self.dense[a * m + b] = v;
+            self.dense[self.envelope.at(a, b)] = v;
         }
         for a in 0..m {
-            self.dense[a * m + a] += shift;
+            self.dense[self.envelope.at(a, a)] += shift;
         }
-        cholesky_in_place(&mut self.dense, m, &self.first)
+        self.envelope.factor(&mut self.dense)
     }
 
     /// `y = S x`.
@@ -326,20 +377,21 @@ impl Schur {
         // Away from singular positions (nearly always) a plain factor is exact enough and
         // needs no refinement: its smallest pivot shows the conditioning.
         if self.factorisation == Factorisation::Dense && self.factor_dense(0.0).is_ok() {
-            let pivots = (0..m).map(|i| self.dense[i * m + i].powi(2));
+            let pivots = (0..m).map(|i| self.dense[self.envelope.at(i, i)].powi(2));
             let (low, high) = pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)));
             if low >= WELL_CONDITIONED * high {
                 self.plain_factor = true;
-                Factor::Dense(&self.dense, &self.first).solve_mut(rhs);
+                Factor::Dense(&self.envelope, &self.dense).solve_mut(rhs);
                 return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
             }
         }
         self.plain_factor = false;
         let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
         let factor = match self.factorisation {
-            Factorisation::Dense => {
+            // `Auto` is resolved when the pattern is built.
+            Factorisation::Dense | Factorisation::Auto => {
                 self.factor_dense(REGULARISATION * scale)?;
-                Factor::Dense(&self.dense, &self.first)
+                Factor::Dense(&self.envelope, &self.dense)
             }
             Factorisation::Sparse => {
                 self.regularised.copy_from_slice(&self.values);
@@ -392,7 +444,7 @@ impl Schur {
         if !self.plain_factor {
             return self.solve(rhs);
         }
-        Factor::Dense(&self.dense, &self.first).solve_mut(rhs);
+        Factor::Dense(&self.envelope, &self.dense).solve_mut(rhs);
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
