@@ -55,3 +55,29 @@ def test_converge_command(capsys, engine) -> None:
     assert "NOT converged" in out and "too loose" in out
     assert main([*args, "--rtol", "1e-8", "--atol", "1e-11"]) == 0
     assert "converged: at rtol 1e-08" in capsys.readouterr().out
+
+
+def test_advice_needs_every_tighter_level_to_pass() -> None:
+    """At rtol 1e-5 with four levels, the founding case once passed at 1e-6, failed at
+    1e-7 (a sampled peak 1 % low) and passed at 1e-8: the advice is 1e-8, the loosest
+    level from which every tighter one passes, not 1e-6."""
+    from types import SimpleNamespace
+
+    from jointgap.convergence import Convergence
+
+    levels = range(5, 10)
+    runs = [SimpleNamespace(options={"rtol": 10.0**-k, "atol": 10.0 ** (-k - 3)}) for k in levels]
+    check = Convergence(
+        runs=runs,  # type: ignore[arg-type]
+        changes=[[] for _ in range(4)],
+        impacts=[{} for _ in range(5)],
+        onset_shift=[0.0] * 4,
+        converged=[False, True, False, True],
+        reasons=[["the peak of x moves by -2 %"], [], ["the peak of x moves by -1.07 %"], []],
+        peak_tolerance=0.01,
+        nrmse_tolerance=0.01,
+        onset_tolerance=1e-4,
+    )
+    assert check.verdict().endswith("Use rtol 1e-08 (atol 1e-11) or tighter.")
+    check.converged[-1] = False
+    assert check.verdict().endswith("than were tried (raise the levels).")

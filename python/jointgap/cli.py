@@ -331,9 +331,9 @@ def _add_run_options(
         "--method",
         choices=METHODS,
         default=DEFAULT_OPTIONS["method"],
-        help="integrator: auto (explicit dopri5, switching to implicit sdirk4 when the "
-        "problem turns stiff), dopri5, sdirk4 or radau5 (implicit Radau IIA of order 5) "
-        "(default %(default)s)",
+        help="integrator: auto (explicit dopri5, handing the steps to implicit radau5 while "
+        "sticking friction is stiff and to sdirk4 when the problem turns stiff otherwise), "
+        "dopri5, sdirk4 or radau5 (implicit Radau IIA of order 5) (default %(default)s)",
     )
     parser.add_argument("--max-step", metavar="H", help="largest step [s]; default unbounded")
     parser.add_argument(

@@ -96,7 +96,8 @@ class Convergence:
                 f"{reference}."
             )
         text = f"NOT converged: {chosen} is too loose: " + "; ".join(self.reasons[0]) + "."
-        better = [k for k in range(1, len(self.converged)) if self.converged[k]]
+        # The loosest level from which every tighter one passes too.
+        better = [k for k in range(1, len(self.converged)) if all(self.converged[k:])]
         if better:
             text += f" Use {_tolerance(self.runs[better[0]])} or tighter."
         else:

@@ -583,8 +583,9 @@ class Model:
             rate: output sampling rate [Hz] (e.g. ``"10 kHz"``); ``None`` records every
                 accepted step.
             rtol, atol: tolerances of the local error test (atol in m, rad, m/s, rad/s).
-            method: ``"auto"`` (explicit Dormand-Prince, switching to the implicit SDIRK4
-                when the problem turns stiff), ``"dopri5"``, ``"sdirk4"`` or ``"radau5"``
+            method: ``"auto"`` (explicit Dormand-Prince, handing the steps to the
+                implicit Radau IIA while sticking friction is stiff and to SDIRK4 when the
+                problem turns stiff otherwise), ``"dopri5"``, ``"sdirk4"`` or ``"radau5"``
                 (implicit Radau IIA of order 5, for stiff contact at tight tolerances).
             every_step: also record every accepted step.
             max_step: largest step [s]; unbounded by default.
