@@ -159,13 +159,7 @@ fn run(
     let sys = &prepared.system;
     let n = sys.n_coords();
     let slider = sys.bodies.iter().position(|b| b.name == "slider").unwrap();
-    let ode = Ode {
-        sys,
-        ws: Workspace::new(sys, prepared.initial.active.clone()),
-        evaluations: 0,
-        rtol,
-        atol: rtol * 1e-2,
-    };
+    let ode = Ode::new(sys, prepared.initial.active.clone(), rtol, rtol * 1e-2);
     let cell = RefCell::new(Eval {
         ode,
         x: Vec::new(),

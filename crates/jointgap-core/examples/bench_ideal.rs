@@ -159,13 +159,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
             y[n + 3 * k + d] = res.channel(&format!("{}.{vn}", b.name)).unwrap()[1];
         }
     }
-    let mut ode = Ode {
-        sys,
-        ws: Workspace::new(sys, prepared.initial.active.clone()),
-        evaluations: 0,
-        rtol: 1e-6,
-        atol: 1e-8,
-    };
+    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-6, 1e-8);
     ode.ws.t_piece = t;
     let mut f0 = vec![0.0; 2 * n];
     ode.rhs(t, &y, &mut f0).unwrap();

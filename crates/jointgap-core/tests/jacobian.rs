@@ -3,7 +3,7 @@
 //! constraints, and within the geometric terms it leaves out on the founding
 //! slider-crank in contact, where the contact's stiffness dominates.
 
-use jointgap_core::solve::dynamics::{force_jacobian, Workspace};
+use jointgap_core::solve::dynamics::force_jacobian;
 use jointgap_core::solve::jacobian::forward_difference;
 use jointgap_core::solve::ode::Ode;
 use jointgap_core::solve::prepare;
@@ -16,13 +16,7 @@ fn both_jacobians(model: &Model, t: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f6
     let prepared = prepare(model).unwrap();
     let sys = &prepared.system;
     let n = sys.n_coords();
-    let mut ode = Ode {
-        sys,
-        ws: Workspace::new(sys, prepared.initial.active.clone()),
-        evaluations: 0,
-        rtol: 1e-7,
-        atol: 1e-10,
-    };
+    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
     let mut f0 = vec![0.0; 2 * n];
     ode.rhs(t, y, &mut f0).unwrap();
     let mut by_forces = DMatrix::zeros(n, 2 * n);

@@ -78,9 +78,8 @@ pub fn simulate_with(
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
     let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref(), opts.decimate)?;
-    let mut ws = dynamics::Workspace::new(&system, initial.active.clone());
-    ws.profile = opts.profile.then(profile::Profile::default);
-    let mut ode = ode::Ode { sys: &system, ws, evaluations: 0, rtol: opts.rtol, atol: opts.atol };
+    let mut ode = ode::Ode::new(&system, initial.active.clone(), opts.rtol, opts.atol);
+    ode.ws.profile = opts.profile.then(profile::Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();

@@ -56,6 +56,11 @@ pub struct Ode<'a> {
 }
 
 impl<'a> Ode<'a> {
+    /// The ODE of `sys` with the active rows `active`, at tolerances `rtol`, `atol`.
+    pub fn new(sys: &'a System, active: Vec<usize>, rtol: f64, atol: f64) -> Self {
+        Ode { sys, ws: Workspace::new(sys, active), evaluations: 0, rtol, atol }
+    }
+
     /// State length `2 n_coords`.
     pub fn state_len(&self) -> usize {
         2 * self.sys.n_coords()

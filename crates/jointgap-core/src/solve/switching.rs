@@ -157,31 +157,25 @@ impl AutoSwitch {
     pub fn describe(&self, method: Method, t_end: f64) -> String {
         let share = |time: f64| 100.0 * time / t_end.max(f64::MIN_POSITIVE);
         let times = |n: usize| format!("{n} time{}", if n == 1 { "" } else { "s" });
+        // Time in an implicit method, with the phase still running at the end.
+        let spent = |past: f64, running: bool| past + if running { t_end - self.implicit_since } else { 0.0 };
         let mut line = "auto: dopri5".to_string();
         if let Some(first) = self.first_switch {
             if self.switches == 1 && method == Method::Sdirk4 {
                 line += &format!(", sdirk4 from t = {first:.6} s");
             } else {
-                let mut implicit = self.implicit_time;
-                if method == Method::Sdirk4 {
-                    implicit += t_end - self.implicit_since;
-                }
                 line += &format!(
                     ", sdirk4 {} from t = {first:.6} s ({:.0} % of the run)",
                     times(self.switches),
-                    share(implicit)
+                    share(spent(self.implicit_time, method == Method::Sdirk4))
                 );
             }
         }
         if self.sticking > 0 {
-            let mut sticking = self.sticking_time;
-            if method == Method::Radau5 {
-                sticking += t_end - self.implicit_since;
-            }
             line += &format!(
                 ", radau5 for sticking friction {} ({:.0} % of the run)",
                 times(self.sticking),
-                share(sticking)
+                share(spent(self.sticking_time, method == Method::Radau5))
             );
         }
         line
