@@ -114,6 +114,26 @@ def test_selected_channels_stream(model: jointgap.Model, in_memory: Result, tmp_
     np.testing.assert_array_equal(streamed["slider.vx"], in_memory["slider.vx"])
 
 
+def test_selected_channels_equal_the_full_run(model: jointgap.Model, in_memory: Result) -> None:
+    # One channel from each group the engine computes only when one of its channels is
+    # kept: a body, a revolute, a prismatic, the clearance joint, the driver, the system.
+    picked = [
+        "slider.ax",
+        "crank_rod.fy",
+        "slider_guide.moment",
+        "rod_slider.fn",
+        "rod_slider.mode",
+        "motor.torque",
+        "system.potential_energy",
+    ]
+    selected = model.simulate(T_END, rate=10_000, channels=picked)
+    assert selected.channels == [c for c in in_memory.channels if c in picked]
+    for name in picked:
+        np.testing.assert_array_equal(selected[name], in_memory[name], err_msg=name)
+    only_slider = model.simulate(T_END, rate=10_000, channels=["slider.ax"])
+    np.testing.assert_array_equal(only_slider["slider.ax"], in_memory["slider.ax"])
+
+
 def test_decimation_keeps_every_kth_record(model: jointgap.Model, in_memory: Result) -> None:
     decimated = model.simulate(T_END, rate=10_000, decimate=7)
     np.testing.assert_array_equal(decimated.time, in_memory.time[::7])

@@ -3,8 +3,9 @@
 //! factor (a band); a pattern whose rows do not follow the topology gets the sparse one.
 
 use jointgap_core::solve::dynamics::{accelerations, Workspace};
-use jointgap_core::solve::schur::{Factorisation, Schur, DENSE_LIMIT};
+use jointgap_core::solve::schur::{Factorisation, RowJacobian, Schur, DENSE_LIMIT};
 use jointgap_core::{Model, SimOptions};
+use nalgebra::{DMatrix, DVector};
 use serde_json::json;
 
 /// A planar chain of `n` bars of 1 m and 1 kg hanging from the ground, laid out along x.
@@ -94,4 +95,46 @@ fn rows_out_of_topological_order_get_the_sparse_factor() {
     let scrambled: Vec<_> = (0..n).flat_map(|k| [link(37 * k % n), link(37 * k % n)]).collect();
     assert_eq!(Schur::new(&in_order, Factorisation::Auto).factorisation(), Factorisation::Dense);
     assert_eq!(Schur::new(&scrambled, Factorisation::Auto).factorisation(), Factorisation::Sparse);
+}
+
+/// The envelope factor of a scrambled pattern, whose envelope holds entries that stay
+/// zero and entries that fill in, solves `S x = b` as faer's sparse factor and as a
+/// dense Cholesky of `S` built entry by entry from `Cq M^-1 Cq^T`.
+#[test]
+fn envelope_factor_with_fill_solves_as_a_dense_cholesky() {
+    let n = 30;
+    let link = |k: usize| [if k == 0 { None } else { Some(k - 1) }, Some(k)];
+    let bodies: Vec<_> = (0..n).flat_map(|k| [link(7 * k % n), link(7 * k % n)]).collect();
+    let m = bodies.len();
+    // Entries of each row from a fixed pseudo-random sequence in (-1, 1).
+    let mut seed = 12345u64;
+    let mut next = || {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let jac: Vec<RowJacobian> = bodies
+        .iter()
+        .map(|&b| RowJacobian { bodies: b, entries: [[next(), next(), next()], [next(), next(), next()]] })
+        .collect();
+    let m_inv: Vec<f64> = (0..3 * n).map(|i| 1.0 + (i % 5) as f64).collect();
+    let mut cq = DMatrix::zeros(m, 3 * n);
+    for (a, row) in jac.iter().enumerate() {
+        for (k, entries) in row.blocks() {
+            for d in 0..3 {
+                cq[(a, 3 * k + d)] = entries[d];
+            }
+        }
+    }
+    let s = &cq * DMatrix::from_diagonal(&DVector::from_vec(m_inv.clone())) * cq.transpose();
+    let b: Vec<f64> = (0..m).map(|_| next()).collect();
+    let expected = s.clone().cholesky().unwrap().solve(&DVector::from_vec(b.clone()));
+    for factorisation in [Factorisation::Dense, Factorisation::Sparse] {
+        let mut schur = Schur::new(&bodies, factorisation);
+        assert_eq!(schur.factorisation(), factorisation);
+        schur.update(&jac, &m_inv);
+        let mut x = b.clone();
+        schur.solve(&mut x).unwrap();
+        let err = x.iter().zip(expected.iter()).map(|(x, e)| (x - e).abs()).fold(0.0, f64::max);
+        assert!(err <= 1e-9 * expected.amax(), "{factorisation:?}: {err:e} of {:e}", expected.amax());
+    }
 }

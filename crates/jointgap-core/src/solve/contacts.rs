@@ -88,8 +88,13 @@ pub fn locate(
         let hi = p as f64 / PROBES as f64;
         hermite5(hi, h, y0, f0, y1, f1, scratch);
         let (q, v) = scratch.split_at(n);
-        let change = (0..states.len()).find(|&k| differs(k, kinematics(sys, k, q, v).penetration));
+        // Each joint's kinematics once per probe: the search and the peaks both use them.
+        let mut probed = std::mem::take(&mut log.probed);
+        probed.clear();
+        probed.extend((0..states.len()).map(|k| kinematics(sys, k, q, v)));
+        let change = probed.iter().enumerate().position(|(k, kin)| differs(k, kin.penetration));
         if let Some(k) = change {
+            log.probed = probed;
             // Bisect on joint k in (lo, hi]; an earlier change of another joint inside
             // the bracket is caught by the next step's search.
             let (mut a, mut b) = (lo, hi);
@@ -105,10 +110,10 @@ pub fn locate(
             }
             return Some((b, k));
         }
-        let (q, v) = scratch.split_at(n);
         for k in (0..states.len()).filter(|&k| states[k].in_contact) {
-            log.raise_peak(sys, k, &states[k], &kinematics(sys, k, q, v));
+            log.raise_peak(sys, k, &states[k], &probed[k]);
         }
+        log.probed = probed;
         lo = hi;
     }
     None
@@ -118,12 +123,15 @@ pub fn locate(
 pub struct ImpactLog {
     /// One list per clearance joint.
     pub impacts: Vec<Vec<Impact>>,
+    /// Each joint's kinematics at the current probe of [`locate`] (kept to reuse its
+    /// allocation).
+    probed: Vec<ContactKinematics>,
 }
 
 impl ImpactLog {
     /// Empty lists for a system.
     pub fn new(sys: &System) -> Self {
-        ImpactLog { impacts: vec![Vec::new(); sys.clearances.len()] }
+        ImpactLog { impacts: vec![Vec::new(); sys.clearances.len()], probed: Vec::new() }
     }
 
     /// Switches joint `k` at time `t` and state `(q, v)`: onset or separation.

@@ -23,13 +23,14 @@ const E: [f64; 7] =
 pub struct Dopri5 {
     k: Vec<Vec<f64>>,
     stage: Vec<f64>,
+    acc: Vec<f64>,
     err: Vec<f64>,
 }
 
 impl Dopri5 {
     /// Allocates for a state of length `n`.
     pub fn new(n: usize) -> Self {
-        Dopri5 { k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], err: vec![0.0; n] }
+        Dopri5 { k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], acc: vec![0.0; n], err: vec![0.0; n] }
     }
 }
 
@@ -55,12 +56,15 @@ impl Stepper for Dopri5 {
         let n = y.len();
         self.k[0].copy_from_slice(f0);
         for s in 1..7 {
-            for i in 0..n {
-                let mut acc = 0.0;
-                for (j, a) in A[s][..s].iter().enumerate() {
-                    acc += a * self.k[j][i];
+            // stage = y + h sum_j a_sj k_j, the sum taken in stage order for each entry.
+            self.acc.fill(0.0);
+            for (a, k) in A[s][..s].iter().zip(&self.k) {
+                for (acc, k) in self.acc.iter_mut().zip(k) {
+                    *acc += a * k;
                 }
-                self.stage[i] = y[i] + h * acc;
+            }
+            for ((stage, y), acc) in self.stage.iter_mut().zip(y).zip(&self.acc) {
+                *stage = y + h * acc;
             }
             ode.rhs(t + C[s] * h, &self.stage, &mut self.k[s]).map_err(|Singular| StepFailure::Singular)?;
             if s == 5 {
@@ -78,12 +82,14 @@ impl Stepper for Dopri5 {
             den += (y_new[i] - self.err[i]).powi(2);
         }
         let stiffness = if den > 0.0 { Some(h * (num / den).sqrt()) } else { None };
-        for i in 0..n {
-            let mut e = 0.0;
-            for (j, ej) in E.iter().enumerate() {
-                e += ej * self.k[j][i];
+        self.acc.fill(0.0);
+        for (e, k) in E.iter().zip(&self.k) {
+            for (acc, k) in self.acc.iter_mut().zip(k) {
+                *acc += e * k;
             }
-            self.err[i] = h * e;
+        }
+        for (err, acc) in self.err.iter_mut().zip(&self.acc) {
+            *err = h * acc;
         }
         Ok(Attempt { error: ode.error_norm(&self.err, y, y_new), stiffness })
     }

@@ -158,7 +158,7 @@ fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
             Some(d) => sys.drivers[d].profile.motion_on(t, ws.t_piece),
             None => NO_MOTION,
         };
-        let ev = row.kind.eval(&body_of(&ws.bodies, row.body_i), &body_of(&ws.bodies, row.body_j), motion);
+        let ev = row.kind.eval(body_of(&ws.bodies, row.body_i), body_of(&ws.bodies, row.body_j), motion);
         ws.c[a] = ev.c;
         ws.ct[a] = ev.ct;
         ws.gamma[a] = ev.gamma;
@@ -167,8 +167,8 @@ fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
 }
 
 /// The loaded state of body `b` (the ground for `None`).
-fn body_of(bodies: &[BodyState], b: Option<usize>) -> BodyState {
-    b.map_or(BodyState::GROUND, |k| bodies[k])
+fn body_of(bodies: &[BodyState], b: Option<usize>) -> &BodyState {
+    b.map_or(&BodyState::GROUND, |k| &bodies[k])
 }
 
 /// Fills `qe` with gravity and every force element at `(t, q, v)`.
@@ -185,12 +185,11 @@ fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
         ws.qe[3 * k + 1] += b.mass * sys.gravity.y;
     }
     let bodies = &ws.bodies;
-    let state = |b: Option<usize>| body_of(bodies, b);
     for f in &sys.forces {
-        f.add_to(t, state, &mut ws.qe);
+        f.add_to(t, |b| *body_of(bodies, b), &mut ws.qe);
     }
     for (c, contact) in sys.clearances.iter().zip(&ws.contacts) {
-        c.add_to(&state(c.bearing), &state(c.journal), contact, &mut ws.qe);
+        c.add_to(body_of(bodies, c.bearing), body_of(bodies, c.journal), contact, &mut ws.qe);
     }
 }
 

@@ -20,6 +20,8 @@ pub struct Recorder {
     all: Vec<String>,
     /// Indices into `all` that are kept.
     keep: Vec<usize>,
+    /// Whether each of `all` is kept.
+    kept: Vec<bool>,
     /// Active index of each row (`None`: redundant row).
     active_of_row: Vec<Option<usize>>,
     /// Sample times.
@@ -96,7 +98,10 @@ impl Recorder {
         for (a, &r) in active.iter().enumerate() {
             active_of_row[r] = Some(a);
         }
+        let mut kept = vec![false; all.len()];
+        keep.iter().for_each(|&k| kept[k] = true);
         Ok(Recorder {
+            kept,
             data: vec![Vec::new(); keep.len()],
             values: vec![0.0; all.len()],
             all,
@@ -137,12 +142,8 @@ impl Recorder {
         }
         ws.t_piece = t;
         accelerations(sys, t, q, v, ws)?;
-        let vals = &mut self.values;
-        let mut c = 0;
-        let mut put = |x: f64| {
-            vals[c] = x;
-            c += 1;
-        };
+        let mut out = Cursor { values: &mut self.values, kept: &self.kept, next: 0 };
+        let mut put = |x: f64| out.put(x);
         for k in 0..sys.bodies.len() {
             for i in 0..3 {
                 put(q[3 * k + i]);
@@ -157,6 +158,10 @@ impl Recorder {
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
+            if out.skipped(joint_channels(j.kind)) {
+                continue;
+            }
+            let mut put = |x: f64| out.put(x);
             if let Some(k) = j.clearance {
                 let c = &sys.clearances[k];
                 let kin = contacts::kinematics(sys, k, q, v);
@@ -205,6 +210,9 @@ impl Recorder {
             }
         }
         for d in &sys.drivers {
+            if out.skipped(1) {
+                continue;
+            }
             let row = &sys.rows[d.row];
             let bi = sys.body_state(row.body_i, q, v);
             let bj = sys.body_state(row.body_j, q, v);
@@ -217,8 +225,54 @@ impl Recorder {
                 (false, true) => -l,
                 (false, false) => l,
             };
-            put(value);
+            out.put(value);
         }
+        if !out.skipped(3) {
+            out.put_system(sys, ws, q, v);
+        }
+        debug_assert_eq!(out.next, out.values.len(), "channels written and named differ");
+        self.time.push(t);
+        for (slot, &k) in self.keep.iter().enumerate() {
+            self.data[slot].push(self.values[k]);
+        }
+        Ok(())
+    }
+}
+
+/// Channels of a joint of kind `kind`: `fx fy`, then its own (see [`channel_names`]).
+fn joint_channels(kind: JointKind) -> usize {
+    2 + match kind {
+        JointKind::Revolute => 0,
+        JointKind::ClearanceRevolute => CLEARANCE_QUANTITIES.len(),
+        JointKind::Prismatic | JointKind::Fixed => 1,
+    }
+}
+
+/// Writes one sample's channels in order, and skips the groups of channels none of
+/// which is kept, so that a run that records a few channels does not compute the rest.
+struct Cursor<'a> {
+    values: &'a mut [f64],
+    kept: &'a [bool],
+    next: usize,
+}
+
+impl Cursor<'_> {
+    fn put(&mut self, x: f64) {
+        self.values[self.next] = x;
+        self.next += 1;
+    }
+
+    /// Passes over the next `len` channels if none of them is kept.
+    fn skipped(&mut self, len: usize) -> bool {
+        let skip = !self.kept[self.next..self.next + len].iter().any(|&k| k);
+        if skip {
+            self.next += len;
+        }
+        skip
+    }
+
+    /// The system's channels: kinetic and potential energy, constraint error.
+    fn put_system(&mut self, sys: &System, ws: &Workspace, q: &[f64], v: &[f64]) {
         let mut kinetic = 0.0;
         let mut potential = 0.0;
         for (k, b) in sys.bodies.iter().enumerate() {
@@ -232,13 +286,8 @@ impl Recorder {
         for (k, c) in sys.clearances.iter().enumerate() {
             potential += c.normal.elastic_energy(contacts::kinematics(sys, k, q, v).penetration);
         }
-        put(kinetic);
-        put(potential);
-        put(if ws.active.is_empty() { 0.0 } else { ws.c.amax() });
-        self.time.push(t);
-        for (slot, &k) in self.keep.iter().enumerate() {
-            self.data[slot].push(self.values[k]);
-        }
-        Ok(())
+        self.put(kinetic);
+        self.put(potential);
+        self.put(if ws.active.is_empty() { 0.0 } else { ws.c.amax() });
     }
 }
