@@ -103,8 +103,10 @@ pub struct Schur {
     /// and times that body's inverse mass: an update's products are then one lookup each.
     plain: Vec<[f64; 3]>,
     scaled: Vec<[f64; 3]>,
-    /// Values of `S`, as `entries`.
+    /// Values of `S`, as `entries`; computed from `plain` and `scaled` when a path
+    /// needs them (the plain dense factor sums straight into its buffer).
     values: Vec<f64>,
+    values_current: bool,
     /// Values of `S + eps I`, which is factored.
     regularised: Vec<f64>,
     factorisation: Factorisation,
@@ -119,10 +121,12 @@ pub struct Schur {
 }
 
 /// Rows `a` and `b` of entry `entry` of `S` share a body, as row-sides
-/// `2 row + side` (side 0: the row's first body, 1: its second).
+/// `2 row + side` (side 0: the row's first body, 1: its second); `packed` is the entry's
+/// place in the dense factor's buffer.
 #[derive(Debug, Clone, Copy)]
 struct SharedBody {
     entry: usize,
+    packed: u32,
     a: usize,
     b: usize,
 }
@@ -325,7 +329,7 @@ impl Schur {
             for (side_a, k) in sides(a) {
                 for (side_b, l) in sides(b) {
                     if k == l {
-                        shared.push(SharedBody { entry, a: 2 * a + side_a, b: 2 * b + side_b });
+                        shared.push(SharedBody { entry, packed: 0, a: 2 * a + side_a, b: 2 * b + side_b });
                     }
                 }
             }
@@ -344,6 +348,9 @@ impl Schur {
             Envelope::default()
         };
         let dense_size = envelope.size;
+        for s in shared.iter_mut().filter(|_| factorisation == Factorisation::Dense) {
+            s.packed = envelope.position[s.entry];
+        }
         let k = entries.len();
         Schur {
             entries,
@@ -353,6 +360,7 @@ impl Schur {
             plain: vec![[0.0; 3]; 2 * m],
             scaled: vec![[0.0; 3]; 2 * m],
             values: vec![0.0; k],
+            values_current: false,
             regularised: vec![0.0; k],
             factorisation,
             pattern,
@@ -374,9 +382,10 @@ impl Schur {
         self.entries.len()
     }
 
-    /// Recomputes the values of `S` from the rows' Jacobians and `M^-1`.
+    /// Takes the rows' Jacobians and `M^-1` from which `S` is computed.
     pub fn update(&mut self, jac: &[RowJacobian], m_inv: &[f64]) {
         self.plain_factor = false;
+        self.values_current = false;
         for (a, row) in jac.iter().enumerate() {
             for (side, k) in row.bodies.iter().enumerate() {
                 if let Some(k) = k {
@@ -386,21 +395,25 @@ impl Schur {
                 }
             }
         }
-        self.values.fill(0.0);
-        for s in &self.shared {
-            let (x, y) = (&self.scaled[s.a], &self.plain[s.b]);
-            let value = &mut self.values[s.entry];
-            for d in 0..3 {
-                *value += x[d] * y[d];
-            }
-        }
     }
 
-    /// Factors `S + shift I` into the dense buffer.
+    /// `values` from the last update.
+    fn compute_values(&mut self) {
+        if self.values_current {
+            return;
+        }
+        self.values.fill(0.0);
+        for s in &self.shared {
+            add_shared(&mut self.values[s.entry], &self.scaled[s.a], &self.plain[s.b]);
+        }
+        self.values_current = true;
+    }
+
+    /// Factors `S + shift I` into the dense buffer, summing `S` straight into it.
     fn factor_dense(&mut self, shift: f64) -> Result<(), Singular> {
         self.dense.fill(0.0);
-        for (&v, &p) in self.values.iter().zip(&self.envelope.position) {
-            self.dense[p as usize] = v;
+        for s in &self.shared {
+            add_shared(&mut self.dense[s.packed as usize], &self.scaled[s.a], &self.plain[s.b]);
         }
         for &d in &self.envelope.diagonal {
             self.dense[d as usize] += shift;
@@ -442,6 +455,7 @@ impl Schur {
             }
         }
         self.plain_factor = false;
+        self.compute_values();
         let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
         let factor = match self.factorisation {
             // `Auto` is resolved when the pattern is built.
@@ -506,6 +520,15 @@ impl Schur {
         } else {
             Err(Singular)
         }
+    }
+}
+
+/// Adds one shared body's part of an entry of `S`, `(Cq_a,d / m_d) Cq_b,d`, to `value`
+/// term by term in the order `d` = x, y, angle, as every path of the factor sums it.
+#[inline]
+fn add_shared(value: &mut f64, scaled: &[f64; 3], plain: &[f64; 3]) {
+    for d in 0..3 {
+        *value += scaled[d] * plain[d];
     }
 }
 
