@@ -45,13 +45,23 @@ pub fn prepare(model: &Model) -> Result<Prepared, Error> {
 /// cores when `None`), in order: result `k` belongs to `models[k]` and is bit for bit the
 /// one `simulate` gives, so a batch is a serial loop done faster. One model's error or
 /// failure leaves the others untouched.
+///
+/// Each thread takes the next model as it finishes one (rayon's `par_bridge`), because
+/// runs differ in length (a larger clearance, more impacts): halving the list between
+/// threads, as a `par_iter` does first, left one thread with the long runs, and eight
+/// founding-case variants ran 1.6-1.8x faster on 2 threads instead of about 1.95x.
 pub fn simulate_batch(
     models: &[Model],
     opts: &SimOptions,
     threads: Option<usize>,
 ) -> Vec<Result<SimResult, Error>> {
     use rayon::prelude::*;
-    let run = || models.par_iter().map(|m| simulate(m, opts)).collect();
+    let run = || {
+        let mut done: Vec<(usize, Result<SimResult, Error>)> =
+            models.iter().enumerate().par_bridge().map(|(k, m)| (k, simulate(m, opts))).collect();
+        done.sort_unstable_by_key(|(k, _)| *k);
+        done.into_iter().map(|(_, result)| result).collect()
+    };
     match threads {
         Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build() {
             Ok(pool) => pool.install(run),
