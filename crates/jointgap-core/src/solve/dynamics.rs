@@ -116,12 +116,9 @@ impl Workspace {
         }
     }
 
-    /// `Cq x + ct`: the velocity constraint residual for `x = v`.
-    fn velocity_residual(&self, v: &[f64]) -> DVector<f64> {
-        DVector::from_iterator(
-            self.jac.len(),
-            self.jac.iter().zip(self.ct.iter()).map(|(row, ct)| row.dot(v) + ct),
-        )
+    /// `Cq v + ct` row by row: the velocity constraint residual.
+    fn velocity_residual<'a>(&'a self, v: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
+        self.jac.iter().zip(self.ct.iter()).map(move |(row, ct)| row.dot(v) + ct)
     }
 
     /// `x -= M^-1 Cq^T mu`.
@@ -310,7 +307,7 @@ pub fn project(
     if ws.c.amax() > 1e3 * POSITION_TOL {
         return Err(Singular);
     }
-    let mut mu = ws.velocity_residual(v);
+    let mut mu = DVector::from_iterator(ws.jac.len(), ws.velocity_residual(v));
     ws.schur_solve(mu.as_mut_slice())?;
     ws.subtract_correction(mu.as_slice(), v);
     Ok(())
@@ -369,7 +366,6 @@ pub fn violation(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace)
         return (0.0, 0.0);
     }
     constraints(sys, t, q, v, ws);
-    let velocity =
-        ws.jac.iter().zip(ws.ct.iter()).fold(0.0f64, |m, (row, ct)| m.max((row.dot(v) + ct).abs()));
+    let velocity = ws.velocity_residual(v).fold(0.0f64, |m, r| m.max(r.abs()));
     (ws.c.amax(), velocity)
 }

@@ -10,9 +10,21 @@ use crate::system::System;
 use crate::Error;
 
 const BODY_QUANTITIES: [&str; 9] = ["x", "y", "angle", "vx", "vy", "omega", "ax", "ay", "alpha"];
-/// Channels of a clearance joint after `fx fy` (the contact force on the journal body).
-const CLEARANCE_QUANTITIES: [&str; 8] =
-    ["fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
+/// Channels of each kind of joint: the force on body j (for a clearance joint, the
+/// contact force on the journal body), then the kind's own.
+const REVOLUTE_QUANTITIES: [&str; 2] = ["fx", "fy"];
+const PRISMATIC_QUANTITIES: [&str; 3] = ["fx", "fy", "moment"];
+const CLEARANCE_QUANTITIES: [&str; 10] =
+    ["fx", "fy", "fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
+
+/// The channels of a joint of kind `kind`, in the order a sample writes them.
+fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
+    match kind {
+        JointKind::Revolute => &REVOLUTE_QUANTITIES,
+        JointKind::ClearanceRevolute => &CLEARANCE_QUANTITIES,
+        JointKind::Prismatic | JointKind::Fixed => &PRISMATIC_QUANTITIES,
+    }
+}
 
 /// Collects the chosen channels at sample times.
 pub struct Recorder {
@@ -44,15 +56,7 @@ pub fn channel_names(sys: &System) -> Vec<String> {
         names.extend(BODY_QUANTITIES.iter().map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
-        names.push(format!("{}.fx", j.name));
-        names.push(format!("{}.fy", j.name));
-        match j.kind {
-            JointKind::Revolute => {}
-            JointKind::ClearanceRevolute => {
-                names.extend(CLEARANCE_QUANTITIES.iter().map(|q| format!("{}.{q}", j.name)));
-            }
-            JointKind::Prismatic | JointKind::Fixed => names.push(format!("{}.moment", j.name)),
-        }
+        names.extend(joint_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
     }
     for d in &sys.drivers {
         names.push(format!("{}.{}", d.name, if d.rotation { "torque" } else { "force" }));
@@ -158,7 +162,7 @@ impl Recorder {
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
-            if out.skipped(joint_channels(j.kind)) {
+            if out.skipped(joint_quantities(j.kind).len()) {
                 continue;
             }
             let mut put = |x: f64| out.put(x);
@@ -236,15 +240,6 @@ impl Recorder {
             self.data[slot].push(self.values[k]);
         }
         Ok(())
-    }
-}
-
-/// Channels of a joint of kind `kind`: `fx fy`, then its own (see [`channel_names`]).
-fn joint_channels(kind: JointKind) -> usize {
-    2 + match kind {
-        JointKind::Revolute => 0,
-        JointKind::ClearanceRevolute => CLEARANCE_QUANTITIES.len(),
-        JointKind::Prismatic | JointKind::Fixed => 1,
     }
 }
 
