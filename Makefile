@@ -67,8 +67,9 @@ bench: install
 PEER_VENV := benchmarks/peers/.venv
 PEER_STAMP := $(PEER_VENV)/.deps-installed
 
-## bench-peers: the SciPy and Exudyn peers of the founding clearance case (about 8 min)
+## bench-peers: the compiled, SciPy and Exudyn peers of the founding clearance case (about 9 min)
 bench-peers: install $(PEER_STAMP)
+	$(PY) benchmarks/peers/compiled_minimal.py
 	$(PY) benchmarks/peers/scipy_slider_crank.py
 	$(PY) benchmarks/peers/exudyn_slider_crank.py
 

@@ -122,6 +122,19 @@ def targets_table() -> str:
             best["ratio_to_c"] <= 5 if best else None,
             "x",
         )
+    minimal = _load("peers_minimal")
+    for m in minimal["matched_accuracy"] if minimal else []:
+        if m["target"] in (2e-5, 1e-7) and m["ratio_wall"] is not None:
+            add(
+                f"founding case at NRMSE {m['target']:.0e}: simulate time / a compiled "
+                "minimal-coordinate program's, measured in one run (jointgap's Radau IIA on 4 "
+                f"states: {m['program']['wall'] * 1e3:.1f} ms, "
+                f"{m['program_to_quoted_c']:.1f}x the quoted C figure)",
+                m["ratio_wall"],
+                "for scale",
+                None,
+                "x",
+            )
     scipy = _load("peers_scipy")
     if scipy:
         tight = min(scipy["matched_accuracy"], key=lambda m: m["target"])
