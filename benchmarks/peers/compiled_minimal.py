@@ -44,6 +44,7 @@ from common import (
     machine,
     nrmse,
     reference,
+    reference_summary,
     row_dict,
     write_json,
 )
@@ -159,12 +160,7 @@ def write(
             "program": "crates/jointgap-core/examples/minimal_slider_crank.rs",
             "quoted_c_program_ms": {f"{k:.0e}": v for k, v in C_PROGRAM_MS.items()},
             "timing": "wall time in one Rust process, best of 5 (program) and 3 (jointgap)",
-            "reference": {
-                "rtol": 1e-11,
-                "atol": 1e-14,
-                "wall": ref_wall,
-                "nrmse_vs_rtol_1e-12": ref_error,
-            },
+            "reference": reference_summary(ref_wall, ref_error),
             "runs": [row_dict(r) for r in rows],
             "matched_accuracy": summary,
             "load_average_start": load_start,

@@ -894,13 +894,7 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
             "targets_nrmse": list(common.TARGETS),
             "timing": "process CPU time (and wall), best of 2 for Exudyn (one run when over 5 s), "
             "best of 3 for jointgap",
-            "reference": {
-                "rtol": 1e-11,
-                "atol": 1e-14,
-                "wall": ref.wall,
-                "impacts": ref.impacts,
-                "nrmse_vs_rtol_1e-12": ref.error,
-            },
+            "reference": common.reference_summary(ref.wall, ref.error, impacts=ref.impacts),
             "check": [
                 {
                     "solver": label(r),
