@@ -266,7 +266,9 @@ def work_precision_figure(runs: list[ClRun], path: Path) -> None:
         )
         if pts:
             ax.loglog(*zip(*pts, strict=True), marker=marker, linewidth=1.0, label=method)
-    ax.loglog([2e-5, 1e-7], [3.0, 6.0], "k*", markersize=9, label="C program (quoted)")
+    ax.loglog(
+        *zip(*C_PROGRAM_MS.items(), strict=True), "k*", markersize=9, label="C program (quoted)"
+    )
     ax.set_xlabel("NRMSE of slider acceleration")
     ax.set_ylabel("integrate CPU time [ms]")
     ax.invert_xaxis()
