@@ -36,7 +36,7 @@ fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
 /// Assembles the mechanism at t = 0.
 pub fn assemble(sys: &System) -> Result<Assembled, Error> {
     let all: Vec<usize> = (0..sys.rows.len()).collect();
-    let mut ws = Workspace::new(sys, all.clone());
+    let mut ws = Workspace::in_order(sys, all.clone());
     let mut q = sys.q_guess.clone();
     let v0 = sys.v_guess.clone();
     let t = 0.0;
@@ -92,7 +92,7 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
     }
     let (active, warnings) = independent_rows(sys, &ws.dense_jacobian())?;
     // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct.
-    let mut ws = Workspace::new(sys, active.clone());
+    let mut ws = Workspace::in_order(sys, active.clone());
     constraints(sys, t, &q, &v0, &mut ws);
     let mut v = v0.clone();
     if !active.is_empty() {

@@ -7,6 +7,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::contacts::ContactState;
+use super::prescribed::{self, PrescribedBody};
 use super::profile::{self, Profile};
 use super::schur::{Factorisation, RowJacobian, Schur};
 use crate::drivers::Motion;
@@ -24,9 +25,17 @@ pub struct Singular;
 /// Scratch space of one run, filled by the functions of this module.
 #[derive(Debug, Clone)]
 pub struct Workspace {
-    /// Indices of the active rows in `System::rows`.
+    /// Indices of the active rows in `System::rows`, in solve order: the rows of the
+    /// Schur complement, then the prescribed bodies' own ([`prescribed`]).
     pub active: Vec<usize>,
-    /// Inverse of the diagonal mass matrix; (n_coords).
+    /// Number of leading active rows in the Schur complement.
+    dynamic: usize,
+    /// Bodies that their own rows fix, in the order their accelerations are found.
+    prescribed: Vec<PrescribedBody>,
+    /// Filled by [`accelerations`]: each prescribed body's `B^-1`.
+    prescribed_inverse: Vec<[[f64; 3]; 3]>,
+    /// Inverse of the diagonal mass matrix, zero for a prescribed body: no force moves
+    /// it; (n_coords).
     pub m_inv: Vec<f64>,
     /// Filled by [`constraints`]: residuals; (n_active).
     pub c: DVector<f64>,
@@ -58,8 +67,9 @@ pub struct Workspace {
 }
 
 impl Workspace {
-    /// Allocates for a system whose active rows are `active`, factoring the Schur
-    /// complement over its envelope or sparse by its pattern ([`Factorisation::Auto`]).
+    /// Allocates for a system whose active rows are `active` (reordered into solve
+    /// order), factoring the Schur complement over its envelope or sparse by its pattern
+    /// ([`Factorisation::Auto`]).
     pub fn new(sys: &System, active: Vec<usize>) -> Self {
         Self::with_factorisation(sys, active, Factorisation::Auto)
     }
@@ -67,24 +77,53 @@ impl Workspace {
     /// As [`Workspace::new`] with the factorisation chosen by the caller (tests compare
     /// both on one system).
     pub fn with_factorisation(sys: &System, active: Vec<usize>, factorisation: Factorisation) -> Self {
+        let split = prescribed::split(sys, &active);
+        Self::build(sys, split.order, split.dynamic, split.bodies, factorisation)
+    }
+
+    /// For assembly: the rows `rows` in the order given, all in the Schur complement.
+    pub fn in_order(sys: &System, rows: Vec<usize>) -> Self {
+        let m = rows.len();
+        Self::build(sys, rows, m, Vec::new(), Factorisation::Auto)
+    }
+
+    fn build(
+        sys: &System,
+        active: Vec<usize>,
+        dynamic: usize,
+        prescribed: Vec<PrescribedBody>,
+        factorisation: Factorisation,
+    ) -> Self {
         let n = sys.n_coords();
         let m = active.len();
         let mut m_inv = Vec::with_capacity(n);
         for b in &sys.bodies {
             m_inv.extend([1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia]);
         }
+        for p in &prescribed {
+            m_inv[3 * p.body..3 * p.body + 3].fill(0.0);
+        }
         let bodies: Vec<[Option<usize>; 2]> =
             active.iter().map(|&r| [sys.rows[r].body_i, sys.rows[r].body_j]).collect();
+        // In the Schur complement a prescribed body is a moving support, like the ground.
+        let mut fixed = vec![false; sys.bodies.len()];
+        prescribed.iter().for_each(|p| fixed[p.body] = true);
+        let moving = |b: Option<usize>| b.filter(|&k| !fixed[k]);
+        let schur_bodies: Vec<[Option<usize>; 2]> =
+            bodies[..dynamic].iter().map(|&[i, j]| [moving(i), moving(j)]).collect();
         Workspace {
             active,
-            m_inv,
+            dynamic,
+            prescribed_inverse: vec![[[0.0; 3]; 3]; prescribed.len()],
+            prescribed,
             c: DVector::zeros(m),
             // Each row's bodies are fixed for the run; `constraints` fills the entries.
             jac: bodies.iter().map(|&bodies| RowJacobian { bodies, ..Default::default() }).collect(),
             ct: DVector::zeros(m),
             gamma: DVector::zeros(m),
             qe: vec![0.0; n],
-            schur: Schur::new(&bodies, factorisation),
+            schur: Schur::new(&schur_bodies, factorisation),
+            m_inv,
             lambda: DVector::zeros(m),
             qdd: vec![0.0; n],
             t_piece: 0.0,
@@ -93,6 +132,11 @@ impl Workspace {
             bodies: vec![BodyState::default(); sys.bodies.len()],
             scratch: vec![0.0; n],
         }
+    }
+
+    /// The bodies that their own rows fix, in the order their accelerations are found.
+    pub fn prescribed_bodies(&self) -> impl Iterator<Item = usize> + '_ {
+        self.prescribed.iter().map(|p| p.body)
     }
 
     /// The Jacobian as a dense matrix (n_active x n_coords), for the one-time solves
@@ -121,7 +165,7 @@ impl Workspace {
         self.jac.iter().zip(self.ct.iter()).map(move |(row, ct)| row.dot(v) + ct)
     }
 
-    /// `x -= M^-1 Cq^T mu`.
+    /// `x -= M^-1 Cq^T mu` over the Schur complement's rows (`mu` has one entry each).
     fn subtract_correction(&mut self, mu: &[f64], x: &mut [f64]) {
         self.scratch.fill(0.0);
         for (row, &m) in self.jac.iter().zip(mu) {
@@ -132,13 +176,37 @@ impl Workspace {
         }
     }
 
-    /// Solves `S mu = rhs` in place with the current Jacobian.
+    /// Solves `S mu = rhs` in place with the current Jacobian (one entry per row of the
+    /// Schur complement).
     fn schur_solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
+        if rhs.is_empty() {
+            return Ok(());
+        }
         let lap = profile::start(&self.profile);
-        self.schur.update(&self.jac, &self.m_inv);
+        self.schur.update(&self.jac[..self.dynamic], &self.m_inv);
         let solved = self.schur.solve(rhs);
         profile::stop(&mut self.profile, lap, |p| &mut p.linear_solves);
         solved
+    }
+
+    /// The smallest mass-weighted `dx` with `Cq dx = r` (`r` per active row, e.g. the
+    /// residuals, for a projection): the prescribed bodies from their own rows, the
+    /// others through the Schur complement. Subtracts it from `x`.
+    fn subtract_solution(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Singular> {
+        let mut dx = std::mem::take(&mut self.scratch);
+        dx.fill(0.0);
+        for p in &self.prescribed {
+            let b_inv = p.inverse(&self.jac)?;
+            p.solve_rows(&self.jac, &b_inv, |a| r[a], &mut dx);
+        }
+        let mut mu: Vec<f64> = (0..self.dynamic).map(|a| r[a] - self.jac[a].dot(&dx)).collect();
+        for (x, dx) in x.iter_mut().zip(&dx) {
+            *x -= dx;
+        }
+        self.scratch = dx;
+        self.schur_solve(&mut mu)?;
+        self.subtract_correction(&mu, x);
+        Ok(())
     }
 }
 
@@ -205,17 +273,35 @@ pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Worksp
     if ws.active.is_empty() {
         return Ok(());
     }
-    // lambda solves S lambda = Cq M^-1 Qe - gamma; then qdd = M^-1 (Qe - Cq^T lambda).
+    // The prescribed bodies' accelerations from their own rows; then lambda solves
+    // S lambda = Cq M^-1 Qe - gamma over the other rows, the prescribed bodies' terms
+    // included through qdd, and qdd = M^-1 (Qe - Cq^T lambda).
+    let mut qdd = std::mem::take(&mut ws.qdd);
     let mut lambda = std::mem::take(&mut ws.lambda);
-    for (a, row) in ws.jac.iter().enumerate() {
-        lambda[a] = row.dot(&ws.qdd) - ws.gamma[a];
+    let mut solved = Ok(());
+    for (p, b_inv) in ws.prescribed.iter().zip(ws.prescribed_inverse.iter_mut()) {
+        match p.inverse(&ws.jac) {
+            Ok(inv) => {
+                *b_inv = inv;
+                p.solve_rows(&ws.jac, b_inv, |a| ws.gamma[a], &mut qdd);
+            }
+            Err(e) => solved = Err(e),
+        }
     }
-    let solved = ws.schur_solve(lambda.as_mut_slice());
+    for a in 0..ws.dynamic {
+        lambda[a] = ws.jac[a].dot(&qdd) - ws.gamma[a];
+    }
+    solved = solved.and_then(|()| ws.schur_solve(&mut lambda.as_mut_slice()[..ws.dynamic]));
     if solved.is_ok() {
-        let mut qdd = std::mem::take(&mut ws.qdd);
-        ws.subtract_correction(lambda.as_slice(), &mut qdd);
-        ws.qdd = qdd;
+        ws.subtract_correction(&lambda.as_slice()[..ws.dynamic], &mut qdd);
+        // The prescribed rows' multipliers (driving torque, pin reactions), outermost
+        // body first: its rows act on the bodies it rests on.
+        for (p, b_inv) in ws.prescribed.iter().zip(&ws.prescribed_inverse).rev() {
+            let b = &sys.bodies[p.body];
+            p.multipliers(&ws.jac, b_inv, [b.mass, b.mass, b.inertia], &ws.qe, &qdd, lambda.as_mut_slice());
+        }
     }
+    ws.qdd = qdd;
     ws.lambda = lambda;
     solved
 }
@@ -244,13 +330,10 @@ pub fn force_jacobian(
     constraint_rows(sys, t, ws);
     forces_at_bodies(sys, t, ws);
     let qe0 = ws.qe.clone();
-    if !ws.active.is_empty() {
-        // Factor S at the base point; the columns below reuse it.
-        let mut probe = vec![0.0; ws.active.len()];
-        ws.schur_solve(&mut probe)?;
-    }
+    // Factor S at the base point; the columns below reuse it.
+    let mut mu = vec![0.0; ws.dynamic];
+    ws.schur_solve(&mut mu)?;
     let mut col = vec![0.0; n];
-    let mut mu = vec![0.0; ws.active.len()];
     for j in 0..2 * n {
         let (k, d) = (j % n / 3, j % n % 3);
         let base = ws.bodies[k];
@@ -267,9 +350,9 @@ pub fn force_jacobian(
             col[i] = ws.m_inv[i] * (ws.qe[i] - qe0[i]) / dy;
             nonzero |= col[i] != 0.0;
         }
-        if nonzero && !ws.active.is_empty() {
-            for (a, row) in ws.jac.iter().enumerate() {
-                mu[a] = row.dot(&col);
+        if nonzero && !mu.is_empty() {
+            for (m, row) in mu.iter_mut().zip(&ws.jac) {
+                *m = row.dot(&col);
             }
             ws.schur.solve_again(&mut mu)?;
             ws.subtract_correction(&mu, &mut col);
@@ -299,18 +382,15 @@ pub fn project(
         if ws.c.amax() <= POSITION_TOL {
             break;
         }
-        let mut mu = ws.c.clone();
-        ws.schur_solve(mu.as_mut_slice())?;
-        ws.subtract_correction(mu.as_slice(), q);
+        let residual = ws.c.clone();
+        ws.subtract_solution(residual.as_slice(), q)?;
     }
     constraints(sys, t, q, v, ws);
     if ws.c.amax() > 1e3 * POSITION_TOL {
         return Err(Singular);
     }
-    let mut mu = DVector::from_iterator(ws.jac.len(), ws.velocity_residual(v));
-    ws.schur_solve(mu.as_mut_slice())?;
-    ws.subtract_correction(mu.as_slice(), v);
-    Ok(())
+    let residual: Vec<f64> = ws.velocity_residual(v).collect();
+    ws.subtract_solution(&residual, v)
 }
 
 /// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`:
@@ -345,8 +425,8 @@ pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> 
         let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
         let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
         let mut inverse_mass = free;
-        if !ws.jac.is_empty() {
-            let mut mu: Vec<f64> = ws.jac.iter().map(|row| row.dot(&u)).collect();
+        if ws.dynamic > 0 {
+            let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
             let r = mu.clone();
             if ws.schur_solve(&mut mu).is_ok() {
                 inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();

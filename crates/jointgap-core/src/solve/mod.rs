@@ -9,6 +9,7 @@ pub mod jacobian;
 pub mod monitor;
 pub mod ode;
 mod options;
+pub mod prescribed;
 pub mod profile;
 pub mod radau5;
 pub mod record;
@@ -87,8 +88,8 @@ pub fn simulate_with(
     opts.check()?;
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
-    let mut rec = record::Recorder::new(&system, &initial.active, opts.channels.as_deref(), opts.decimate)?;
     let mut ode = ode::Ode::new(&system, initial.active.clone(), opts.rtol, opts.atol);
+    let mut rec = record::Recorder::new(&system, &ode.ws.active, opts.channels.as_deref(), opts.decimate)?;
     ode.ws.profile = opts.profile.then(profile::Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();

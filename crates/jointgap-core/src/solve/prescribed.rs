@@ -1,0 +1,185 @@
+//! Bodies whose motion their joints and drivers alone fix: a crank pinned to the ground
+//! and driven, a slider driven along a guide, each link of an arm whose every joint is
+//! driven. Their three rows touch only the body and bodies already fixed (or the ground),
+//! so the augmented system is block triangular: such a body's acceleration follows from
+//! its rows, `B a_p = gamma_p - (earlier fixed bodies' terms)` with `B` its 3x3 block of
+//! the Jacobian, whatever the forces; the other bodies then see it as a moving support,
+//! and its rows' multipliers (the driving torque, the pin reaction) follow from its
+//! Newton-Euler equations. The Schur complement keeps only the remaining rows: on the
+//! founding slider-crank 4 of 7.
+
+use super::dynamics::Singular;
+use super::schur::RowJacobian;
+use crate::system::System;
+
+/// A body fixed by its own three rows.
+#[derive(Debug, Clone)]
+pub struct PrescribedBody {
+    /// Body index.
+    pub body: usize,
+    /// Positions of its own rows in the solve order, and the body's side in each.
+    pub rows: [(usize, usize); 3],
+    /// Every other row touching it, with the body's side: their forces on it enter its
+    /// Newton-Euler equations.
+    pub others: Vec<(usize, usize)>,
+}
+
+/// Active rows in solve order: the rows of the Schur complement first, then each
+/// prescribed body's own three, bodies in the order their accelerations are found.
+#[derive(Debug, Clone)]
+pub struct Split {
+    /// Row indices (into `System::rows`) in solve order.
+    pub order: Vec<usize>,
+    /// Number of leading rows that enter the Schur complement.
+    pub dynamic: usize,
+    /// Prescribed bodies, each after the bodies its rows refer to.
+    pub bodies: Vec<PrescribedBody>,
+}
+
+/// Finds the prescribed bodies among the active rows `active` (model order kept within
+/// each group). A body is prescribed when exactly three active rows touch it and only
+/// the ground or bodies found before; assembly has already dropped dependent rows, so
+/// the three are independent.
+pub fn split(sys: &System, active: &[usize]) -> Split {
+    let n = sys.bodies.len();
+    let mut fixed = vec![false; n];
+    let mut taken = vec![false; active.len()];
+    let mut groups: Vec<(usize, [usize; 3])> = Vec::new();
+    let bodies_of = |a: usize| [sys.rows[active[a]].body_i, sys.rows[active[a]].body_j];
+    loop {
+        let mut found = false;
+        for k in 0..n {
+            if fixed[k] {
+                continue;
+            }
+            let own: Vec<usize> = (0..active.len())
+                .filter(|&a| !taken[a])
+                .filter(|&a| {
+                    let b = bodies_of(a);
+                    b.contains(&Some(k)) && b.iter().all(|o| o.is_none_or(|o| o == k || fixed[o]))
+                })
+                .collect();
+            if let [a, b, c] = own[..] {
+                fixed[k] = true;
+                [a, b, c].iter().for_each(|&r| taken[r] = true);
+                groups.push((k, [a, b, c]));
+                found = true;
+            }
+        }
+        if !found {
+            break;
+        }
+    }
+    let mut order: Vec<usize> = (0..active.len()).filter(|&a| !taken[a]).collect();
+    let dynamic = order.len();
+    let mut position = vec![0; active.len()];
+    for &(_, rows) in &groups {
+        order.extend(rows);
+    }
+    for (p, &a) in order.iter().enumerate() {
+        position[a] = p;
+    }
+    let side = |a: usize, k: usize| usize::from(bodies_of(a)[0] != Some(k));
+    let bodies = groups
+        .iter()
+        .map(|&(k, rows)| PrescribedBody {
+            body: k,
+            rows: rows.map(|a| (position[a], side(a, k))),
+            others: (0..active.len())
+                .filter(|a| !rows.contains(a) && bodies_of(*a).contains(&Some(k)))
+                .map(|a| (position[a], side(a, k)))
+                .collect(),
+        })
+        .collect();
+    Split { order: order.iter().map(|&a| active[a]).collect(), dynamic, bodies }
+}
+
+impl PrescribedBody {
+    /// `B^-1`, with `B` its own rows' entries for its coordinates (one row per
+    /// equation); `Singular` where `B` is.
+    pub fn inverse(&self, jac: &[RowJacobian]) -> Result<[[f64; 3]; 3], Singular> {
+        inverse3(self.rows.map(|(a, side)| jac[a].entries[side]))
+    }
+
+    /// Sets its coordinates' part of `x` so that its own rows give `rhs`:
+    /// `x_p = B^-1 (rhs_p - the rows' terms in every other coordinate of x)`. Callers set
+    /// the bodies in order, so the earlier ones are in place.
+    pub fn solve_rows(
+        &self,
+        jac: &[RowJacobian],
+        b_inv: &[[f64; 3]; 3],
+        rhs: impl Fn(usize) -> f64,
+        x: &mut [f64],
+    ) {
+        let k = 3 * self.body;
+        x[k..k + 3].fill(0.0);
+        let r = self.rows.map(|(a, _)| rhs(a) - jac[a].dot(x));
+        for (d, b) in b_inv.iter().enumerate() {
+            x[k + d] = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
+        }
+    }
+
+    /// Multipliers of its own rows from its Newton-Euler equations
+    /// `M_p qdd_p + Cq_p^T lambda = Qe_p`, given the other rows' multipliers:
+    /// `lambda_own = B^-T (Qe_p - M_p qdd_p - others' Cq_p^T lambda)`.
+    pub fn multipliers(
+        &self,
+        jac: &[RowJacobian],
+        b_inv: &[[f64; 3]; 3],
+        mass: [f64; 3],
+        qe: &[f64],
+        qdd: &[f64],
+        lambda: &mut [f64],
+    ) {
+        let k = 3 * self.body;
+        let mut r = [0.0; 3];
+        for d in 0..3 {
+            r[d] = qe[k + d] - mass[d] * qdd[k + d];
+        }
+        for &(a, side) in &self.others {
+            for d in 0..3 {
+                r[d] -= jac[a].entries[side][d] * lambda[a];
+            }
+        }
+        for (i, &(a, _)) in self.rows.iter().enumerate() {
+            lambda[a] = b_inv[0][i] * r[0] + b_inv[1][i] * r[1] + b_inv[2][i] * r[2];
+        }
+    }
+}
+
+/// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes
+/// against the entries' scale.
+fn inverse3(a: [[f64; 3]; 3]) -> Result<[[f64; 3]; 3], Singular> {
+    let cof = |i: usize, j: usize| {
+        let (r0, r1) = ((i + 1) % 3, (i + 2) % 3);
+        let (c0, c1) = ((j + 1) % 3, (j + 2) % 3);
+        a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0]
+    };
+    let c = [0, 1, 2].map(|i| [0, 1, 2].map(|j| cof(i, j)));
+    let det = a[0][0] * c[0][0] + a[0][1] * c[0][1] + a[0][2] * c[0][2];
+    let scale = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    // Also catches a NaN determinant.
+    if det.is_nan() || det.abs() <= 1e-12 * scale.powi(3) {
+        return Err(Singular);
+    }
+    // The inverse is the transposed cofactor matrix over the determinant.
+    Ok([0, 1, 2].map(|i| [0, 1, 2].map(|j| c[j][i] / det)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inverse3_times_the_matrix_is_the_identity() {
+        let a = [[0.0, 2.0, 1.0], [1.0, -1.0, 0.5], [3.0, 0.0, -2.0]];
+        let inv = inverse3(a).unwrap();
+        for i in 0..3 {
+            for j in 0..3 {
+                let p: f64 = (0..3).map(|k| a[i][k] * inv[k][j]).sum();
+                assert!((p - f64::from(u8::from(i == j))).abs() < 1e-14, "({i}, {j}): {p}");
+            }
+        }
+        assert!(inverse3([[1.0, 2.0, 3.0], [2.0, 4.0, 6.0], [0.0, 0.0, 1.0]]).is_err());
+    }
+}
