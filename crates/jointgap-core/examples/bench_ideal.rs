@@ -168,10 +168,14 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let c_constraints = ns_per_call(|| constraints(sys, black_box(t), q, v, &mut ode.ws));
     let c_forces = ns_per_call(|| applied_forces(sys, black_box(t), q, v, &mut ode.ws));
     let c_accel = ns_per_call(|| accelerations(sys, black_box(t), q, v, &mut ode.ws).unwrap());
-    // Reference for the augmented solve: a plain Cholesky factor + solve of the same Schur
-    // complement (what `accelerations` adds to it: regularisation, refinement, allocation).
+    // Reference for the augmented solve: a plain Cholesky factor + solve of the Schur
+    // complement of every active row (what `accelerations` adds to it: regularisation,
+    // refinement, allocation; what it saves: the rows of bodies their drivers fix).
     let cq = ode.ws.dense_jacobian();
-    let m_inv = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_column_slice(&ode.ws.m_inv));
+    let m_inv = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
+        n,
+        sys.bodies.iter().flat_map(|b| [1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia]),
+    ));
     let (schur, rhs) = (&cq * m_inv * cq.transpose(), ode.ws.lambda.clone());
     let c_cholesky = ns_per_call(|| {
         black_box(nalgebra::Cholesky::new(black_box(schur.clone())).unwrap().solve(&rhs));
@@ -193,7 +197,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let push_cost = |select: Option<&[String]>, ws: &mut Workspace| {
         let mut per = Vec::new();
         for _ in 0..9 {
-            let mut rec = Recorder::new(sys, &prepared.initial.active, select, 1).unwrap();
+            let mut rec = Recorder::new(sys, &ws.active, select, 1).unwrap();
             let start = Instant::now();
             for i in 0..=10_000 {
                 rec.push(sys, ws, t + i as f64 * 1e-12, q, v).unwrap();
