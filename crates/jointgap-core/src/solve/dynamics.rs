@@ -2,7 +2,9 @@
 //! `[M Cq^T; Cq 0][qdd; lambda] = [Qe; gamma]`, done through the Schur complement
 //! `(Cq M^-1 Cq^T) lambda = Cq M^-1 Qe - gamma` because M is diagonal. The Jacobian is
 //! kept row by row (each row touches at most two bodies), so every product here costs
-//! in proportion to the number of rows.
+//! in proportion to the number of rows. Bodies that their own rows fix (a driven crank)
+//! are solved ahead of the Schur complement and their multipliers after it
+//! ([`super::prescribed`]).
 
 use nalgebra::{DMatrix, DVector};
 
