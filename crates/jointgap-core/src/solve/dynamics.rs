@@ -162,6 +162,17 @@ impl Workspace {
         }
     }
 
+    /// [`violation`] at the state of the last evaluation, whose velocities are `v`: its
+    /// rows are still in the workspace. An integration step's last evaluation is at its
+    /// end, so the drift check after the step needs no evaluation of its own.
+    pub fn violation_here(&self, v: &[f64]) -> (f64, f64) {
+        if self.active.is_empty() {
+            return (0.0, 0.0);
+        }
+        let velocity = self.velocity_residual(v).fold(0.0f64, |m, r| m.max(r.abs()));
+        (self.c.amax(), velocity)
+    }
+
     /// `Cq v + ct` row by row: the velocity constraint residual.
     fn velocity_residual<'a>(&'a self, v: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
         self.jac.iter().zip(self.ct.iter()).map(move |(row, ct)| row.dot(v) + ct)
@@ -263,6 +274,21 @@ fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
 
 /// Accelerations and multipliers at `(t, q, v)`: fills everything in the workspace.
 pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> Result<(), Singular> {
+    accelerations_for_integration(sys, t, q, v, ws)?;
+    prescribed_multipliers(sys, ws);
+    Ok(())
+}
+
+/// [`accelerations`] without the prescribed rows' multipliers (the driving torques and
+/// their pins' reactions): the motion does not depend on them, so the integrator's
+/// evaluations leave them out and only recorded samples compute them.
+pub fn accelerations_for_integration(
+    sys: &System,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    ws: &mut Workspace,
+) -> Result<(), Singular> {
     let lap = profile::start(&ws.profile);
     ws.load_bodies(sys, q, v);
     constraint_rows(sys, t, ws);
@@ -296,16 +322,22 @@ pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Worksp
     solved = solved.and_then(|()| ws.schur_solve(&mut lambda.as_mut_slice()[..ws.dynamic]));
     if solved.is_ok() {
         ws.subtract_correction(&lambda.as_slice()[..ws.dynamic], &mut qdd);
-        // The prescribed rows' multipliers (driving torque, pin reactions), outermost
-        // body first: its rows act on the bodies it rests on.
-        for (p, b_inv) in ws.prescribed.iter().zip(&ws.prescribed_inverse).rev() {
-            let b = &sys.bodies[p.body];
-            p.multipliers(&ws.jac, b_inv, [b.mass, b.mass, b.inertia], &ws.qe, &qdd, lambda.as_mut_slice());
-        }
     }
     ws.qdd = qdd;
     ws.lambda = lambda;
     solved
+}
+
+/// The prescribed rows' multipliers (driving torque, pin reactions) after
+/// [`accelerations_for_integration`], outermost body first: its rows act on the bodies
+/// it rests on.
+fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
+    let mut lambda = std::mem::take(&mut ws.lambda);
+    for (p, b_inv) in ws.prescribed.iter().zip(&ws.prescribed_inverse).rev() {
+        let b = &sys.bodies[p.body];
+        p.multipliers(&ws.jac, b_inv, [b.mass, b.mass, b.inertia], &ws.qe, &ws.qdd, lambda.as_mut_slice());
+    }
+    ws.lambda = lambda;
 }
 
 /// The acceleration rows of `df/dy` for the implicit methods, `jac = [dqdd/dq dqdd/dv]`
@@ -448,6 +480,5 @@ pub fn violation(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace)
         return (0.0, 0.0);
     }
     constraints(sys, t, q, v, ws);
-    let velocity = ws.velocity_residual(v).fold(0.0f64, |m, r| m.max(r.abs()));
-    (ws.c.amax(), velocity)
+    ws.violation_here(v)
 }

@@ -126,6 +126,9 @@ pub fn integrate(
                     }
                     Ok(att) => {
                         stats.accepted_steps += 1;
+                        // The drift at the step's end from the step's last evaluation, taken
+                        // before output samples reuse the workspace.
+                        let drift_at_end = ode.ws.violation_here(&y_new[n..]);
                         // A contact onset or separation inside the step ends the step there.
                         let lap = profile::start(&ode.ws.profile);
                         let event = contacts::locate(
@@ -172,6 +175,8 @@ pub fn integrate(
                             refresh = true;
                         }
                         let h_taken = t_new - t;
+                        // The state is still the one the step's last evaluation saw.
+                        let at_attempt_end = t_new == t + h && event.is_none_or(|(theta, _)| theta >= 1.0);
                         t = t_new;
                         std::mem::swap(y, &mut y_new);
                         std::mem::swap(&mut f, &mut f_new);
@@ -180,7 +185,9 @@ pub fn integrate(
                         }
                         // Keep the drift far below the tolerance: project when it shows.
                         let lap = profile::start(&ode.ws.profile);
-                        let (pos, vel) = {
+                        let (pos, vel) = if at_attempt_end {
+                            drift_at_end
+                        } else {
                             let (q, v) = y.split_at(n);
                             violation(sys, t, q, v, &mut ode.ws)
                         };

@@ -3,7 +3,7 @@
 
 use nalgebra::DMatrix;
 
-use super::dynamics::{accelerations, force_jacobian, Singular, Workspace};
+use super::dynamics::{accelerations_for_integration, force_jacobian, Singular, Workspace};
 use super::profile::Profile;
 use crate::system::System;
 
@@ -71,7 +71,7 @@ impl<'a> Ode<'a> {
         self.evaluations += 1;
         let n = self.sys.n_coords();
         let (q, v) = y.split_at(n);
-        accelerations(self.sys, t, q, v, &mut self.ws)?;
+        accelerations_for_integration(self.sys, t, q, v, &mut self.ws)?;
         dy[..n].copy_from_slice(v);
         dy[n..].copy_from_slice(&self.ws.qdd);
         Ok(())

@@ -28,7 +28,8 @@ pub trait Stepper {
     /// `1 / (p + 1)` with p the order of the error estimate.
     fn error_exponent(&self) -> f64;
     /// Tries a step of size `h` from `(t, y)` with `f0 = f(t, y)`; writes the solution
-    /// and its derivative at `t + h`.
+    /// and its derivative at `t + h`. An accepted attempt (error <= 1) evaluates `ode`
+    /// last at `(t + h, y_new)`: the loop reads the drift there from the workspace.
     #[allow(clippy::too_many_arguments)]
     fn attempt(
         &mut self,
