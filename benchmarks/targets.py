@@ -95,6 +95,20 @@ def profiles() -> dict[str, dict[str, float]]:
     return out
 
 
+def _peer_ratio(matched: dict[str, Any]) -> tuple[float, str]:
+    """A peer's CPU-time ratio at one matched accuracy: the median of the paired rounds
+    (both sides timed in alternation, ``peers/common.py``) where the run has them, else
+    the ratio of the two sweeps' best times."""
+    paired = matched.get("paired")
+    if paired:
+        ratios = [r["ratio"] for r in paired["rounds"]]
+        return paired["ratio_median"], (
+            f"median of {len(ratios)} paired rounds, {min(ratios):.1f}-{max(ratios):.1f}; "
+            f"the sweeps' best times: {matched['ratio_cpu']:.1f}x"
+        )
+    return matched["ratio_cpu"], "the sweeps' best times"
+
+
 def _row(figure: str, value: str, target: str, met: bool | None) -> str:
     verdict = "n/a" if met is None else ("met" if met else "**not met**")
     return f"| {figure} | {value} | {target} | {verdict} |"
@@ -139,12 +153,13 @@ def targets_table() -> str:
     scipy = _load("peers_scipy")
     if scipy:
         tight = min(scipy["matched_accuracy"], key=lambda m: m["target"])
+        ratio, how = _peer_ratio(tight)
         add(
             f"fastest SciPy method / jointgap at NRMSE {tight['target']:.0e} "
-            f"({tight['scipy']['method']})",
-            tight["ratio_cpu"],
+            f"({tight['scipy']['method']}; {how})",
+            ratio,
             ">= 30",
-            tight["ratio_cpu"] >= 30,
+            ratio >= 30,
             "x",
         )
     else:
@@ -153,12 +168,13 @@ def targets_table() -> str:
     if exudyn:
         overall = [m for m in exudyn["matched_accuracy"] if m.get("which") == "overall"]
         tight = min(overall, key=lambda m: m["target"])
+        ratio, how = _peer_ratio(tight)
         add(
             f"fastest Exudyn solver / jointgap at NRMSE {tight['target']:.0e} "
-            f"({tight['exudyn']['method']})",
-            tight["ratio_cpu"],
+            f"({tight['exudyn']['method']}; {how})",
+            ratio,
             ">= 100",
-            tight["ratio_cpu"] >= 100,
+            ratio >= 100,
             "x",
         )
     else:

@@ -13,9 +13,11 @@ from __future__ import annotations
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
@@ -53,10 +55,14 @@ __all__ = [
     "load_text",
     "machine",
     "nrmse",
+    "PAIRED_ROUNDS",
+    "paired_ratio",
+    "paired_text",
     "reference",
     "reference_summary",
     "row_dict",
     "run_jointgap",
+    "timed_jointgap",
     "write_json",
 ]
 
@@ -139,6 +145,16 @@ JOINTGAP_METHODS = ("auto", "radau5")
 the peers' fastest is."""
 
 
+def timed_jointgap(model: jointgap.Model, rtol: float, method: str) -> tuple[float, float, Any]:
+    """One ``simulate`` (``method``, atol = 1e-3 x rtol, slider.ax at 10 kHz): its wall
+    and process CPU time [s] and its result."""
+    start, cpu_start = time.perf_counter(), time.process_time()
+    result = model.simulate(
+        T_END, rate=RATE, rtol=rtol, atol=1e-3 * rtol, method=method, channels=["slider.ax"]
+    )
+    return time.perf_counter() - start, time.process_time() - cpu_start, result
+
+
 def run_jointgap(
     model: jointgap.Model, rtol: float, ref: np.ndarray, repeats: int = 2, method: str = "auto"
 ) -> Row:
@@ -146,11 +162,7 @@ def run_jointgap(
     model loaded once: wall and process CPU time of the Python call, best of ``repeats``."""
     row = Row("jointgap", method, rtol)
     for _ in range(repeats):
-        start, cpu_start = time.perf_counter(), time.process_time()
-        result = model.simulate(
-            T_END, rate=RATE, rtol=rtol, atol=1e-3 * rtol, method=method, channels=["slider.ax"]
-        )
-        wall, cpu = time.perf_counter() - start, time.process_time() - cpu_start
+        wall, cpu, result = timed_jointgap(model, rtol, method)
         row.runs += 1
         if result.status != "finished":
             row.note = f"{result.status}: {result.message}"
@@ -162,6 +174,38 @@ def run_jointgap(
         row.nfev, row.njev = stats["rhs_evaluations"], stats["jacobian_evaluations"]
         row.steps = stats["accepted_steps"] + stats["rejected_steps"]
     return row
+
+
+PAIRED_ROUNDS = 5
+"""Rounds of a paired timing (see ``paired_ratio``)."""
+
+
+def paired_ratio(
+    peer_cpu: Callable[[], float], model: jointgap.Model, rtol: float, method: str
+) -> dict[str, Any]:
+    """One matched pair timed in alternation: each round one peer run (``peer_cpu``
+    returns its process CPU time [s]) and jointgap's best of 3, and the ratio of the
+    round; the figure is the median of the rounds' ratios. On this shared machine a core's
+    speed moves by 10-30 % within seconds, so two sides timed minutes apart differ by that
+    much from the machine alone (the same pair read 18x and 22x in two runs); alternating
+    puts both sides of each ratio in the same stretch."""
+    rounds = []
+    for _ in range(PAIRED_ROUNDS):
+        peer = peer_cpu()
+        ours = min(timed_jointgap(model, rtol, method)[1] for _ in range(3))
+        rounds.append({"peer_cpu": peer, "jointgap_cpu": ours, "ratio": peer / ours})
+    return {
+        "rounds": rounds,
+        "ratio_median": statistics.median(r["ratio"] for r in rounds),
+    }
+
+
+def paired_text(paired: dict[str, Any] | None) -> str:
+    """A paired timing for a table: median ratio, and the rounds' range."""
+    if not paired:
+        return ""
+    ratios = [r["ratio"] for r in paired["rounds"]]
+    return f"{paired['ratio_median']:.1f}x ({min(ratios):.1f}-{max(ratios):.1f})"
 
 
 def fastest(rows: list[Row], peer: str, target: float, key: str = "wall") -> Row | None:

@@ -656,6 +656,18 @@ def worker(case_path: Path, out_path: Path, quick: bool, cap: float) -> None:
     )
 
 
+def time_one(case_path: Path, spec: str) -> None:
+    """One run of one configuration (``spec``: JSON of method, formulation, value, uf);
+    prints its CPU time as JSON (the paired timing of the main side)."""
+    payload = json.loads(case_path.read_text())
+    run = json.loads(spec)
+    r = simulate(
+        Case(payload["model"]), run["method"], run["formulation"], run["value"], run["uf"],
+        payload["t_end"],
+    )  # fmt: skip
+    print(json.dumps({"cpu": r["cpu"], "ok": r["ok"]}))
+
+
 # ==== the main side (runs in the main .venv, with jointgap) ==============================
 
 
@@ -666,9 +678,13 @@ def main() -> None:
     parser.add_argument(
         "--worker", nargs=2, type=Path, metavar=("CASE", "OUT"), help=argparse.SUPPRESS
     )
+    parser.add_argument("--time", nargs=2, metavar=("CASE", "SPEC"), help=argparse.SUPPRESS)
     args = parser.parse_args()
     if args.worker:
         worker(*args.worker, quick=args.quick, cap=args.cap)
+        return
+    if args.time:
+        time_one(Path(args.time[0]), args.time[1])
         return
 
     import common
@@ -715,7 +731,20 @@ def main() -> None:
                 f"jointgap {method} rtol {rtol:.0e}: CPU {common.fmt(row.cpu, '.3f')} s "
                 f"NRMSE {common.fmt(row.error, '.1e')}"
             )
-    write(raw, jg, ref, load_start, time.perf_counter() - begun, args.cap, model)
+
+    def exudyn_cpu(run: dict[str, Any]) -> float:
+        """CPU time of one more run of an Exudyn configuration, in its own venv."""
+        spec = json.dumps({k: run[k] for k in ("method", "formulation", "value", "uf")})
+        command = [str(PEER_PYTHON), str(Path(__file__).resolve()), "--time", str(case_path), spec]
+        done = subprocess.run(command, check=True, cwd=work, capture_output=True, text=True)
+        timing = json.loads(done.stdout.strip().splitlines()[-1])
+        assert timing["ok"], (run, timing)
+        return timing["cpu"]
+
+    def pair(run: dict[str, Any], j: common.Row) -> dict[str, Any]:
+        return common.paired_ratio(lambda: exudyn_cpu(run), model, j.rtol, j.method)
+
+    write(raw, jg, ref, load_start, time.perf_counter() - begun, args.cap, model, pair)
 
 
 def brief(row: Any) -> dict[str, Any]:  # noqa: ANN401
@@ -742,11 +771,14 @@ def setting_text(run: dict[str, Any]) -> str:
     return f"{run['setting']} {num(run['value'])}"
 
 
-def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> None:  # noqa: ANN001
+def write(raw, jg, ref, load_start: str, total: float, cap: float, model, pair) -> None:  # noqa: ANN001
+    """The tables and the JSON; ``pair(run, jointgap_row)`` times the matched pair of each
+    target again in alternation (``common.paired_ratio``)."""
     import common
 
     runs = raw["runs"]
     ex_rows = []
+    raw_of = {}  # id() of an Exudyn row -> its run
     for run in runs:
         if run.get("error") is None:
             continue
@@ -763,6 +795,7 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
                 setting=run["setting"],
             )
         )
+        raw_of[id(ex_rows[-1])] = run
     # Correctness: the tightest run of each formulation.
     checks = []
     for method in ("GeneralizedAlpha", "TrapezoidalIndex2", "DOPRI5"):
@@ -842,6 +875,7 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
         "|---:|---|---:|---:|---:|---:|---:|",
     ]
     summary = []
+    paired_lines: list[str] = []
     for target in common.TARGETS:
         j = common.fastest(jg, "jointgap", target, key="cpu")
         overall = common.fastest(ex_rows, "Exudyn", target, key="cpu")
@@ -853,6 +887,12 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
         for name, e in per.items():
             ratio = e.cpu / j.cpu if e and j and e.cpu and j.cpu else None
             wall_ratio = e.wall / j.wall if e and j and e.wall and j.wall else None
+            paired = pair(raw_of[id(e)], j) if name == "overall" and e and j else None
+            if paired:
+                paired_lines.append(
+                    f"- NRMSE {target:.0e}: {e.method} {e.setting} {num(e.rtol)} against "
+                    f"jointgap {j.method} rtol {j.rtol:.0e}: {common.paired_text(paired)}"
+                )
             summary.append(
                 {
                     "target": target,
@@ -861,6 +901,7 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
                     "jointgap": None if j is None else brief(j),
                     "ratio_cpu": ratio,
                     "ratio_wall": wall_ratio,
+                    "paired": paired,
                 }
             )
         shown = sorted(
@@ -881,6 +922,15 @@ def write(raw, jg, ref, load_start: str, total: float, cap: float, model) -> Non
                 + (f"{bold}{ratio:.0f}x{bold}" if ratio else "")
                 + f" | {common.fmt(wall_ratio, '.0f')} |"
             )
+    lines += [
+        "",
+        f"**Paired**: the bold pair of each target timed again in {common.PAIRED_ROUNDS} "
+        "alternating rounds (one Exudyn run in its venv, jointgap's best of 3; process CPU "
+        "time), the median of the rounds' ratios (min-max in brackets): both sides of each "
+        "ratio in the same few seconds of a machine whose speed drifts.",
+        "",
+        *paired_lines,
+    ]
     out = common.OUTPUT / "peers_exudyn.md"
     out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

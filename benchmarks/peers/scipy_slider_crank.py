@@ -43,6 +43,7 @@ from common import (
     JOINTGAP_METHODS,
     MODEL,
     OUTPUT,
+    PAIRED_ROUNDS,
     ROOT,
     T_END,
     TARGETS,
@@ -53,6 +54,8 @@ from common import (
     load_text,
     machine,
     nrmse,
+    paired_ratio,
+    paired_text,
     reference,
     reference_summary,
     row_dict,
@@ -304,11 +307,35 @@ def main() -> None:
                 f"NRMSE {fmt(row.error, '.1e')} {row.note}",
                 flush=True,
             )
-    write(rows, ref_wall, ref_error, load_start, time.perf_counter() - begun, args.cap)
+    paired = {}
+    for target in TARGETS:
+        s, j = fastest(rows, "SciPy", target), fastest(rows, "jointgap", target)
+        if s and j:
+            paired[target] = paired_ratio(
+                lambda s=s: scipy_cpu(s.method, s.rtol, t), model, j.rtol, j.method
+            )
+            print(
+                f"paired at {target:.0e}: median ratio {paired[target]['ratio_median']:.1f}x",
+                flush=True,
+            )
+    write(rows, paired, ref_wall, ref_error, load_start, time.perf_counter() - begun, args.cap)
+
+
+def scipy_cpu(method: str, rtol: float, t: np.ndarray) -> float:
+    """Process CPU time of one solve plus the slider acceleration on the grid [s]."""
+    start = time.process_time()
+    solve(method, rtol, math.inf).slider_ax(t)
+    return time.process_time() - start
 
 
 def write(
-    rows: list[Row], ref_wall: float, ref_error: float, load_start: str, total: float, cap: float
+    rows: list[Row],
+    paired: dict[float, dict],
+    ref_wall: float,
+    ref_error: float,
+    load_start: str,
+    total: float,
+    cap: float,
 ) -> None:
     lines = [
         "## Peer: the founding clearance case with SciPy `solve_ivp` (minimal coordinates)",
@@ -345,11 +372,15 @@ def write(
         "",
         "**Speed ratio at matched accuracy**: per NRMSE target, the fastest SciPy "
         "configuration meeting it against the fastest jointgap one; ratio = SciPy wall / "
-        "jointgap wall (the project's target: at least 30).",
+        "jointgap wall from the sweep above (the project's target: at least 30). 'paired': "
+        f"the same two configurations timed again in {PAIRED_ROUNDS} alternating rounds "
+        "(one SciPy run, jointgap's best of 3; process CPU time), the median of the rounds' "
+        "ratios (min-max in brackets): both sides of each ratio in the same few seconds of "
+        "a machine whose speed drifts.",
         "",
         "| target NRMSE | SciPy (method, rtol) | SciPy wall [s] | jointgap rtol | "
-        "jointgap wall [s] | ratio |",
-        "|---:|---|---:|---:|---:|---:|",
+        "jointgap wall [s] | ratio | paired |",
+        "|---:|---|---:|---:|---:|---:|---:|",
     ]
     summary = []
     for target in TARGETS:
@@ -362,6 +393,7 @@ def write(
                 "jointgap": None if j is None else row_dict(j),
                 "ratio_wall": s.wall / j.wall if s and j and s.wall and j.wall else None,
                 "ratio_cpu": s.cpu / j.cpu if s and j and s.cpu and j.cpu else None,
+                "paired": paired.get(target),
             }
         )
         lines.append(
@@ -369,7 +401,8 @@ def write(
             + (f"{s.method} {s.rtol:.0e} (NRMSE {s.error:.1e})" if s else "not met")
             + f" | {fmt(s.wall if s else None, '.3f')} | "
             + (f"{j.rtol:.0e} (NRMSE {j.error:.1e})" if j else "not met")
-            + f" | {fmt(j.wall if j else None, '.3f')} | {ratio} |"
+            + f" | {fmt(j.wall if j else None, '.3f')} | {ratio} "
+            + f"| {paired_text(paired.get(target))} |"
         )
     OUT.parent.mkdir(parents=True, exist_ok=True)
     OUT.write_text("\n".join(lines) + "\n")
