@@ -62,7 +62,6 @@ __all__ = [
     "reference_summary",
     "row_dict",
     "run_jointgap",
-    "timed_jointgap",
     "write_json",
 ]
 

@@ -314,10 +314,7 @@ def main() -> None:
             paired[target] = paired_ratio(
                 lambda s=s: scipy_cpu(s.method, s.rtol, t), model, j.rtol, j.method
             )
-            print(
-                f"paired at {target:.0e}: median ratio {paired[target]['ratio_median']:.1f}x",
-                flush=True,
-            )
+            print(f"paired at {target:.0e}: {paired_text(paired[target])}", flush=True)
     write(rows, paired, ref_wall, ref_error, load_start, time.perf_counter() - begun, args.cap)
 
 
