@@ -273,3 +273,30 @@ fn sticking_friction_hands_auto_to_radau5() {
 
 #[path = "common.rs"]
 mod common;
+
+/// A journal thrown up inside its bearing that just reaches the wall at the top of its
+/// flight (apex penetration `eps c`): the brief contact at the apex is found at the
+/// parabola's crossing time, with the parabola's vertical speed there, however long the
+/// free-flight steps around it are.
+#[test]
+fn grazing_contact_at_the_apex_is_found() {
+    let g = 9.81;
+    for (eps, method) in [(1e-3, Method::Dopri5), (1e-6, Method::Dopri5), (1e-6, Method::Radau5)] {
+        let v0 = (2.0 * g * CLEARANCE * (1.0 + eps)).sqrt();
+        let model = free_journal([0.0, v0], 0.0, g, json!({"type": "hertz"}), json!({"type": "none"}));
+        let opts = SimOptions { rate: Some(100.0), rtol: 1e-6, atol: 1e-10, method, ..SimOptions::new(0.02) };
+        let res = simulate(&model, &opts).unwrap();
+        assert_eq!(res.status, Status::Finished);
+        let impacts = &res.impacts[0].impacts;
+        assert_eq!(impacts.len(), 1, "eps {eps}, {method:?}: {impacts:?}");
+        let onset_speed = (v0 * v0 - 2.0 * g * CLEARANCE).sqrt();
+        let onset_time = (v0 - onset_speed) / g;
+        let imp = &impacts[0];
+        assert!((imp.onset_time - onset_time).abs() < 1e-9, "eps {eps}: onset at {}", imp.onset_time);
+        assert!(
+            (imp.onset_speed / onset_speed - 1.0).abs() < 1e-3,
+            "eps {eps}: onset speed {} vs {onset_speed}",
+            imp.onset_speed
+        );
+    }
+}

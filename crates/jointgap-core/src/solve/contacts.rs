@@ -63,6 +63,11 @@ const PROBES: usize = 8;
 /// first point where a joint's penetration sign disagrees with its contact flag.
 /// Located by bisection to a relative width of 1e-12 of the step.
 ///
+/// The search probes the dense output at 8 equally spaced points and at the interior
+/// extreme of each joint's end-point model of its penetration where that model crosses
+/// zero ([`screen`]), so a graze between two equally spaced points is still found. A
+/// step that [`screen`] shows quiet is not searched.
+///
 /// The probes before the change also raise the running impacts' peak force and
 /// penetration in `log`: a step that spans the peak would otherwise report only the
 /// smaller values at its ends.
@@ -78,14 +83,18 @@ pub fn locate(
     f1: &[f64],
     scratch: &mut [f64],
 ) -> Option<(f64, usize)> {
-    if sys.clearances.is_empty() {
+    if sys.clearances.is_empty() || screen(sys, states, log, h, y0, f0, y1, f1, scratch) {
         return None;
     }
     let n = y0.len() / 2;
     let differs = |k: usize, d: f64| if states[k].in_contact { d < 0.0 } else { d > 0.0 };
+    let mut points = std::mem::take(&mut log.points);
+    points.extend((1..=PROBES).map(|p| p as f64 / PROBES as f64));
+    points.sort_by(f64::total_cmp);
+    points.dedup();
     let mut lo = 0.0;
-    for p in 1..=PROBES {
-        let hi = p as f64 / PROBES as f64;
+    let mut found = None;
+    for &hi in &points {
         hermite5(hi, h, y0, f0, y1, f1, scratch);
         let (q, v) = scratch.split_at(n);
         // Each joint's kinematics once per probe: the search and the peaks both use them.
@@ -93,30 +102,162 @@ pub fn locate(
         probed.clear();
         probed.extend((0..states.len()).map(|k| kinematics(sys, k, q, v)));
         let change = probed.iter().enumerate().position(|(k, kin)| differs(k, kin.penetration));
-        if let Some(k) = change {
-            log.probed = probed;
-            // Bisect on joint k in (lo, hi]; an earlier change of another joint inside
-            // the bracket is caught by the next step's search.
-            let (mut a, mut b) = (lo, hi);
-            while b - a > 1e-12 {
-                let mid = 0.5 * (a + b);
-                hermite5(mid, h, y0, f0, y1, f1, scratch);
-                let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
-                if differs(k, d) {
-                    b = mid;
-                } else {
-                    a = mid;
-                }
+        if change.is_none() {
+            for k in (0..states.len()).filter(|&k| states[k].in_contact) {
+                log.raise_peak(sys, k, &states[k], &probed[k]);
             }
-            return Some((b, k));
-        }
-        for k in (0..states.len()).filter(|&k| states[k].in_contact) {
-            log.raise_peak(sys, k, &states[k], &probed[k]);
         }
         log.probed = probed;
+        if let Some(k) = change {
+            found = Some((lo, hi, k));
+            break;
+        }
         lo = hi;
     }
-    None
+    points.clear();
+    log.points = points;
+    // Bisect on joint k in (lo, hi]; an earlier change of another joint inside the
+    // bracket is caught by the next step's search.
+    let (mut a, mut b, k) = found?;
+    while b - a > 1e-12 {
+        let mid = 0.5 * (a + b);
+        hermite5(mid, h, y0, f0, y1, f1, scratch);
+        let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
+        if differs(k, d) {
+            b = mid;
+        } else {
+            a = mid;
+        }
+    }
+    Some((b, k))
+}
+
+/// Interior points at which a step's penetration is compared with its end-point model.
+const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
+
+/// Whether the search of [`locate`] can be skipped: no joint changes contact inside the
+/// step and no joint in contact can raise its impact's peaks there. Where not, leaves in
+/// `log.points` the extra points to search.
+///
+/// Contact: each joint's penetration over the step is modelled by the cubic through its
+/// values and rates at the ends (the dense output matches both there; in free flight
+/// under constant forces it is exact). Where the cubic crosses zero, its interior extreme
+/// is searched. Otherwise the dense output's penetration at [`CHECKS`] fits the model's
+/// deviation `theta^2 (1 - theta)^2 (g0 + g1 theta)`, at most `(|g0| + |g1|) / 16`; the
+/// step is clear when the cubic keeps its sign with twice that margin and the checks
+/// agree.
+///
+/// Peaks: a joint in contact needs the search unless it restitutes at both ends (the
+/// force and penetration fall from the start) or, past its first restitution, the
+/// larger force at the ends is below half the impact's peak: an accurate step cannot
+/// double the force and back inside itself.
+#[allow(clippy::too_many_arguments)]
+fn screen(
+    sys: &System,
+    states: &[ContactState],
+    log: &mut ImpactLog,
+    h: f64,
+    y0: &[f64],
+    f0: &[f64],
+    y1: &[f64],
+    f1: &[f64],
+    scratch: &mut [f64],
+) -> bool {
+    let n = y0.len() / 2;
+    let mut models = std::mem::take(&mut log.models);
+    models.clear();
+    let mut quiet = true;
+    for (k, state) in states.iter().enumerate() {
+        let a = kinematics(sys, k, &y0[..n], &y0[n..]);
+        let b = kinematics(sys, k, &y1[..n], &y1[n..]);
+        let model = Cubic {
+            d0: a.penetration,
+            r0: h * a.penetration_rate,
+            d1: b.penetration,
+            r1: h * b.penetration_rate,
+        };
+        let sign = if state.in_contact { 1.0 } else { -1.0 };
+        let (low, at) = model.lowest(sign);
+        if low <= 0.0 {
+            quiet = false;
+            if at > 0.0 && at < 1.0 {
+                log.points.push(at);
+            }
+        }
+        if state.in_contact && (a.penetration_rate > 0.0 || b.penetration_rate > 0.0) {
+            let c = &sys.clearances[k];
+            let force = |kin| c.contact_force(kin, state.onset_speed).0;
+            let peak = log.impacts[k].last().map_or(0.0, |i| i.peak_force);
+            quiet &= state.mode == Mode::Continuous && 2.0 * force(&a).max(force(&b)) < peak;
+        }
+        models.push((model, sign, [0.0; 2]));
+    }
+    if quiet {
+        for (i, &theta) in CHECKS.iter().enumerate() {
+            hermite5(theta, h, y0, f0, y1, f1, scratch);
+            let (q, v) = scratch.split_at(n);
+            for (k, (_, _, checked)) in models.iter_mut().enumerate() {
+                checked[i] = kinematics(sys, k, q, v).penetration;
+            }
+        }
+        quiet = models.iter().all(|(model, sign, checked)| {
+            let dev = [checked[0] - model.at(CHECKS[0]), checked[1] - model.at(CHECKS[1])];
+            // dev_i = theta_i^2 (1 - theta_i)^2 (g0 + g1 theta_i), theta = 1/3, 2/3.
+            let g1 = 60.75 * (dev[1] - dev[0]);
+            let g0 = 20.25 * (2.0 * dev[0] - dev[1]);
+            let margin = (g0.abs() + g1.abs()) / 8.0;
+            sign * checked[0] > margin && sign * checked[1] > margin && model.lowest(*sign).0 > margin
+        });
+    }
+    log.models = models;
+    quiet
+}
+
+/// A cubic in `theta` on [0, 1] from its values `d0`, `d1` and slopes `r0`, `r1` at the
+/// ends (Hermite).
+#[derive(Debug, Clone, Copy)]
+struct Cubic {
+    d0: f64,
+    r0: f64,
+    d1: f64,
+    r1: f64,
+}
+
+impl Cubic {
+    fn at(&self, s: f64) -> f64 {
+        let (s2, s3) = (s * s, s * s * s);
+        (2.0 * s3 - 3.0 * s2 + 1.0) * self.d0
+            + (s3 - 2.0 * s2 + s) * self.r0
+            + (3.0 * s2 - 2.0 * s3) * self.d1
+            + (s3 - s2) * self.r1
+    }
+
+    /// The smallest value of `sign * p` on [0, 1] and where: at an end or where the
+    /// slope vanishes.
+    fn lowest(&self, sign: f64) -> (f64, f64) {
+        // p' = 3 a s^2 + 2 b s + r0
+        let a = 2.0 * (self.d0 - self.d1) + self.r0 + self.r1;
+        let b = 3.0 * (self.d1 - self.d0) - 2.0 * self.r0 - self.r1;
+        let mut low =
+            if sign * self.d0 <= sign * self.d1 { (sign * self.d0, 0.0) } else { (sign * self.d1, 1.0) };
+        let mut at = |s: f64| {
+            if (0.0..=1.0).contains(&s) && sign * self.at(s) < low.0 {
+                low = (sign * self.at(s), s);
+            }
+        };
+        // Roots of p' in the form that stays exact as `a` tends to zero (a quadratic).
+        let disc = b * b - 3.0 * a * self.r0;
+        if disc >= 0.0 {
+            let q = -(b + disc.sqrt().copysign(b));
+            if a != 0.0 {
+                at(q / (3.0 * a));
+            }
+            if q != 0.0 {
+                at(self.r0 / q);
+            }
+        }
+        low
+    }
 }
 
 /// Impact lists being built during a run.
@@ -126,12 +267,22 @@ pub struct ImpactLog {
     /// Each joint's kinematics at the current probe of [`locate`] (kept to reuse its
     /// allocation).
     probed: Vec<ContactKinematics>,
+    /// Each joint's penetration model, sign and checks in [`screen`] (kept for its
+    /// allocation).
+    models: Vec<(Cubic, f64, [f64; 2])>,
+    /// Extra points for [`locate`] to search, from [`screen`].
+    points: Vec<f64>,
 }
 
 impl ImpactLog {
     /// Empty lists for a system.
     pub fn new(sys: &System) -> Self {
-        ImpactLog { impacts: vec![Vec::new(); sys.clearances.len()], probed: Vec::new() }
+        ImpactLog {
+            impacts: vec![Vec::new(); sys.clearances.len()],
+            probed: Vec::new(),
+            models: Vec::new(),
+            points: Vec::new(),
+        }
     }
 
     /// Switches joint `k` at time `t` and state `(q, v)`: onset or separation.
@@ -195,5 +346,42 @@ impl ImpactLog {
             }
             self.raise_peak(sys, k, s, &kin);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cubic;
+
+    /// The lowest value and its place agree with a fine sampling, for cubics, a parabola
+    /// whose cubic coefficient is rounding noise, and lines.
+    #[test]
+    fn cubic_lowest_matches_sampling() {
+        let parabola =
+            |p0: f64, s0: f64, c2: f64| Cubic { d0: p0, r0: s0, d1: p0 + s0 + c2, r1: s0 + 2.0 * c2 };
+        let cases = [
+            Cubic { d0: -1.0, r0: 3.0, d1: -0.5, r1: -4.0 },
+            Cubic { d0: 0.2, r0: -1.5, d1: 0.1, r1: 2.0 },
+            Cubic { d0: 1.0, r0: 0.5, d1: 2.0, r1: 0.3 },
+            parabola(-1.6815036225893492e-4, 9.051454773886002e-4, -1.2180852386691708e-3),
+            Cubic { d0: 0.0, r0: 1.0, d1: 1.0, r1: 1.0 },
+        ];
+        for cubic in cases {
+            for sign in [1.0, -1.0] {
+                let (low, at) = cubic.lowest(sign);
+                let sampled = (0..=100_000)
+                    .map(|i| i as f64 / 1e5)
+                    .map(|s| (sign * cubic.at(s), s))
+                    .fold((f64::INFINITY, 0.0), |m, x| if x.0 < m.0 { x } else { m });
+                let scale = cubic.d0.abs() + cubic.d1.abs() + cubic.r0.abs() + cubic.r1.abs();
+                assert!(low <= sampled.0 + 1e-15 * scale, "{cubic:?} {sign}: {low} vs {}", sampled.0);
+                assert!(sampled.0 - low < 1e-9 * scale, "{cubic:?} {sign}: {low} vs {}", sampled.0);
+                assert!((at - sampled.1).abs() < 1e-3, "{cubic:?} {sign}: at {at} vs {}", sampled.1);
+                assert!((sign * cubic.at(at) - low).abs() <= 1e-15 * scale);
+            }
+        }
+        // The parabola's top is above zero though both ends are well below.
+        let (low, at) = cases[3].lowest(-1.0);
+        assert!(low < 0.0 && (at - 0.3715).abs() < 1e-3, "{low} at {at}");
     }
 }
