@@ -1,0 +1,51 @@
+//! `Stepper::attempt`'s contract: an accepted attempt evaluates the ODE last at
+//! `(t + h, y_new)`, so the drift check after the step reads the constraint rows of that
+//! evaluation (`Workspace::violation_here`) instead of evaluating them again.
+
+mod common;
+
+use jointgap_core::solve::dopri5::Dopri5;
+use jointgap_core::solve::dynamics::{violation, Workspace};
+use jointgap_core::solve::ode::Ode;
+use jointgap_core::solve::prepare;
+use jointgap_core::solve::radau5::Radau5;
+use jointgap_core::solve::sdirk4::Sdirk4;
+use jointgap_core::solve::stepper::Stepper;
+
+/// Over 30 accepted steps of the clearance slider-crank from rest, each method's drift
+/// from its last evaluation equals a fresh evaluation at the step's end, bit for bit.
+#[test]
+fn accepted_attempt_evaluates_last_at_its_end() {
+    let prepared = prepare(&common::slider_crank_clearance()).unwrap();
+    let sys = &prepared.system;
+    let n = 2 * sys.n_coords();
+    let steppers: Vec<Box<dyn Stepper>> =
+        vec![Box::new(Dopri5::new(n)), Box::new(Radau5::new(n)), Box::new(Sdirk4::new(n))];
+    for mut stepper in steppers {
+        let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
+        let mut fresh = Workspace::new(sys, prepared.initial.active.clone());
+        let mut y = [prepared.initial.q.clone(), prepared.initial.v.clone()].concat();
+        let (mut t, mut h) = (0.0, 1e-4);
+        let mut f = vec![0.0; n];
+        let (mut y_new, mut f_new) = (vec![0.0; n], vec![0.0; n]);
+        let mut accepted = 0;
+        while accepted < 30 {
+            ode.ws.t_piece = t + 0.5 * h;
+            ode.rhs(t, &y, &mut f).unwrap();
+            let attempt = stepper.attempt(&mut ode, t, &y, &f, h, &mut y_new, &mut f_new);
+            match attempt {
+                Ok(a) if a.error <= 1.0 => {
+                    let (q, v) = y_new.split_at(n / 2);
+                    let here = ode.ws.violation_here(v);
+                    fresh.t_piece = ode.ws.t_piece;
+                    let again = violation(sys, t + h, q, v, &mut fresh);
+                    assert_eq!(here, again, "{} at t = {t}", stepper.name());
+                    assert!(here.0 > 0.0 && here.1 > 0.0, "{}: no drift to compare", stepper.name());
+                    (t, accepted) = (t + h, accepted + 1);
+                    y.copy_from_slice(&y_new);
+                }
+                _ => h *= 0.5,
+            }
+        }
+    }
+}
