@@ -2,7 +2,7 @@
 //! bearing, the onset speed of the current impact, the contact mode, and the impact
 //! list. Onsets and separations are events located by root finding on the penetration.
 
-use super::ode::hermite5;
+use super::ode::DenseStep;
 use crate::contact::ContactKinematics;
 use crate::output::Impact;
 use crate::system::System;
@@ -71,22 +71,17 @@ const PROBES: usize = 8;
 /// The probes before the change also raise the running impacts' peak force and
 /// penetration in `log`: a step that spans the peak would otherwise report only the
 /// smaller values at its ends.
-#[allow(clippy::too_many_arguments)]
 pub fn locate(
     sys: &System,
     states: &[ContactState],
     log: &mut ImpactLog,
-    h: f64,
-    y0: &[f64],
-    f0: &[f64],
-    y1: &[f64],
-    f1: &[f64],
+    step: &DenseStep,
     scratch: &mut [f64],
 ) -> Option<(f64, usize)> {
-    if sys.clearances.is_empty() || screen(sys, states, log, h, y0, f0, y1, f1, scratch) {
+    if sys.clearances.is_empty() || screen(sys, states, log, step, scratch) {
         return None;
     }
-    let n = y0.len() / 2;
+    let n = step.y0.len() / 2;
     let differs = |k: usize, d: f64| if states[k].in_contact { d < 0.0 } else { d > 0.0 };
     let mut points = std::mem::take(&mut log.points);
     points.extend((1..=PROBES).map(|p| p as f64 / PROBES as f64));
@@ -95,7 +90,7 @@ pub fn locate(
     let mut lo = 0.0;
     let mut found = None;
     for &hi in &points {
-        hermite5(hi, h, y0, f0, y1, f1, scratch);
+        step.at(hi, scratch);
         let (q, v) = scratch.split_at(n);
         // Each joint's kinematics once per probe: the search and the peaks both use them.
         let mut probed = std::mem::take(&mut log.probed);
@@ -121,7 +116,7 @@ pub fn locate(
     let (mut a, mut b, k) = found?;
     while b - a > 1e-12 {
         let mid = 0.5 * (a + b);
-        hermite5(mid, h, y0, f0, y1, f1, scratch);
+        step.at(mid, scratch);
         let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
         if differs(k, d) {
             b = mid;
@@ -151,30 +146,25 @@ const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 /// force and penetration fall from the start) or, past its first restitution, the
 /// larger force at the ends is below half the impact's peak: an accurate step cannot
 /// double the force and back inside itself.
-#[allow(clippy::too_many_arguments)]
 fn screen(
     sys: &System,
     states: &[ContactState],
     log: &mut ImpactLog,
-    h: f64,
-    y0: &[f64],
-    f0: &[f64],
-    y1: &[f64],
-    f1: &[f64],
+    step: &DenseStep,
     scratch: &mut [f64],
 ) -> bool {
-    let n = y0.len() / 2;
+    let n = step.y0.len() / 2;
     let mut models = std::mem::take(&mut log.models);
     models.clear();
     let mut quiet = true;
     for (k, state) in states.iter().enumerate() {
-        let a = kinematics(sys, k, &y0[..n], &y0[n..]);
-        let b = kinematics(sys, k, &y1[..n], &y1[n..]);
+        let a = kinematics(sys, k, &step.y0[..n], &step.y0[n..]);
+        let b = kinematics(sys, k, &step.y1[..n], &step.y1[n..]);
         let model = Cubic {
             d0: a.penetration,
-            r0: h * a.penetration_rate,
+            r0: step.h * a.penetration_rate,
             d1: b.penetration,
-            r1: h * b.penetration_rate,
+            r1: step.h * b.penetration_rate,
         };
         let sign = if state.in_contact { 1.0 } else { -1.0 };
         let (low, at) = model.lowest(sign);
@@ -194,7 +184,7 @@ fn screen(
     }
     if quiet {
         for (i, &theta) in CHECKS.iter().enumerate() {
-            hermite5(theta, h, y0, f0, y1, f1, scratch);
+            step.at(theta, scratch);
             let (q, v) = scratch.split_at(n);
             for (k, (_, _, checked)) in models.iter_mut().enumerate() {
                 checked[i] = kinematics(sys, k, q, v).penetration;

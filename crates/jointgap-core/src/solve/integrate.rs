@@ -6,7 +6,7 @@ use super::contacts::{self, ImpactLog};
 use super::dopri5::Dopri5;
 use super::dynamics::{friction_rate, project, violation};
 use super::monitor::{Monitor, Progress};
-use super::ode::{hermite5, Ode};
+use super::ode::{DenseStep, Ode};
 use super::profile;
 use super::radau5::Radau5;
 use super::record::Recorder;
@@ -131,17 +131,8 @@ pub fn integrate(
                         let drift_at_end = ode.ws.violation_here(&y_new[n..]);
                         // A contact onset or separation inside the step ends the step there.
                         let lap = profile::start(&ode.ws.profile);
-                        let event = contacts::locate(
-                            sys,
-                            &ode.ws.contacts,
-                            log,
-                            h,
-                            y,
-                            &f,
-                            &y_new,
-                            &f_new,
-                            &mut sample,
-                        );
+                        let step = DenseStep { h, y0: y, f0: &f, y1: &y_new, f1: &f_new };
+                        let event = contacts::locate(sys, &ode.ws.contacts, log, &step, &mut sample);
                         profile::stop(&mut ode.ws.profile, lap, |p| &mut p.events);
                         let (t_new, last) = match event {
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
@@ -154,7 +145,7 @@ pub fn integrate(
                                 break;
                             }
                             let ts = ts.min(t_new);
-                            hermite5((ts - t) / h, h, y, &f, &y_new, &f_new, &mut sample);
+                            step.at((ts - t) / h, &mut sample);
                             let (q, v) = sample.split_at(n);
                             if rec.push(sys, &mut ode.ws, ts, q, v).is_err() {
                                 break 'run singular(ts);
@@ -166,7 +157,7 @@ pub fn integrate(
                         let mut refresh = false;
                         if let Some((theta, k)) = event {
                             if theta < 1.0 {
-                                hermite5(theta, h, y, &f, &y_new, &f_new, &mut sample);
+                                step.at(theta, &mut sample);
                                 y_new.copy_from_slice(&sample);
                             }
                             let (q, v) = y_new.split_at(n);

@@ -88,6 +88,29 @@ impl<'a> Ode<'a> {
     }
 }
 
+/// One accepted step's ends, `(y0, f0)` at its start and `(y1, f1)` at its end, `h`
+/// long: what its dense output ([`hermite5`]) is built from.
+#[derive(Debug, Clone, Copy)]
+pub struct DenseStep<'a> {
+    /// Step size.
+    pub h: f64,
+    /// State at the start.
+    pub y0: &'a [f64],
+    /// Derivative at the start.
+    pub f0: &'a [f64],
+    /// State at the end.
+    pub y1: &'a [f64],
+    /// Derivative at the end.
+    pub f1: &'a [f64],
+}
+
+impl DenseStep<'_> {
+    /// The state at `theta` (0 at the start, 1 at the end) into `out`.
+    pub fn at(&self, theta: f64, out: &mut [f64]) {
+        hermite5(theta, self.h, self.y0, self.f0, self.y1, self.f1, out);
+    }
+}
+
 /// Quintic Hermite interpolation of a second-order system over one step: positions from
 /// their values, velocities and accelerations at both ends (6th order), velocities as
 /// its derivative. `y0`, `f0` at the start, `y1`, `f1` at the end, `h` the step.
