@@ -231,8 +231,9 @@ impl Cubic {
         let mut low =
             if sign * self.d0 <= sign * self.d1 { (sign * self.d0, 0.0) } else { (sign * self.d1, 1.0) };
         let mut at = |s: f64| {
-            if (0.0..=1.0).contains(&s) && sign * self.at(s) < low.0 {
-                low = (sign * self.at(s), s);
+            let value = sign * self.at(s);
+            if (0.0..=1.0).contains(&s) && value < low.0 {
+                low = (value, s);
             }
         };
         // Roots of p' in the form that stays exact as `a` tends to zero (a quadratic).
