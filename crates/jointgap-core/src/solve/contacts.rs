@@ -166,8 +166,7 @@ fn screen(
             d1: b.penetration,
             r1: step.h * b.penetration_rate,
         };
-        let sign = if state.in_contact { 1.0 } else { -1.0 };
-        let (low, at) = model.lowest(sign);
+        let (low, at) = model.lowest(side(state));
         if low <= 0.0 {
             quiet = false;
             if at > 0.0 && at < 1.0 {
@@ -180,27 +179,38 @@ fn screen(
             let peak = log.impacts[k].last().map_or(0.0, |i| i.peak_force);
             quiet &= state.mode == Mode::Continuous && 2.0 * force(&a).max(force(&b)) < peak;
         }
-        models.push((model, sign, [0.0; 2]));
+        models.push((model, [0.0; 2]));
     }
     if quiet {
         for (i, &theta) in CHECKS.iter().enumerate() {
             step.at(theta, scratch);
             let (q, v) = scratch.split_at(n);
-            for (k, (_, _, checked)) in models.iter_mut().enumerate() {
+            for (k, (_, checked)) in models.iter_mut().enumerate() {
                 checked[i] = kinematics(sys, k, q, v).penetration;
             }
         }
-        quiet = models.iter().all(|(model, sign, checked)| {
+        quiet = models.iter().zip(states).all(|((model, checked), state)| {
+            let sign = side(state);
             let dev = [checked[0] - model.at(CHECKS[0]), checked[1] - model.at(CHECKS[1])];
             // dev_i = theta_i^2 (1 - theta_i)^2 (g0 + g1 theta_i), theta = 1/3, 2/3.
             let g1 = 60.75 * (dev[1] - dev[0]);
             let g0 = 20.25 * (2.0 * dev[0] - dev[1]);
             let margin = (g0.abs() + g1.abs()) / 8.0;
-            sign * checked[0] > margin && sign * checked[1] > margin && model.lowest(*sign).0 > margin
+            sign * checked[0] > margin && sign * checked[1] > margin && model.lowest(sign).0 > margin
         });
     }
     log.models = models;
     quiet
+}
+
+/// The sign that a joint's penetration keeps while its contact state holds: + in
+/// contact, - in free flight.
+fn side(state: &ContactState) -> f64 {
+    if state.in_contact {
+        1.0
+    } else {
+        -1.0
+    }
 }
 
 /// A cubic in `theta` on [0, 1] from its values `d0`, `d1` and slopes `r0`, `r1` at the
@@ -258,9 +268,8 @@ pub struct ImpactLog {
     /// Each joint's kinematics at the current probe of [`locate`] (kept to reuse its
     /// allocation).
     probed: Vec<ContactKinematics>,
-    /// Each joint's penetration model, sign and checks in [`screen`] (kept for its
-    /// allocation).
-    models: Vec<(Cubic, f64, [f64; 2])>,
+    /// Each joint's penetration model and checks in [`screen`] (kept for its allocation).
+    models: Vec<(Cubic, [f64; 2])>,
     /// Extra points for [`locate`] to search, from [`screen`].
     points: Vec<f64>,
 }
