@@ -85,7 +85,8 @@ Simulate a model from t = 0 to --t-end and write
   OUT/deviation.csv how far the clearance run departs from it (RMS and peak
                     difference of the slider acceleration and the motor efforts)
 and print a short summary with the peaks of the main channels and the contact
-statistics. --plot writes the figure set (see 'jointgap plot --help').
+statistics. --plot writes the figure set (see 'jointgap plot --help'). Ctrl-C writes
+the results up to there (status "interrupted" in summary.json) and exits with 130.
 """
 
 _PLOT_DESCRIPTION = """\
@@ -105,7 +106,8 @@ Damping calibration of an ADAMS IMPACT clearance joint (PHYSICS.md section 3, th
 founding paper's Eq. 10-11): for a target restitution r, run, average the onset
 speeds V_avg of the selected impacts, set C_max = 3 K (1 - r^2) / (4 V_avg) d_max^n,
 and repeat until the integer part of C_max no longer changes (or --tolerance).
-Prints the iteration table; --write saves the calibrated model.
+Prints the iteration table; --write saves the calibrated model. Ctrl-C writes the
+iterations that ended to --table and exits with 130.
 
 Without --restitution, the inverse: the restitution that C_max (--c-max or the
 model's) corresponds to, at the V_avg of one run (or at --v-avg, without a run).

@@ -45,7 +45,9 @@ simulated --signal and the measurement (aligned as in 'jointgap compare').
 --param joint.quantity=low:high[@start], quantity one of restitution (for ADAMS
 IMPACT: the C_max that Eq. 10-11 give for it), c_max, d_max, damping, stiffness,
 mu_s, mu_d, mu, viscous, clearance. Prints the trial table (as the paper's Table IV)
-and the best values with their uncertainty; --write saves the fitted model.
+and the best values with their uncertainty; --write saves the fitted model. Ctrl-C
+stops the runs on every thread, writes the trials that ended to --table, names the
+best so far and exits with 130.
 """
 
 _SYNTHESIZE_DESCRIPTION = """\
