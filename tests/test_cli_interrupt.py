@@ -220,3 +220,11 @@ def test_progress_interval_variable_is_checked(engine, monkeypatch) -> None:
     monkeypatch.setenv("JOINTGAP_PROGRESS_INTERVAL", "soon")
     with pytest.raises(ValueError, match="JOINTGAP_PROGRESS_INTERVAL = 'soon'"):
         jointgap.load(CLEARANCE).simulate(0.01)
+
+
+def test_report_of_a_model_draws_the_run_so_far(tmp_path, engine) -> None:
+    out = tmp_path / "report.html"
+    args = ["report", CLEARANCE, "--t-end", LONG, "--rate", "100", "--out", str(out)]
+    line = interrupted_line(in_terminal(*args, interrupt_after=PAST_A_TENTH))
+    assert f"the report of the run is {out}" in line and "interrupted at t = " in line
+    assert out.stat().st_size > 10_000
