@@ -47,10 +47,15 @@ def find_chromium() -> str | None:
     return None
 
 
+PATIENCE = 300.0
+"""Seconds before a wait gives up: only a hung browser takes this long, never a slow or
+loaded machine (every wait here is for an event or a condition, none for a time)."""
+
+
 class Browser:
     """One headless Chromium process; pages are tabs of it."""
 
-    def __init__(self, executable: str | None = None, timeout: float = 20.0) -> None:
+    def __init__(self, executable: str | None = None, timeout: float = PATIENCE) -> None:
         exe = executable or find_chromium()
         if exe is None:
             raise BrowserError("no Chromium found (apt-get install chromium, or set $CHROMIUM)")
@@ -229,7 +234,7 @@ class Page:
             raise BrowserError(f"{expression[:80]}: {text}")
         return reply["result"].get("value")
 
-    def wait_for(self, expression: str, timeout: float = 10.0) -> Any:
+    def wait_for(self, expression: str, timeout: float = PATIENCE) -> Any:
         """Polls an expression until it is truthy; returns its value."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
@@ -238,6 +243,23 @@ class Page:
                 return value
             time.sleep(0.05)
         raise BrowserError(f"'{expression}' still false after {timeout:g} s")
+
+    def wait_for_console_error(self, timeout: float = PATIENCE) -> list[str]:
+        """Waits until the page has logged an error; returns the errors."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            if errors := self.console_errors:
+                return errors
+            time.sleep(0.02)
+        raise BrowserError(f"no console error within {timeout:g} s")
+
+    def animation_frames(self, count: int) -> None:
+        """Returns after ``count`` animation frames of the page have run."""
+        self.evaluate(
+            "new Promise(done => { let n = "
+            f"{count}; const next = () => (--n > 0 ? requestAnimationFrame(next) : done(0));"
+            " requestAnimationFrame(next); })"
+        )
 
     def screenshot(self, path: str | Path, full_page: bool = True) -> Path:
         """Saves a PNG of the page (the whole page by default)."""

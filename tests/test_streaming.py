@@ -149,15 +149,19 @@ def test_bad_decimation_is_refused(model: jointgap.Model) -> None:
         model.simulate(0.01, decimate=0)
 
 
-def test_progress_reports_while_running(model: jointgap.Model) -> None:
+def test_progress_reports_while_running(model: jointgap.Model, monkeypatch) -> None:
+    # Interval 0: a report at every check, every 16 accepted steps, whatever the speed.
+    monkeypatch.setenv("JOINTGAP_PROGRESS_INTERVAL", "0")
     reports: list[tuple[float, int, int]] = []
     result = model.simulate(
         T_END, rate=10_000, method="sdirk4", progress=lambda *p: reports.append(p)
     )
-    wall = result.stats["wall_time"]
-    # One report about every 0.2 s of wall time: none for a run shorter than that.
-    assert len(reports) >= int(wall / 0.2) - 1
-    assert len(reports) <= wall / 0.2 + 1
+    assert len(reports) == result.stats["accepted_steps"] // 16 > 2
+    # A longer interval than the run: no report (the default, 0.2 s, lies between).
+    monkeypatch.setenv("JOINTGAP_PROGRESS_INTERVAL", "1e9")
+    quiet: list[tuple[float, int, int]] = []
+    model.simulate(T_END, rate=10_000, method="sdirk4", progress=lambda *p: quiet.append(p))
+    assert quiet == []
     times = [t for t, _, _ in reports]
     assert times == sorted(times) and all(0 < t < T_END for t in times)
     steps = [s for _, s, _ in reports]
@@ -165,12 +169,15 @@ def test_progress_reports_while_running(model: jointgap.Model) -> None:
     assert all(i <= len(result.impacts["rod_slider"]) for _, _, i in reports)
 
 
-def test_exception_in_progress_stops_the_run(model: jointgap.Model) -> None:
-    def stop(t: float, steps: int, impacts: int) -> None:
-        raise KeyboardInterrupt
+def test_exception_in_progress_stops_the_run(model: jointgap.Model, monkeypatch) -> None:
+    monkeypatch.setenv("JOINTGAP_PROGRESS_INTERVAL", "0")  # the first report comes
 
-    with pytest.raises(KeyboardInterrupt):
+    def stop(t: float, steps: int, impacts: int) -> None:
+        raise LookupError("display gone")
+
+    with pytest.raises(LookupError, match="display gone"):
         model.simulate(5.0, rate=1000, progress=stop)
+    # (a KeyboardInterrupt is Ctrl-C: tests/test_cli_interrupt.py)
 
 
 def test_exception_in_sink_stops_the_run(model: jointgap.Model, tmp_path: Path) -> None:

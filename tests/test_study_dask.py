@@ -23,10 +23,14 @@ from study_files import SMALL, grid_study, write_study
 DASK = Path(sys.executable).parent / "dask"
 
 
-def start_worker(address: str, name: str, folder: Path) -> subprocess.Popen[bytes]:
+def start_worker(
+    address: str, name: str, folder: Path, preload: Path | None = None
+) -> subprocess.Popen[bytes]:
     """One worker process with one thread and no nanny: killing it kills the worker."""
     command = [str(DASK), "worker", address, "--name", name, "--nthreads", "1", "--no-nanny"]
     command += ["--no-dashboard", "--local-directory", str(folder)]
+    if preload is not None:
+        command += ["--preload", str(preload)]
     return subprocess.Popen(
         command, cwd=folder, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL
     )
@@ -88,18 +92,20 @@ def test_killing_a_worker_in_the_middle_loses_no_case(cluster, tmp_path) -> None
     from distributed import Client
 
     address, folder = cluster
-    victim = start_worker(address, "victim", folder)
+    # The victim's cases never end (tests/dask_stall.py): it dies holding one.
+    victim_folder = tmp_path / "victim"
+    victim_folder.mkdir()
+    stall = Path(__file__).with_name("dask_stall.py")
+    victim = start_worker(address, "victim", victim_folder, preload=stall)
     path = write_study(tmp_path, grid_study(16, t_end="0.1 s"))
     out = tmp_path / "out"
     with Client(address, timeout="60s") as client, ThreadPoolExecutor(1) as pool:
         client.wait_for_workers(3, timeout=60)
-        workers = client.scheduler_info()["workers"]
-        (target,) = [a for a, w in workers.items() if w["name"] == "victim"]
         running = pool.submit(run_study, path, out, scheduler=address, progress=None)
-        deadline = time.monotonic() + 60
-        while not client.processing(workers=[target])[target]:
+        deadline = time.monotonic() + 600  # a hung cluster, not a slow machine
+        while not list(victim_folder.glob("started_case_*")):
             assert time.monotonic() < deadline and not running.done()
-            time.sleep(0.005)
+            time.sleep(0.01)
         victim.kill()  # in the middle of a case
         victim.wait(timeout=20)
         run = running.result(timeout=300)

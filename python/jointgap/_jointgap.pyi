@@ -25,19 +25,23 @@ def simulate(
     sink: Callable[[list[str], npt.NDArray[np.float64], npt.NDArray[np.float64]], object]
     | None = None,
     chunk: int = 8192,
+    interval: float = 0.2,
 ) -> tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str]:
     """Runs a simulation with the GIL released.
 
-    ``progress(t, steps, impacts)`` is called about every 0.2 s of wall time (Ctrl-C is
-    checked as often); with ``sink``, the samples go to ``sink(names, time, data)`` in
-    chunks of ``chunk`` samples and the returned arrays hold none of them. An exception
-    raised by either callable stops the run and is raised again here.
+    ``progress(t, steps, impacts)`` is called about every ``interval`` seconds of wall
+    time (0: at every check, every 16 accepted steps), and Ctrl-C is checked as often;
+    with ``sink``, the samples go to ``sink(names, time, data)`` in chunks of ``chunk``
+    samples and the returned arrays hold none of them. Ctrl-C (or a KeyboardInterrupt
+    raised by either callable) ends the run with status interrupted and what it
+    computed; any other exception raised by either callable stops the run and is
+    raised again here.
 
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
-    holds ``stats``, ``status`` (``{"status": "finished"}`` or ``{"status": "failed",
-    "time": t, "reason": ...}``), ``warnings``, ``impacts`` (per clearance joint) and
-    ``clearances`` (as :func:`clearance_data`). Raises ValueError for an invalid model
-    or invalid options.
+    holds ``stats``, ``status`` (``{"status": "finished"}``, ``{"status": "failed",
+    "time": t, "reason": ...}`` or ``{"status": "interrupted", "time": t}``),
+    ``warnings``, ``impacts`` (per clearance joint) and ``clearances`` (as
+    :func:`clearance_data`). Raises ValueError for an invalid model or invalid options.
     """
 
 def simulate_batch(

@@ -21,8 +21,8 @@ gives). The answer is Eq. 10-11 applied to the last run's V_avg.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
 from .model import Model
@@ -39,6 +39,7 @@ __all__ = [
     "average_onset_speed",
     "calibrate_damping",
     "damping_from_restitution",
+    "iteration_frame",
     "restitution_from_damping",
 ]
 
@@ -202,9 +203,17 @@ class Calibration:
 
     def to_frame(self) -> pd.DataFrame:
         """The iteration table as a pandas DataFrame (SI units)."""
-        import pandas as pd
+        return iteration_frame(self.iterations)
 
-        return pd.DataFrame([vars(it) for it in self.iterations])
+
+def iteration_frame(iterations: Sequence[Iteration]) -> pd.DataFrame:
+    """Iterations as a table (SI units), one row each: also the table so far of a
+    calibration that Ctrl-C stopped."""
+    import pandas as pd
+
+    return pd.DataFrame(
+        [vars(it) for it in iterations], columns=[f.name for f in fields(Iteration)]
+    )
 
 
 def calibrate_damping(
@@ -218,6 +227,7 @@ def calibrate_damping(
     tolerance: float | None = None,
     max_iterations: int = 40,
     progress: Callable[[Iteration], None] | None = None,
+    run_progress: Callable[[float, int, int], object] | None = None,
     **run_options: Any,
 ) -> Calibration:
     """Iterates C_max of ``joint`` (an ``adams_impact`` clearance joint) until the
@@ -235,6 +245,12 @@ def calibrate_damping(
             [N s/m]; by default the paper's rule, the same integer part.
         max_iterations: most runs before giving up (``converged`` False).
         progress: called with each finished iteration (e.g. to print the table live).
+        run_progress: ``progress(t, steps, impacts)`` of each run
+            (:meth:`Model.simulate`), e.g. a live line.
+
+    Raises:
+        KeyboardInterrupt: Ctrl-C stopped a run; ``progress`` has had every iteration
+            that finished before.
     """
     _check_restitution(restitution)
     selection = selection or ImpactSelection()
@@ -263,7 +279,9 @@ def calibrate_damping(
     converged = False
     for k in range(1, max_iterations + 1):
         law["c_max"] = current
-        result = Model.from_dict(data).simulate(t_end, **run_options)
+        result = Model.from_dict(data).simulate(t_end, progress=run_progress, **run_options)
+        if result.interrupted:
+            raise KeyboardInterrupt
         if not result.ok:
             raise CalibrationError(f"run {k} (C_max = {current:g} N*s/m) {result.message}")
         stiffness = result.clearances[joint]["stiffness"]

@@ -9,7 +9,8 @@
 
 Errors print one line on stderr and set the exit status: 1 invalid model, options or
 file; 2 wrong command line; 3 the run stopped early (its results are still written);
-4 not converged (converge, calibrate).
+4 not converged (converge, calibrate); 130 interrupted by Ctrl-C (what was computed up
+to then is still written, the runs with status "interrupted").
 """
 
 from __future__ import annotations
@@ -40,6 +41,8 @@ EXIT_INVALID = 1
 EXIT_USAGE = 2
 EXIT_RUN_FAILED = 3
 EXIT_NOT_CONVERGED = 4
+EXIT_INTERRUPTED = 130
+"""128 + SIGINT, as shells report a command that Ctrl-C ended."""
 
 IDEAL_DIR = "ideal"
 CONTACT_STATISTICS_CSV = "contact_statistics.csv"
@@ -48,7 +51,8 @@ DEVIATION_CSV = "deviation.csv"
 _EPILOG = """\
 quantities may carry units: --t-end "0.5 s", --rate "10 kHz", --max-step "1 us".
 exit status: 0 success, 1 invalid model, options or file, 2 wrong command line,
-3 the run stopped early (what was computed is still written), 4 not converged.
+3 the run stopped early (what was computed is still written), 4 not converged,
+130 interrupted by Ctrl-C (what was computed is still written).
 """
 
 _DESCRIPTION = """\
@@ -81,7 +85,8 @@ Simulate a model from t = 0 to --t-end and write
   OUT/deviation.csv how far the clearance run departs from it (RMS and peak
                     difference of the slider acceleration and the motor efforts)
 and print a short summary with the peaks of the main channels and the contact
-statistics. --plot writes the figure set (see 'jointgap plot --help').
+statistics. --plot writes the figure set (see 'jointgap plot --help'). Ctrl-C writes
+the results up to there (status "interrupted" in summary.json) and exits with 130.
 """
 
 _PLOT_DESCRIPTION = """\
@@ -101,7 +106,8 @@ Damping calibration of an ADAMS IMPACT clearance joint (PHYSICS.md section 3, th
 founding paper's Eq. 10-11): for a target restitution r, run, average the onset
 speeds V_avg of the selected impacts, set C_max = 3 K (1 - r^2) / (4 V_avg) d_max^n,
 and repeat until the integer part of C_max no longer changes (or --tolerance).
-Prints the iteration table; --write saves the calibrated model.
+Prints the iteration table; --write saves the calibrated model. Ctrl-C writes the
+iterations that ended to --table and exits with 130.
 
 Without --restitution, the inverse: the restitution that C_max (--c-max or the
 model's) corresponds to, at the V_avg of one run (or at --v-avg, without a run).
@@ -394,11 +400,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(f"{where}: {exc.strerror or exc}" if where else str(exc))
     except ValueError as exc:  # invalid options
         return _fail(str(exc))
+    except KeyboardInterrupt:  # outside a run (a run returns its partial result)
+        return _interrupted("stopped by Ctrl-C")
 
 
 def _fail(message: str, status: int = EXIT_INVALID) -> int:
     print(f"jointgap: error: {message}", file=sys.stderr)
     return status
+
+
+def _interrupted(message: str) -> int:
+    """The one line of a command that Ctrl-C stopped (what it kept and where); exit
+    status 130."""
+    print(f"jointgap: interrupted: {message}", file=sys.stderr)
+    return EXIT_INTERRUPTED
 
 
 def _load(path: str) -> Model:
@@ -462,6 +477,8 @@ def _run(args: argparse.Namespace) -> int:
             **options,
         )
     written = _save(result, out)
+    if result.interrupted:
+        return _interrupted(f"the run {result.message}: the results up to there are in {out}")
     ideal = None
     if args.ideal:
         with progress_line(args.t_end, "ideal run: ") as progress:
@@ -469,6 +486,11 @@ def _run(args: argparse.Namespace) -> int:
                 args.t_end, channels=args.channels, progress=progress, **options
             )
         written += _save(ideal, out / IDEAL_DIR)
+        if ideal.interrupted:
+            return _interrupted(
+                f"the ideal run {ideal.message}: the results up to there are in "
+                f"{out / IDEAL_DIR}, the run's in {out}"
+            )
     stats = contact_statistics(result)
     deviations = deviation_from_ideal(result, ideal) if ideal is not None else []
     if stats:
@@ -558,8 +580,10 @@ def _calibrate(args: argparse.Namespace) -> int:
     from . import units as u
     from .calibration import (
         ImpactSelection,
+        Iteration,
         average_onset_speed,
         calibrate_damping,
+        iteration_frame,
         restitution_from_damping,
     )
 
@@ -590,6 +614,8 @@ def _calibrate(args: argparse.Namespace) -> int:
                 probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(
                     args.t_end, progress=progress, **options
                 )
+            if probe.interrupted:
+                return _interrupted(f"the run {probe.message}: no V_avg, nothing written")
             if not probe.ok:
                 return _fail(f"{args.model}: the run {probe.message}", EXIT_RUN_FAILED)
             v_avg, count = average_onset_speed(probe, joint, selection)
@@ -603,20 +629,50 @@ def _calibrate(args: argparse.Namespace) -> int:
             return 0
         print(f"C_max      {c:.6g} N*s/m  ->  restitution r = {r:.4f}")
         return 0
-    calibration = calibrate_damping(
-        model,
-        joint,
-        args.restitution,
-        args.t_end,
-        c_max=c_max,
-        selection=selection,
-        tolerance=args.tolerance,
-        max_iterations=args.max_iterations,
-        **options,
-    )
+    done: list[Iteration] = []
+    calibration = None  # until it ends: Ctrl-C leaves the table so far
+    with progress_line(args.t_end, "run 1: ") as line:
+
+        def finished(it: Iteration) -> None:
+            done.append(it)
+            if line is not None:
+                line.label = f"run {it.iteration + 1}: "
+
+        try:
+            calibration = calibrate_damping(
+                model,
+                joint,
+                args.restitution,
+                args.t_end,
+                c_max=c_max,
+                selection=selection,
+                tolerance=args.tolerance,
+                max_iterations=args.max_iterations,
+                progress=finished,
+                run_progress=line,
+                **options,
+            )
+        except KeyboardInterrupt:
+            pass
+    if calibration is None:
+        kept = _write_partial_table(args, iteration_frame(done))
+        last = f" (last C_max {done[-1].c_max:.2f} N*s/m)" if done else ""
+        return _interrupted(
+            f"calibration run {len(done) + 1} stopped, {len(done)} done{last}{kept}"
+        )
     print(calibration.table())
     _write_table_and_model(args, calibration.to_frame(), calibration.model)
     return 0 if calibration.converged else EXIT_NOT_CONVERGED
+
+
+def _write_partial_table(args: argparse.Namespace, table: Any) -> str:
+    """The table so far of a command that Ctrl-C stopped, to ``--table``: ``"; table so
+    far in PATH"``, or ``""`` without --table."""
+    if not args.table:
+        return ""
+    Path(args.table).parent.mkdir(parents=True, exist_ok=True)
+    table.to_csv(args.table, index=False)
+    return f"; the table so far is in {args.table}"
 
 
 def _write_table_and_model(args: argparse.Namespace, table: Any, model: Model) -> None:
@@ -649,16 +705,22 @@ def _converge(args: argparse.Namespace) -> int:
 
     model = _load(args.model)
     options = _run_options(args)
+    check = None
     with progress_line(args.t_end) as progress:
-        check = check_convergence(
-            model,
-            args.t_end,
-            levels=args.levels,
-            peak_tolerance=args.peak_tol,
-            nrmse_tolerance=args.nrmse_tol,
-            progress=progress,
-            **options,
-        )
+        try:
+            check = check_convergence(
+                model,
+                args.t_end,
+                levels=args.levels,
+                peak_tolerance=args.peak_tol,
+                nrmse_tolerance=args.nrmse_tol,
+                progress=progress,
+                **options,
+            )
+        except KeyboardInterrupt:
+            pass
+    if check is None:
+        return _interrupted("a run stopped before every tolerance level ran: nothing compared")
     print(check.table())
     print()
     print(check.verdict())

@@ -15,8 +15,10 @@ from .cli import (
     _add_run_options,
     _command,
     _fail,
+    _interrupted,
     _load,
     _run_options,
+    _write_partial_table,
     _write_table_and_model,
 )
 
@@ -43,7 +45,9 @@ simulated --signal and the measurement (aligned as in 'jointgap compare').
 --param joint.quantity=low:high[@start], quantity one of restitution (for ADAMS
 IMPACT: the C_max that Eq. 10-11 give for it), c_max, d_max, damping, stiffness,
 mu_s, mu_d, mu, viscous, clearance. Prints the trial table (as the paper's Table IV)
-and the best values with their uncertainty; --write saves the fitted model.
+and the best values with their uncertainty; --write saves the fitted model. Ctrl-C
+stops the runs on every thread, writes the trials that ended to --table, names the
+best so far and exits with 130.
 """
 
 _SYNTHESIZE_DESCRIPTION = """\
@@ -227,10 +231,16 @@ def _compare(args: argparse.Namespace) -> int:
     span = _simulated_span(args, measured)
     with progress_line(span) as progress:
         result = model.simulate(span, progress=progress, **_run_options(args))
+    out = Path(args.out or "out/compare")
+    if result.interrupted:
+        result.save(out / SIMULATION_DIR)
+        return _interrupted(
+            f"the run {result.message}: nothing compared; the simulation up to there is in "
+            f"{out / SIMULATION_DIR}"
+        )
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     comparison = compare(result, measured, args.signal, **_compare_options(args))
-    out = Path(args.out or "out/compare")
     out.mkdir(parents=True, exist_ok=True)
     (out / COMPARISON_JSON).write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
     # The simulation and the signal as read (SI) beside it: 'jointgap report OUT' redraws
@@ -272,33 +282,72 @@ def _angle_report(args: argparse.Namespace, result: Any, measured: Any) -> str:
 
 
 def _identify(args: argparse.Namespace) -> int:
-    from .identify import Parameter, identify
+    import math
+    import threading
+
+    from .cli_progress import progress_line
+    from .identify import Parameter, Trial, identify, trial_frame
 
     model = _load(args.model)
     measured = _measured(args)
     parameters = [Parameter.parse(p) for p in args.params]
-    fit = identify(
-        model,
-        measured,
-        args.signal,
-        parameters,
-        t_end=_simulated_span(args, measured),
-        measure=args.measure,
-        scan=args.scan,
-        workers=args.workers,
-        compare_options=_compare_options(args),
-        **_run_options(args),
-    )
+    done: list[Trial] = []
+    lock = threading.Lock()
+    span = _simulated_span(args, measured)
+    fit = None  # until it ends: Ctrl-C leaves the trials so far
+    with progress_line(span, "trials: 0 done; ") as line:
+
+        def finished(trial: Trial) -> None:  # from the worker threads too
+            with lock:
+                done.append(trial)
+                best = min(t.error for t in done)
+            if line is not None:
+                line.label = f"trials: {len(done)} done, best {args.measure} {best:.5g}; "
+
+        try:
+            fit = identify(
+                model,
+                measured,
+                args.signal,
+                parameters,
+                t_end=span,
+                measure=args.measure,
+                scan=args.scan,
+                workers=args.workers,
+                compare_options=_compare_options(args),
+                progress=finished,
+                run_progress=line,
+                **_run_options(args),
+            )
+        except KeyboardInterrupt:
+            pass
+    if fit is None:
+        with lock:
+            trials = sorted(done, key=lambda t: t.trial)
+        kept = _write_partial_table(args, trial_frame(parameters, args.measure, trials))
+        scored = [t for t in trials if math.isfinite(t.error)]
+        best = ""
+        if scored:
+            top = min(scored, key=lambda t: t.error)
+            values = ", ".join(
+                f"{p.name} = {v:.6g}" for p, v in zip(parameters, top.values, strict=True)
+            )
+            best = f" (best so far trial {top.trial}: {values}, {args.measure} {top.error:.5g})"
+        return _interrupted(f"the fit stopped after {len(trials)} trials{best}{kept}")
     print(fit.table())
     _write_table_and_model(args, fit.to_frame(), fit.model)
     return 0
 
 
 def _synthesize(args: argparse.Namespace) -> int:
+    from .cli_progress import progress_line
     from .measured import synthetic_record
 
     model = _load(args.model)
-    result = model.simulate(args.t_end, **_run_options(args))
+    with progress_line(args.t_end) as progress:
+        result = model.simulate(args.t_end, progress=progress, **_run_options(args))
+    if result.interrupted:
+        return _interrupted(f"the run {result.message}: no record written ({args.out})")
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     record = synthetic_record(

@@ -1,18 +1,22 @@
-"""The progress line of long runs on the command line: simulated time, steps and
-impacts so far, rewritten in place on stderr (``\\r``) while the engine runs, and only
-when stderr is a terminal (never in a pipe, a file or CI logs)::
+"""The progress line of long commands: simulated time, steps and impacts so far,
+rewritten in place on stderr (``\\r``) while the engine runs, and only when stderr is a
+terminal (never in a pipe, a file or CI logs)::
 
     with progress_line(args.t_end) as progress:
         result = model.simulate(args.t_end, progress=progress)
 
 The engine calls ``progress(t, steps, impacts)`` about every 0.2 s of wall time
-(:meth:`jointgap.Model.simulate`); the line is erased when the run ends, so the
-summary printed after it stands alone.
+(:meth:`jointgap.Model.simulate`; ``JOINTGAP_PROGRESS_INTERVAL`` sets another interval,
+:data:`jointgap.run.PROGRESS_INTERVAL_VARIABLE`); the line is erased when the block
+ends, so the summary printed after it stands alone. A command of many runs says where
+it stands in :attr:`ProgressLine.label` (``"run 3: "``, ``"trials: 12 done, best nrmse
+0.0412; "``); runs on several threads may report to one line.
 """
 
 from __future__ import annotations
 
 import sys
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import TextIO
@@ -38,6 +42,7 @@ class ProgressLine:
         self.label = label
         self.width = 0
         self.calls = 0
+        self._lock = threading.Lock()
 
     def __call__(self, t: float, steps: int, impacts: int) -> None:
         self.calls += 1
@@ -45,21 +50,26 @@ class ProgressLine:
         if self.t_end:
             done = f" ({min(100.0, 100.0 * t / self.t_end):5.1f} %)"
         end = f" / {self.t_end:g}" if self.t_end else ""
-        text = (
+        self.show(
             f"{self.label}t = {t:.6g}{end} s{done}, {steps} steps, "
             f"{impacts} impact{'' if impacts == 1 else 's'}"
         )
-        pad = max(0, self.width - len(text))
-        self.stream.write("\r" + text + " " * pad)
-        self.stream.flush()
-        self.width = len(text)
+
+    def show(self, text: str) -> None:
+        """Writes ``text`` in place of the line."""
+        with self._lock:
+            pad = max(0, self.width - len(text))
+            self.width = len(text)  # first: a Ctrl-C while writing leaves it erasable
+            self.stream.write("\r" + text + " " * pad)
+            self.stream.flush()
 
     def clear(self) -> None:
         """Erases the line (if one was written)."""
-        if self.width:
-            self.stream.write("\r" + " " * self.width + "\r")
-            self.stream.flush()
-            self.width = 0
+        with self._lock:
+            if self.width:
+                self.stream.write("\r" + " " * self.width + "\r")
+                self.stream.flush()
+                self.width = 0
 
 
 def _seconds(t_end: float | str | None) -> float | None:

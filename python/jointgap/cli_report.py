@@ -8,7 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cli import EXIT_RUN_FAILED, _add_run_options, _fail, _load, _run_options
+from .cli import EXIT_RUN_FAILED, _add_run_options, _fail, _interrupted, _load, _run_options
 from .cli_progress import progress_line
 
 if TYPE_CHECKING:
@@ -103,11 +103,17 @@ def _report(args: argparse.Namespace) -> int:
         with progress_line(args.t_end) as progress:
             result = model.simulate(args.t_end, progress=progress, **run_options)
         ideal = None
-        if args.ideal:
+        if args.ideal and not result.interrupted:
             with progress_line(args.t_end, "ideal run: ") as progress:
                 ideal = _load(args.ideal).simulate(args.t_end, progress=progress, **run_options)
-        data = run_report_data(result, ideal=ideal, source=str(source), **options)
         out = Path(args.out) if args.out else Path("out") / source.stem / REPORT_HTML
+        if result.interrupted or (ideal is not None and ideal.interrupted):
+            stopped = result if result.interrupted else ideal
+            assert stopped is not None
+            write(run_report_data(result, source=str(source), **options), out)
+            which = "run" if stopped is result else "ideal run"
+            return _interrupted(f"the {which} {stopped.message}: the report of the run is {out}")
+        data = run_report_data(result, ideal=ideal, source=str(source), **options)
         if not result.ok:
             write(data, out)
             print(f"written    {out} ({_size(out)})")

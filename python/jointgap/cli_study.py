@@ -8,11 +8,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .cli import EXIT_RUN_FAILED, _fail
+from .cli import EXIT_RUN_FAILED, _fail, _interrupted
 
 __all__ = ["COMMANDS", "add_commands"]
 
-EXIT_INTERRUPTED = 130
 _LISTED_FAILURES = 5
 
 _STUDY_DESCRIPTION = """\
@@ -25,10 +24,13 @@ the local cores, or on an existing Dask cluster with --scheduler. Writes
   OUT/cases.csv      one row per case: case, the parameters (SI; a model as its
   OUT/cases.parquet  file name), the metrics, status, reason, run_time_s
   OUT/series/        with time_series in the study file: case_NNNNNN.parquet
+  OUT/study.lock     who runs the study while it runs: a second run on the same
+                     OUT is refused, naming it
 Run it again into the same OUT to finish an interrupted study: only the missing
 cases run. A case that fails is kept with its reason; the others go on. Ctrl-C
-lets the running cases finish and stores them (exit status 130). Exit status 3 when
-cases are missing at the end (the cluster lost them).
+drops the cases not started, lets the running ones end and stores them (Ctrl-C
+again does not drop them), writes the tables and exits with status 130. Exit
+status 3 when cases are missing at the end (the cluster lost them).
 """
 
 _PLOT_DESCRIPTION = """\
@@ -101,10 +103,8 @@ def _study(args: argparse.Namespace) -> int:
             progress=None if args.no_progress else sys.stderr,
         )
     except KeyboardInterrupt:
-        return _fail(
-            f"interrupted: the cases that ended are stored in {out}; "
-            "run the same command again to finish",
-            EXIT_INTERRUPTED,
+        return _interrupted(
+            f"the cases that ended are stored in {out}; run the same command again to finish"
         )
     print(
         f"ran        {run.ran} cases in {run.wall_time:.3g} s on {run.where}"

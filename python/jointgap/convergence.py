@@ -146,7 +146,8 @@ def check_convergence(
 ) -> Convergence:
     """Runs ``model`` at ``rtol``/``atol`` and ``levels`` tenfold tighter tolerances, all
     sampled at ``rate``, and tests each against the tightest (see the module docs).
-    ``run_options`` (method, max_step, ...) go to every run."""
+    ``run_options`` (method, max_step, progress, ...) go to every run; Ctrl-C during a
+    run raises KeyboardInterrupt."""
     if levels < 1:
         raise ValueError(f"levels = {levels}: must be at least 1")
     for name, value in (("peak_tolerance", peak_tolerance), ("nrmse_tolerance", nrmse_tolerance)):
@@ -159,6 +160,8 @@ def check_convergence(
         run = model.simulate(
             t_end, rate=rate, rtol=tight_rtol, atol=tight_atol, every_step=True, **run_options
         )
+        if run.interrupted:
+            raise KeyboardInterrupt
         if not run.ok:
             raise ValueError(f"the run at rtol {tight_rtol:g} {run.message}")
         runs.append(run)

@@ -53,7 +53,7 @@ from .variants import (
     with_parameters,
 )
 
-__all__ = ["Fit", "Parameter", "Trial", "identify", "MEASURES"]
+__all__ = ["Fit", "Parameter", "Trial", "identify", "trial_frame", "MEASURES"]
 
 MEASURES = ("nrmse", "rms", "max_abs", "max_percent")
 """Error measures that can be minimised (see docs/comparison.md)."""
@@ -167,16 +167,23 @@ class Fit:
 
     def to_frame(self) -> Any:
         """The trial table as a pandas DataFrame."""
-        import pandas as pd  # type: ignore[import-untyped]
+        return trial_frame(self.parameters, self.measure, self.trials)
 
-        rows = []
-        for t in self.trials:
-            row: dict[str, Any] = {"trial": t.trial, "phase": t.phase}
-            row.update({p.name: v for p, v in zip(self.parameters, t.values, strict=True)})
-            row.update(t.derived)
-            row.update({self.measure: t.error, "lag": t.lag})
-            rows.append(row)
-        return pd.DataFrame(rows)
+
+def trial_frame(parameters: Sequence[Parameter], measure: str, trials: Sequence[Trial]) -> Any:
+    """Trials as a pandas DataFrame, one row each: also the table so far of a fit that
+    Ctrl-C stopped."""
+    import pandas as pd  # type: ignore[import-untyped]
+
+    rows = []
+    for t in trials:
+        row: dict[str, Any] = {"trial": t.trial, "phase": t.phase}
+        row.update({p.name: v for p, v in zip(parameters, t.values, strict=True)})
+        row.update(t.derived)
+        row.update({measure: t.error, "lag": t.lag})
+        rows.append(row)
+    columns = ["trial", "phase", *(p.name for p in parameters), measure, "lag"]
+    return pd.DataFrame(rows) if rows else pd.DataFrame(columns=columns)
 
 
 class _Objective:
@@ -225,6 +232,8 @@ class _Objective:
         measures: dict[str, float] = {}
         try:
             result = Model.from_dict(self.model_data(key)).simulate(self.t_end, **self.run_options)
+            if result.interrupted:
+                raise KeyboardInterrupt
             for i, (p, m) in enumerate(zip(self.parameters, self.mapped, strict=True)):
                 if m:
                     derived[f"{p.joint}.c_max"] = key[i]
@@ -266,6 +275,7 @@ def identify(
     workers: int | None = None,
     compare_options: dict[str, Any] | None = None,
     progress: Callable[[Trial], None] | None = None,
+    run_progress: Callable[[float, int, int], object] | None = None,
     **run_options: Any,
 ) -> Fit:
     """Fits ``parameters`` of ``model`` so that ``channel`` matches ``measured`` best.
@@ -288,8 +298,14 @@ def identify(
         workers: parallel runs (default: the number of cores).
         compare_options: passed to :func:`jointgap.comparison.compare` (``lowpass``,
             ``offset``, ``max_lag``, ...).
-        progress: called with each finished trial.
+        progress: called with each finished trial (from the worker threads too).
+        run_progress: ``progress(t, steps, impacts)`` of every run, from every thread
+            (:meth:`Model.simulate`), e.g. a live line.
         run_options: passed to :meth:`Model.simulate` (``rate`` defaults to 10 kHz).
+
+    Raises:
+        KeyboardInterrupt: Ctrl-C; the runs on every thread stop within their next
+            progress check, and ``progress`` has had every trial that finished before.
     """
     from scipy.optimize import minimize, minimize_scalar  # type: ignore[import-untyped]
 
@@ -308,7 +324,16 @@ def identify(
         set_clearance_parameter(probe, p.joint, "c_max" if mapped_here else p.quantity, p.low)
     times = np.asarray(measured.time, dtype=float)
     end = float(t_end) if t_end is not None else float(times[-1])
-    options = {"rate": 10_000.0, **run_options}
+    stop = threading.Event()  # Ctrl-C reaches the engine on the main thread only
+
+    def watch(t: float, steps: int, impacts: int) -> None:
+        """Each run's progress callable: ends the runs of the other threads too."""
+        if stop.is_set():
+            raise KeyboardInterrupt
+        if run_progress is not None:
+            run_progress(t, steps, impacts)
+
+    options = {"rate": 10_000.0, **run_options, "progress": watch}
     cmp_options = dict(compare_options or {})
 
     def score(result: Any) -> tuple[float, float, dict[str, float]]:
@@ -347,8 +372,7 @@ def identify(
 
     if all(p.start is not None for p in search):
         run(tuple(float(p.start) for p in search if p.start is not None), "start")
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        list(pool.map(lambda c: run(c, "scan"), candidates))
+    _parallel(threads, stop, lambda c: run(c, "scan"), candidates)
     best = min(objective.trials, key=lambda t: t.error)
     if not math.isfinite(best.error):
         raise ValueError("every scanned candidate failed to run or to compare; check the bounds")
@@ -386,7 +410,7 @@ def identify(
         )
     best = min(objective.trials, key=lambda t: t.error)
     x_best = _coordinates(best, parameters, mapped)
-    uncertainty = _uncertainty(run, search, mapped, best, x_best, steps, tolerance, threads)
+    uncertainty = _uncertainty(run, search, mapped, best, x_best, steps, tolerance, threads, stop)
     fitted = objective.model_data(x_best)
     return Fit(
         parameters=list(parameters),
@@ -396,6 +420,25 @@ def identify(
         model=Model.from_dict(fitted),
         measure=measure,
     )
+
+
+def _parallel(
+    threads: int,
+    stop: threading.Event,
+    trial: Callable[[tuple[float, ...]], Trial],
+    candidates: Sequence[tuple[float, ...]],
+) -> list[Trial]:
+    """``trial`` of each candidate on ``threads`` threads, in order. On Ctrl-C (or any
+    error) the candidates not started are dropped and ``stop`` ends the runs going on
+    (:func:`identify`'s ``watch``) before it goes on."""
+    pool = ThreadPoolExecutor(max_workers=threads)
+    try:
+        return list(pool.map(trial, candidates))
+    except BaseException:
+        stop.set()
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _coordinates(
@@ -420,6 +463,8 @@ def _search_bounds(model: Model, p: Parameter, t_end: float, options: dict[str, 
     def v_avg_and_k(c_max: float | None) -> tuple[float, float]:
         m = model if c_max is None else with_parameters(model, {f"{p.joint}.c_max": c_max})
         run = m.simulate(t_end, **quiet)
+        if run.interrupted:
+            raise KeyboardInterrupt
         if not run.ok:
             raise ValueError(f"the run for {p.name}'s C_max bounds {run.message}")
         return average_onset_speed(run, p.joint)[0], run.clearances[p.joint]["stiffness"]
@@ -447,6 +492,7 @@ def _uncertainty(
     steps: Sequence[float],
     tolerance: float,
     threads: int,
+    stop: threading.Event,
 ) -> list[float]:
     """Per parameter: the half-width where a parabola through the best trial and two
     neighbours along that parameter stays within ``1 + tolerance`` of the minimum; for a
@@ -458,8 +504,7 @@ def _uncertainty(
             v = list(x_best)
             v[i] = min(p.high, max(p.low, v[i] + sign * h))
             probes.append(tuple(v))
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        trials = list(pool.map(lambda c: run(c, "profile"), probes))
+    trials = _parallel(threads, stop, lambda c: run(c, "profile"), probes)
     out = []
     for i in range(len(search)):
         lo, hi = trials[2 * i], trials[2 * i + 1]

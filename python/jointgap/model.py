@@ -597,13 +597,15 @@ class Model:
                 channels back from the file.
             progress: ``progress(t, steps, impacts)``, called about every 0.2 s of wall
                 time (simulated time, steps taken, impacts so far), e.g. for a display;
-                an exception it raises stops the run and propagates.
+                an exception it raises stops the run and propagates (a
+                KeyboardInterrupt interrupts it, as Ctrl-C does).
             profile: measure where the time goes: ``stats["profile"]`` then holds the
                 seconds spent in force evaluation, linear solves, Jacobians, output,
                 event location and projection, and the integration's total.
 
-        A run that stops early is returned with ``status == "failed"`` and everything
-        computed up to then. Raises :class:`ModelError` for an invalid model and
+        A run that stops early is returned with ``status == "failed"``, one stopped by
+        Ctrl-C with ``status == "interrupted"``, each with everything computed up to
+        then. Raises :class:`ModelError` for an invalid model and
         ValueError for invalid options.
         """
         from .run import run_options, simulate

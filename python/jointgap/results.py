@@ -145,8 +145,9 @@ class Result:
             row from the file when it is asked for.
         stats: run counters: accepted_steps, rejected_steps, rhs_evaluations,
             jacobian_evaluations, projections, method, wall_time [s].
-        status: ``"finished"`` or ``"failed"`` (then the data stop where the run did).
-        message: why and when a failed run stopped; ``""`` otherwise.
+        status: ``"finished"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C); the data of
+            a failed or interrupted run stop where the run did.
+        message: why and when a failed or interrupted run stopped; ``""`` otherwise.
         warnings: the engine's non-fatal notes.
         model: the model that ran (SI dictionary, :meth:`jointgap.Model.to_dict`).
         options: the run options, every one written out.
@@ -187,6 +188,11 @@ class Result:
     def ok(self) -> bool:
         """True when the run reached its end time."""
         return self.status == "finished"
+
+    @property
+    def interrupted(self) -> bool:
+        """True when Ctrl-C stopped the run (its data stop where it did)."""
+        return self.status == "interrupted"
 
     def __getitem__(self, channel: str) -> np.ndarray:
         """The samples of one channel (read-only); KeyError lists close matches."""

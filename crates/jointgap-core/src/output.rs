@@ -15,6 +15,11 @@ pub enum Status {
         /// Why it stopped.
         reason: String,
     },
+    /// Stopped by its caller (Ctrl-C); the result holds everything computed up to `time`.
+    Interrupted {
+        /// Simulated time at which the run stopped [s].
+        time: f64,
+    },
 }
 
 /// Counters of one run.

@@ -183,3 +183,35 @@ fn bad_elements_are_named() {
         .to_string();
     assert!(err.contains("colour"), "{err}");
 }
+
+/// A monitor that asks to stop at its third progress report (as Ctrl-C does): the run
+/// ends there with status interrupted, and every sample up to that time is kept and
+/// equals the uninterrupted run's.
+#[test]
+fn interrupted_run_keeps_what_it_computed() {
+    struct StopAtThird(usize, f64);
+    impl jointgap_core::Monitor for StopAtThird {
+        fn progress_interval(&self) -> Option<f64> {
+            Some(0.0) // every check: the stop comes after a known number of steps
+        }
+        fn progress(&mut self, p: &jointgap_core::Progress) -> Result<(), jointgap_core::Stop> {
+            self.0 += 1;
+            self.1 = p.time;
+            if self.0 == 3 {
+                Err(jointgap_core::Stop::Interrupted)
+            } else {
+                Ok(())
+            }
+        }
+    }
+    let o = opts(0.5, 2000.0, 1e-8, Method::Dopri5);
+    let mut monitor = StopAtThird(0, 0.0);
+    let res = jointgap_core::simulate_with(&slider_crank(9.81), &o, &mut monitor).unwrap();
+    assert_eq!(res.status, Status::Interrupted { time: monitor.1 });
+    assert!(monitor.1 > 0.0 && monitor.1 < 0.5, "stopped at {}", monitor.1);
+    let full = simulate(&slider_crank(9.81), &o).unwrap();
+    let n = res.time.len();
+    assert!(n > 1 && n < full.time.len() && res.time[n - 1] <= monitor.1);
+    assert_eq!(res.time[..], full.time[..n]);
+    assert_eq!(res.channel("slider.x").unwrap()[..], full.channel("slider.x").unwrap()[..n]);
+}

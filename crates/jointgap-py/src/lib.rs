@@ -1,6 +1,6 @@
 //! Thin PyO3 binding: JSON model and options in, NumPy arrays and a JSON summary out.
 use numpy::{PyArray1, PyArray2};
-use pyo3::exceptions::PyValueError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 
 fn to_py_err(e: jointgap_core::Error) -> PyErr {
@@ -63,62 +63,75 @@ fn samples_to_python<'py>(py: Python<'py>, time: &[f64], data: &[Vec<f64>]) -> P
 
 /// Calls back into Python while a run goes (the GIL taken only for the call): the
 /// progress callable, the sink of sample chunks, and a check for Ctrl-C, so that a long
-/// run can be interrupted. The first Python exception stops the run and is re-raised.
+/// run can be interrupted. Ctrl-C (a `KeyboardInterrupt`, from the check or raised in a
+/// callable) ends the run with status interrupted and what it computed; any other
+/// Python exception stops the run and is re-raised.
 struct PyMonitor {
     progress: Option<PyObject>,
     sink: Option<PyObject>,
     chunk: Option<usize>,
+    interval: f64,
     error: Option<PyErr>,
 }
 
-/// Wall-clock seconds between progress reports (and Ctrl-C checks).
+/// Wall-clock seconds between progress reports (and Ctrl-C checks) unless the caller
+/// sets another interval.
 const PROGRESS_INTERVAL: f64 = 0.2;
 
-impl PyMonitor {
-    fn stop(&mut self, error: PyErr) -> String {
-        let text = error.to_string();
-        self.error.get_or_insert(error);
-        text
+/// Ctrl-C interrupts the run; any other exception is kept in `first` (the first one
+/// wins) to be raised again when the run has returned.
+fn stop(py: Python<'_>, first: &mut Option<PyErr>, error: PyErr) -> jointgap_core::Stop {
+    if error.is_instance_of::<PyKeyboardInterrupt>(py) {
+        return jointgap_core::Stop::Interrupted;
     }
+    let text = error.to_string();
+    first.get_or_insert(error);
+    jointgap_core::Stop::Error(text)
 }
 
 impl jointgap_core::Monitor for PyMonitor {
     fn progress_interval(&self) -> Option<f64> {
-        Some(PROGRESS_INTERVAL)
+        Some(self.interval)
     }
 
-    fn progress(&mut self, p: &jointgap_core::Progress) -> Result<(), String> {
-        let outcome = Python::with_gil(|py| {
-            py.check_signals()?;
-            if let Some(callback) = &self.progress {
-                callback.call1(py, (p.time, p.steps, p.impacts))?;
-            }
-            Ok::<(), PyErr>(())
-        });
-        outcome.map_err(|e| self.stop(e))
+    fn progress(&mut self, p: &jointgap_core::Progress) -> Result<(), jointgap_core::Stop> {
+        Python::with_gil(|py| {
+            let outcome = py.check_signals().and_then(|()| match &self.progress {
+                Some(callback) => callback.call1(py, (p.time, p.steps, p.impacts)).map(|_| ()),
+                None => Ok(()),
+            });
+            outcome.map_err(|e| stop(py, &mut self.error, e))
+        })
     }
 
     fn chunk_len(&self) -> Option<usize> {
         self.sink.as_ref().and(self.chunk)
     }
 
-    fn samples(&mut self, names: &[String], time: &[f64], data: &[Vec<f64>]) -> Result<(), String> {
+    fn samples(
+        &mut self,
+        names: &[String],
+        time: &[f64],
+        data: &[Vec<f64>],
+    ) -> Result<(), jointgap_core::Stop> {
         let Some(sink) = &self.sink else { return Ok(()) };
-        let outcome = Python::with_gil(|py| {
-            let (t, table) = samples_to_python(py, time, data)?;
-            sink.call1(py, (names.to_vec(), t, table)).map(|_| ())
-        });
-        outcome.map_err(|e| self.stop(e))
+        Python::with_gil(|py| {
+            let outcome = samples_to_python(py, time, data)
+                .and_then(|(t, table)| sink.call1(py, (names.to_vec(), t, table)).map(|_| ()));
+            outcome.map_err(|e| stop(py, &mut self.error, e))
+        })
     }
 }
 
 /// Runs a simulation with the GIL released. Returns
 /// `(time, names, data[n_channels, n_samples], summary_json)`. `progress(t, steps,
-/// impacts)` is called about every 0.2 s of wall time; with `sink`, the samples are
-/// handed to `sink(names, time, data)` in chunks of `chunk` samples as the run goes, and the
-/// returned arrays hold none of them.
+/// impacts)` is called about every `interval` seconds of wall time (default 0.2; 0 calls
+/// it at every check, every 16 accepted steps), when Ctrl-C is checked too; with `sink`,
+/// the samples are handed to `sink(names, time, data)` in chunks of `chunk` samples as
+/// the run goes, and the returned arrays hold none of them. Ctrl-C returns what was
+/// computed with status interrupted.
 #[pyfunction]
-#[pyo3(signature = (model_json, options_json, progress=None, sink=None, chunk=8192))]
+#[pyo3(signature = (model_json, options_json, progress=None, sink=None, chunk=8192, interval=PROGRESS_INTERVAL))]
 fn simulate<'py>(
     py: Python<'py>,
     model_json: &str,
@@ -126,12 +139,18 @@ fn simulate<'py>(
     progress: Option<PyObject>,
     sink: Option<PyObject>,
     chunk: usize,
+    interval: f64,
 ) -> PyResult<Arrays<'py>> {
     let (model, options) = parse(model_json, options_json)?;
     if chunk == 0 {
         return Err(PyValueError::new_err("chunk = 0: must be at least 1 sample"));
     }
-    let mut monitor = PyMonitor { progress, sink, chunk: Some(chunk), error: None };
+    if !(interval >= 0.0 && interval.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "interval = {interval}: must be a finite number of seconds >= 0"
+        )));
+    }
+    let mut monitor = PyMonitor { progress, sink, chunk: Some(chunk), interval, error: None };
     let result = py
         .allow_threads(|| jointgap_core::simulate_with(&model, &options, &mut monitor))
         .map_err(to_py_err)?;

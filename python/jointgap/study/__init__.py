@@ -106,13 +106,31 @@ def run_study(
 
     Raises:
         StudyError: an invalid study file (before anything runs).
-        ValueError: ``out`` holds another study; the cluster has no or mismatched workers.
+        ValueError: ``out`` holds another study, or another run of a study is using it;
+            the cluster has no or mismatched workers.
+        KeyboardInterrupt: Ctrl-C; the cases not started are dropped, those running
+            end and are stored (Ctrl-C again does not drop them), the tables written.
     """
     started = time.perf_counter()
     resolved = study if isinstance(study, Study) else load_study(study)
     if workers is not None and workers < 1:
         raise ValueError(f"workers = {workers}: must be at least 1")
     store = Store(out, resolved.to_dict())
+    try:
+        return _run(resolved, store, scheduler, workers, progress, started)
+    finally:
+        store.close()
+
+
+def _run(
+    resolved: Study,
+    store: Store,
+    scheduler: str | None,
+    workers: int | None,
+    progress: TextIO | None,
+    started: float,
+) -> StudyRun:
+    """:func:`run_study` on an opened study folder."""
     values = resolved.cases()
     cases = [
         Case(k, v, resolved.model_of(v), resolved.run, resolved.metrics, resolved.time_series)
@@ -136,7 +154,7 @@ def run_study(
         bar.close()
         table = store.write_tables()
     return StudyRun(
-        directory=Path(out),
+        directory=store.dir,
         n_cases=len(values),
         skipped=len(values) - len(cases),
         ran=bar.ran,

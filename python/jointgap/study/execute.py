@@ -6,10 +6,14 @@ and its outcome is handed to the caller the moment it arrives, to be stored.
 from __future__ import annotations
 
 import math
+import signal
+import sys
+import threading
 import time
 import uuid
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ThreadPoolExecutor, wait
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -85,19 +89,46 @@ def _failed(
 def run_local(cases: Sequence[Case], workers: int, store: Callable[[Outcome], None]) -> None:
     """Runs ``cases`` on ``workers`` threads, handing each outcome to ``store`` (in this
     thread) as it ends. On an interrupt, the cases not started are dropped and those
-    running are waited for and stored before the interrupt goes on."""
+    running are waited for and stored before the interrupt goes on; Ctrl-C again
+    meanwhile does not drop them (it says so on stderr)."""
     pool = ThreadPoolExecutor(max_workers=workers, thread_name_prefix="jointgap-study")
     pending: set[Future[Outcome]] = {pool.submit(run_case, c) for c in cases}
     try:
         while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
+            done, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:  # each leaves pending as it is stored: none twice
+                pending.discard(future)
                 store(future.result())
     finally:
-        pool.shutdown(wait=True, cancel_futures=True)
-        for future in pending:
-            if future.done() and not future.cancelled():
+        pool.shutdown(wait=False, cancel_futures=True)
+        running = {f for f in pending if not f.cancelled()}
+        with _interrupts_wait(len(running)):
+            for future in running:
                 store(future.result())
+        pool.shutdown(wait=True)
+
+
+@contextmanager
+def _interrupts_wait(running: int) -> Iterator[None]:
+    """While the running cases of an interrupted study end and are stored: Ctrl-C only
+    says that they are still running (the main thread only can change the handler)."""
+    if not running or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def note(signum: int, frame: object) -> None:
+        print(
+            f"\njointgap: interrupted: waiting for the {running} running case"
+            f"{'s' if running > 1 else ''} to end and be stored",
+            file=sys.stderr,
+            flush=True,
+        )
+
+    previous = signal.signal(signal.SIGINT, note)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def run_dask(

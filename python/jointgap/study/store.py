@@ -10,9 +10,12 @@ time series.
     DIR/cases.parquet       parameters, the metrics, status, reason, run_time_s
     DIR/series/case_000012.parquet
                             with time_series: that case's time and channels
+    DIR/study.lock          who runs the study (host, process id, start), while a run
+                            goes (locked: a second run on the folder is refused)
 
 The log is the truth; the tables are written from it at the end of every run (also an
-interrupted one), so a study that dies loses at most the cases it was running.
+interrupted one), after the log is synced to disk, so a study that dies loses at most
+the cases it was running.
 """
 
 from __future__ import annotations
@@ -20,6 +23,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import socket
+import time
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from os import PathLike
@@ -38,6 +43,7 @@ __all__ = [
     "CASES_PARQUET",
     "FAILED",
     "FINISHED",
+    "LOCK",
     "LOG",
     "STUDY_JSON",
     "Outcome",
@@ -50,6 +56,7 @@ STUDY_JSON = "study.json"
 LOG = "cases.jsonl"
 CASES_CSV = "cases.csv"
 CASES_PARQUET = "cases.parquet"
+LOCK = "study.lock"
 SERIES = "series"
 FINISHED, FAILED = "finished", "failed"
 
@@ -90,13 +97,23 @@ class Outcome:
 
 
 class Store:
-    """A study folder being written: ``study.json`` checked or written on opening, each
-    case logged as it ends."""
+    """A study folder being written: locked for this run (a second run on the same
+    folder is refused, naming the first), ``study.json`` checked or written on opening,
+    each case logged as it ends. :meth:`close` releases the folder; the operating system
+    releases it too when the process dies."""
 
     def __init__(self, directory: str | PathLike[str], study: Mapping[str, Any]) -> None:
         self.dir = Path(directory)
         self.study = dict(study)
         self.dir.mkdir(parents=True, exist_ok=True)
+        self._lock = _lock(self.dir / LOCK)
+        try:
+            self._open()
+        except BaseException:
+            self.close()
+            raise
+
+    def _open(self) -> None:
         stored = self.dir / STUDY_JSON
         if stored.exists():
             old = json.loads(stored.read_text(encoding="utf-8"))
@@ -135,8 +152,17 @@ class Store:
             os.fsync(f.fileno())
         self.done.add(outcome.case)
 
+    def close(self) -> None:
+        """Releases the folder for another run."""
+        if not self._lock.closed:  # the file stays (empty): removing it could let two in
+            self._lock.truncate(0)
+            self._lock.close()
+
     def write_tables(self) -> pd.DataFrame:
-        """Writes ``cases.csv`` and ``cases.parquet`` from the log; returns the table."""
+        """Writes ``cases.csv`` and ``cases.parquet`` from the log (synced to disk first,
+        so that a table never holds a case the log could lose); returns the table."""
+        with open(self.dir / LOG, "rb") as f:
+            os.fsync(f.fileno())
         table = load_results(self.dir)
         _write_atomic(self.dir / CASES_CSV, table.to_csv(index=False))
         partial = self.dir / f"{CASES_PARQUET}.partial"
@@ -216,6 +242,30 @@ def load_series(directory: str | PathLike[str], case: int) -> pd.DataFrame:
     if not path.exists():
         raise FileNotFoundError(f"{path}: no time series of case {case} (time_series in [study])")
     return pd.read_parquet(path)
+
+
+def _lock(path: Path) -> Any:
+    """``path`` opened and locked (``flock``) for this process, holding who runs the
+    study; ValueError naming the holder when another process has it."""
+    import fcntl
+
+    f = open(path, "a+", encoding="utf-8")  # noqa: SIM115 - held until Store.close
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        f.seek(0)
+        holder = f.read().strip() or "another process"
+        f.close()
+        raise ValueError(
+            f"{path.parent} is in use by another study run ({holder}): wait for it to end "
+            "or choose another --out"
+        ) from None
+    f.seek(0)
+    f.truncate()
+    started = time.strftime("%Y-%m-%d %H:%M:%S %z")
+    f.write(f"host {socket.gethostname()}, process {os.getpid()}, since {started}\n")
+    f.flush()
+    return f
 
 
 def _write_atomic(path: Path, text: str) -> None:

@@ -207,8 +207,8 @@ pub fn integrate(
                         }
                         profile::stop(&mut ode.ws.profile, lap, |p| &mut p.output);
                         if chunk.is_some_and(|c| rec.time.len() >= c) {
-                            if let Err(reason) = monitor.samples(&rec.names(), &rec.time, &rec.data) {
-                                break 'run fail(t, format!("stopped by the output sink: {reason}"));
+                            if let Err(stop) = monitor.samples(&rec.names(), &rec.time, &rec.data) {
+                                break 'run stop.status(t, "stopped by the output sink");
                             }
                             rec.clear();
                         }
@@ -223,8 +223,8 @@ pub fn integrate(
                                     impacts: log.impacts.iter().map(Vec::len).sum(),
                                     wall_time,
                                 };
-                                if let Err(reason) = monitor.progress(&progress) {
-                                    break 'run fail(t, format!("stopped: {reason}"));
+                                if let Err(stop) = monitor.progress(&progress) {
+                                    break 'run stop.status(t, "stopped");
                                 }
                             }
                         }

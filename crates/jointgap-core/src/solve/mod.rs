@@ -18,7 +18,7 @@ pub mod sdirk4;
 pub mod stepper;
 pub mod switching;
 
-pub use monitor::{Monitor, Progress, Silent};
+pub use monitor::{Monitor, Progress, Silent, Stop};
 pub use options::{Method, SimOptions};
 
 use crate::contact::ClearanceRevolute;
@@ -104,9 +104,8 @@ pub fn simulate_with(
         let last = rec.time[rec.time.len() - 1];
         match monitor.samples(&rec.names(), &rec.time, &rec.data) {
             Ok(()) => rec.clear(),
-            Err(reason) if status == Status::Finished => {
-                status =
-                    Status::Failed { time: last, reason: format!("stopped by the output sink: {reason}") }
+            Err(stop) if status == Status::Finished => {
+                status = stop.status(last, "stopped by the output sink")
             }
             Err(_) => {}
         }
