@@ -23,8 +23,9 @@ install: $(DEPS_STAMP)
 	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
 		$(VENV)/bin/maturin develop --release --quiet
 
-## demo: the founding slider-crank (PHYSICS.md section 5): ideal and clearance runs, the
-## damping calibration for r = 0.55, figures, contact statistics and summaries in demo-output/
+## demo: the founding slider-crank (docs/physics.md section 5): ideal and clearance runs,
+## the damping calibration for r = 0.55, figures, contact statistics and summaries in
+## demo-output/
 demo: install
 	rm -rf $(DEMO) && mkdir -p $(DEMO)
 	$(JG) run examples/slider_crank_ideal.toml $(DEMO_RUN) --out $(DEMO)/ideal --plot \

@@ -97,7 +97,7 @@ overlaid. One file per figure and format.
 """
 
 _CALIBRATE_DESCRIPTION = """\
-Damping calibration of an ADAMS IMPACT clearance joint (PHYSICS.md section 3, the
+Damping calibration of an ADAMS IMPACT clearance joint (docs/physics.md section 3, the
 founding paper's Eq. 10-11): for a target restitution r, run, average the onset
 speeds V_avg of the selected impacts, set C_max = 3 K (1 - r^2) / (4 V_avg) d_max^n,
 and repeat until the integer part of C_max no longer changes (or --tolerance).
