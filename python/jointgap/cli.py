@@ -113,7 +113,7 @@ ones (each ten times tighter), and compare with the tightest: impact counts and
 onset times (to one output sample), peaks (--peak-tol) and NRMSE (--nrmse-tol) of
 the main outputs (slider motion, driver efforts, contact forces). Says plainly
 whether the run at the given tolerance has converged, and which tolerance would.
-Exit status 4 when it has not.
+Exit status 4 when it has not, 3 when a run stops early (no verdict then).
 """
 
 
@@ -645,20 +645,23 @@ def _impact_joint(model: Model) -> str:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from .convergence import check_convergence
+    from .convergence import RunStopped, check_convergence
 
     model = _load(args.model)
     options = _run_options(args)
-    with progress_line(args.t_end) as progress:
-        check = check_convergence(
-            model,
-            args.t_end,
-            levels=args.levels,
-            peak_tolerance=args.peak_tol,
-            nrmse_tolerance=args.nrmse_tol,
-            progress=progress,
-            **options,
-        )
+    try:
+        with progress_line(args.t_end) as progress:
+            check = check_convergence(
+                model,
+                args.t_end,
+                levels=args.levels,
+                peak_tolerance=args.peak_tol,
+                nrmse_tolerance=args.nrmse_tol,
+                progress=progress,
+                **options,
+            )
+    except RunStopped as exc:
+        return _fail(f"{args.model}: {exc}", EXIT_RUN_FAILED)
     print(check.table())
     print()
     print(check.verdict())
