@@ -235,7 +235,11 @@ def build_parser() -> argparse.ArgumentParser:
     calibrate.add_argument(
         "--max-iterations", type=int, default=40, metavar="N", help="most runs (default 40)"
     )
-    calibrate.add_argument("--write", metavar="OUT.toml", help="save the calibrated model")
+    calibrate.add_argument(
+        "--write",
+        metavar="OUT.toml",
+        help="save the calibrated model: MODEL with the new c_max in its unit, comments kept",
+    )
     calibrate.add_argument("--table", metavar="TABLE.csv", help="save the iteration table as CSV")
     _add_run_options(calibrate, t_end_required=False)
 
@@ -620,13 +624,17 @@ def _calibrate(args: argparse.Namespace) -> int:
 
 
 def _write_table_and_model(args: argparse.Namespace, table: Any, model: Model) -> None:
-    """``--table`` (a DataFrame as CSV) and ``--write`` (the model file), if asked for."""
+    """``--table`` (a DataFrame as CSV) and ``--write`` (the user's model file with the
+    changed values, in the user's units, comments kept), if asked for."""
     if args.table:
         Path(args.table).parent.mkdir(parents=True, exist_ok=True)
         table.to_csv(args.table, index=False)
         print(f"written    {args.table}")
     if args.write:
-        model.save(args.write)
+        from .writeback import write_back
+
+        for change in write_back(args.model, model, args.write):
+            print(f"changed    {change}")
         print(f"written    {args.write}")
 
 
