@@ -200,3 +200,41 @@ def test_python_dash_m_jointgap_is_the_command() -> None:
     assert done.returncode == 0 and done.stdout.strip() == f"jointgap {jointgap.__version__}"
     done = subprocess.run([sys.executable, "-m", "jointgap"], capture_output=True, text=True)
     assert done.returncode == 2 and "usage: jointgap" in done.stderr
+
+
+def test_synthesize_help_names_the_options_it_describes(capsys) -> None:
+    """The help of synthesize says which option is the record's rate (--sample-rate) and
+    which the run's (--rate), with the parser's own defaults."""
+    from jointgap.cli import build_parser, main
+
+    with pytest.raises(SystemExit):
+        main(["synthesize", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "sampled at --rate (default 50 kHz" in text
+    assert "sample --signal at --sample-rate (default 5 kHz)" in text
+    assert "(--lag, default 0.01 s;" in text
+    given = ["synthesize", "m.toml", "--signal", "x", "--out", "o", "--t-end", "1"]
+    args = build_parser().parse_args(given)
+    assert (args.rate, args.sample_rate, args.lag) == ("50000", "5000", "0.01")
+
+
+def test_the_measured_tutorial_states_the_reader_and_folders_as_they_are(tmp_path, engine) -> None:
+    import inspect
+
+    from jointgap.cli import main
+
+    text = " ".join((ROOT / "docs" / "tutorial-measured-data.md").read_text().split())
+    stated = re.search(r"`jointgap\.read_measured\((.*?)\)`", text)
+    assert stated is not None
+    signature = inspect.signature(jointgap.read_measured).parameters.values()
+    real = []
+    for p in signature:
+        if p.kind == p.KEYWORD_ONLY and "*" not in real:
+            real.append("*")
+        real.append(p.name if p.default is p.empty else f"{p.name}={p.default!r}")
+    assert [p.strip() for p in stated.group(1).split(",")] == [r.replace("'", '"') for r in real]
+    # "Every option that writes a file creates its folder": synthesize --out here.
+    record = tmp_path / "new" / "folder" / "m.csv"
+    args = ["synthesize", "examples/slider_crank_ideal.toml", "--signal", "slider.ax"]
+    assert main([*args, "--t-end", "0.05", "--out", str(record), "--rate", "10000"]) == 0
+    assert jointgap.read_measured(record, "slider.ax").unit == "m/s^2"
