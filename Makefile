@@ -14,7 +14,7 @@ $(DEPS_STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
 	$(PY) -m pip install -q --disable-pip-version-check "maturin>=1.5,<2" \
 		"numpy>=1.26" "scipy>=1.11" "pandas>=2.0" "matplotlib>=3.8" \
-		"pyarrow>=14" "dask[distributed]>=2024.1" \
+		"pyarrow>=14" "dask[distributed]>=2024.1" "tomlkit>=0.12" \
 		"pytest>=8" "ruff>=0.5" "mypy>=1.10"
 	touch $(DEPS_STAMP)
 
@@ -23,8 +23,9 @@ install: $(DEPS_STAMP)
 	VIRTUAL_ENV=$(abspath $(VENV)) PATH=$(abspath $(VENV))/bin:$$PATH \
 		$(VENV)/bin/maturin develop --release --quiet
 
-## demo: the founding slider-crank (PHYSICS.md section 5): ideal and clearance runs, the
-## damping calibration for r = 0.55, figures, contact statistics and summaries in demo-output/
+## demo: the founding slider-crank (docs/physics.md section 5): ideal and clearance runs,
+## the damping calibration for r = 0.55, figures, contact statistics and summaries in
+## demo-output/
 demo: install
 	rm -rf $(DEMO) && mkdir -p $(DEMO)
 	$(JG) run examples/slider_crank_ideal.toml $(DEMO_RUN) --out $(DEMO)/ideal --plot \

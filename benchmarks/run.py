@@ -43,7 +43,8 @@ def write_results(name: str, figures: dict[str, Any]) -> Path:
 
 MODEL = ROOT / "examples" / "slider_crank_ideal.toml"
 
-# Founding slider-crank: crank 0.08 m, rod 0.32 m, 0 -> 300 rpm in 0.2 s (PHYSICS.md 6).
+# Founding slider-crank (docs/physics.md section 5): crank 0.08 m, rod 0.32 m, 0 -> 300 rpm
+# in 0.2 s.
 R, L, W, T_RAMP = 0.08, 0.32, 300 * 2 * math.pi / 60, 0.2
 
 

@@ -17,14 +17,14 @@ from jointgap.calibration import (
 )
 from jointgap.cli import EXIT_NOT_CONVERGED, main
 
-K_FOUNDING = 3.136e10  # PHYSICS.md section 5, to the paper's four digits
+K_FOUNDING = 3.136e10  # docs/physics.md section 5, to the paper's four digits
 D_MAX, N = 1e-5, 1.5
 
 
 def test_paper_pairs_of_table_iv_are_consistent() -> None:
     """Eq. 10-11 written out here: C_max = 3 K (1 - r^2) / (4 V) d^n. The paper's last
     trial (27960 N s/m for r = 0.55) implies V_avg = 0.0186 m/s, inside the 0.014 to
-    0.019 m/s that PHYSICS.md derives from Table IV."""
+    0.019 m/s that docs/physics.md derives from Table IV."""
     v = 3 * K_FOUNDING * (1 - 0.55**2) / (4 * 27960) * D_MAX**N
     assert v == pytest.approx(0.01856, rel=1e-3)
     assert damping_from_restitution(0.55, v, K_FOUNDING, D_MAX, N) == pytest.approx(27960)

@@ -81,3 +81,20 @@ def test_advice_needs_every_tighter_level_to_pass() -> None:
     assert check.verdict().endswith("Use rtol 1e-08 (atol 1e-11) or tighter.")
     check.converged[-1] = False
     assert check.verdict().endswith("than were tried (raise the levels).")
+
+
+def test_converge_exits_3_when_a_run_stops_early(capsys, engine) -> None:
+    """A run that stops early (here on its step budget) gives no verdict: exit 3, as
+    every other command whose run stops early, with the run's reason."""
+    from jointgap.cli import EXIT_RUN_FAILED
+    from jointgap.convergence import RunStopped
+
+    args = ["converge", "examples/slider_crank_clearance.toml", "--t-end", "0.05"]
+    assert main([*args, "--levels", "1", "--max-steps", "20"]) == EXIT_RUN_FAILED
+    err = capsys.readouterr().err
+    assert err.startswith("jointgap: error: examples/slider_crank_clearance.toml: the run at rtol")
+    assert "step" in err
+    founding = jointgap.load("examples/slider_crank_clearance.toml")
+    with pytest.raises(RunStopped) as stopped:
+        check_convergence(founding, 0.05, levels=1, max_steps=20)
+    assert not stopped.value.result.ok and len(stopped.value.result.time) >= 1

@@ -1,7 +1,7 @@
 """Independent cross-check of the founding case against a minimal-coordinate model.
 
 The founding case is the slider-crank of Haroun & Megahed with a clearance in the joint
-between the connecting rod and the slider (PHYSICS.md section 5,
+between the connecting rod and the slider (docs/physics.md section 5,
 examples/slider_crank_clearance.toml). The engine solves it in Cartesian coordinates:
 three bodies, nine coordinates, Lagrange multipliers for the ideal joints and the crank
 driver, and the clearance joint as a force element. This file writes the same mechanism
@@ -24,7 +24,7 @@ prismatic guide keeps the slider on ``y = 0`` without rotating):
   with ``F = -F_N n + F_T t`` the contact force on the journal, applied at ``Q_J``;
 - slider (mass ``m_s``): ``m_s x'' = -F_x``, the opposite force on the bearing (its
   ``y`` component and its moment go into the guide);
-- contact (PHYSICS.md sections 2-4): journal centre ``r_J = A + L u``, bearing centre
+- contact (docs/physics.md sections 2-4): journal centre ``r_J = A + L u``, bearing centre
   ``r_B = (x, 0)``, ``e = r_J - r_B``, ``delta = |e| - c``, ``n = e/|e|``, ``t`` = ``n``
   turned by +90 degrees; ``Q_J = r_J + R_J n``, ``Q_B = r_B + R_B n``; the relative
   velocity of the contact points ``v = (A' + phi' k x (Q_J - A)) - (x', 0)`` gives
@@ -79,7 +79,7 @@ from scipy.optimize import minimize_scalar
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "slider_crank_clearance.toml"
 
-# --- the founding case (PHYSICS.md section 5), SI units --------------------------------
+# --- the founding case (docs/physics.md section 5), SI units ---------------------------
 
 G = 9.81  # gravity, along -y [m/s^2]
 OMEGA = 300 * 2 * math.pi / 60  # final crank speed, 300 rpm [rad/s]
@@ -483,7 +483,7 @@ def test_same_peaks(engine: None, crosscheck: CrossCheck) -> None:
     }.items():
         print(f"\npeak {name}: engine {e:.6g}, reference {r:.6g}, rel. diff {e / r - 1:.2e}")
         assert abs(e / r - 1) < PEAK_TOLERANCE, f"peak {name}: engine {e}, reference {r}"
-    # Sizes (PHYSICS.md section 5): the impacts dominate, far above the ideal
+    # Sizes (docs/physics.md section 5): the impacts dominate, far above the ideal
     # mechanism's 98.7 m/s^2 peak slider acceleration.
     assert peak_ax[1] > 5 * 98.7
     assert peak_fn_list[1] > 1000.0

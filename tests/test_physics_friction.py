@@ -4,7 +4,7 @@
    can neither turn nor move sideways) while the bearing, a ring on a motor, is turned
    through a slow speed sweep. The slip is v_t = -omega R_B, set by the motor; the
    torque the motor needs is J alpha - R_B mu(v_t) N by the ring's moment balance. The
-   test writes each friction law (PHYSICS.md section 4) itself and checks the motor
+   test writes each friction law (docs/physics.md section 4) itself and checks the motor
    torque the engine computes (a Lagrange multiplier, not the contact channel) across
    the sweep: the stick peak mu_s at v_s and the fall to mu_d at v_d of the ADAMS law.
 2. Stick-slip: the journal may turn, held by a torsion spring, while the ring turns at

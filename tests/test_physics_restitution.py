@@ -1,5 +1,5 @@
 """Effective restitution of every dissipative normal law, engine against an independent
-single-impact integration (PHYSICS.md sections 2, 3 and 6).
+single-impact integration (docs/physics.md sections 2, 3 and 6).
 
 Set-up: a free journal body (1 kg, no gravity) starts concentric in a clearance revolute
 joint whose bearing is the ground (R_B = 10 mm, c = 0.5 mm, explicit stiffness K, no
@@ -25,7 +25,7 @@ spring; two dampings, two speeds) and ADAMS IMPACT (two c_max, two speeds):
   rebound at low r; Gonthier and Flores follow r over the whole range (Gonthier within
   5 % of r, Flores within 0.05 of r but over-dissipative at low r).
 
-The reference (``single_impact``) writes each law from PHYSICS.md section 3 itself (no
+The reference (``single_impact``) writes each law from docs/physics.md section 3 itself (no
 engine code) and integrates it with scipy's LSODA at rtol 1e-11. Clipping (a pulling force
 set to zero) is handled exactly: the integration stops where F_N crosses zero and goes on
 force-free (or back in contact if the force turns positive again, as ADAMS IMPACT's
@@ -67,7 +67,7 @@ Force = Callable[[float, float], float]
 """F_N(delta, delta_dot) for delta > 0, before clipping."""
 
 
-# --- the laws, written from PHYSICS.md section 3 ------------------------------------------
+# --- the laws, written from docs/physics.md section 3 -------------------------------------
 
 
 def hysteresis_factor(law: str, r: float) -> float:
@@ -308,7 +308,7 @@ def test_adams_impact_rebound_matches_single_impact(engine: None, c_max: float, 
 
 def test_reference_against_closed_forms() -> None:
     """The reference integration reproduces the closed forms it can be checked against:
-    the elastic Hertz impact (PHYSICS.md section 6: ratio 1,
+    the elastic Hertz impact (docs/physics.md section 6: ratio 1,
     ``delta_max = (5 m v0^2 / (4 K))^(2/5)``, contact time about 2.94 delta_max / v0)
     and the unclipped linear spring-dashpot (ratio ``exp(-zeta pi / sqrt(1 - zeta^2))``,
     contact time half a damped period)."""

@@ -1,4 +1,4 @@
-"""Ideal slider-crank against closed forms (PHYSICS.md section 6).
+"""Ideal slider-crank against closed forms (docs/physics.md section 6).
 
 Kinematics: x = r cos(th) + sqrt(L^2 - r^2 sin^2 th), differentiated exactly, with th(t)
 from the linear ramp (th'' = w/T during the ramp). Motor torque: Lagrange's equation with
@@ -202,7 +202,7 @@ def test_motor_torque_matches_virtual_work(method, sc):
 
 def test_founding_example_matches_closed_form():
     """examples/slider_crank_ideal.toml reproduces the closed-form kinematics and torque
-    (crank and rod as bars with centres of mass at mid-length, PHYSICS.md section 5)."""
+    (crank and rod as bars with centres of mass at mid-length, docs/physics.md section 5)."""
     model = jointgap.load("examples/slider_crank_ideal.toml")
     r = simulate_ok(model, T_END, rate=RATE, rtol=1e-10, atol=ATOL, method="dopri5")
     sc = VERTICAL

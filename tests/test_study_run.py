@@ -71,10 +71,34 @@ def test_table_columns_and_files(small) -> None:
         ("rod_slider.mu_d", "uniform"),
     ]
     assert study["base_model"] == str(CLEARANCE)
+    # The written tables carry each column's SI unit in its header.
     csv = pd.read_csv(out / "cases.csv", keep_default_na=False, na_values=[""])
     parquet = pd.read_parquet(out / "cases.parquet")
-    pd.testing.assert_frame_equal(parquet, table)
+    headers = [
+        "case",
+        "rod_slider.clearance [m]",
+        "motor.speed [rad/s]",
+        "rod_slider.mu_d",
+        "peak_contact_force [N]",
+        "impacts",
+        "peak_slider_acceleration [m/s^2]",
+        "rms_slider_acceleration [m/s^2]",
+        "max_torque [N*m]",
+        "min_torque [N*m]",
+        "mean_slider_x [m]",
+        "deviation_rms [m/s^2]",
+        "deviation_peak [m/s^2]",
+        "free_flight",
+        "contact",
+        "status",
+        "reason",
+        "run_time_s [s]",
+    ]
+    assert list(csv.columns) == list(parquet.columns) == headers
+    assert list(study["units"]) == [*PARAMETERS, *METRICS, "run_time_s"]
+    pd.testing.assert_frame_equal(parquet.set_axis(table.columns, axis=1), table)
     numeric = [*PARAMETERS, *METRICS, "run_time_s"]
+    csv = csv.set_axis(table.columns, axis=1)
     np.testing.assert_array_equal(csv[numeric].to_numpy(float), table[numeric].to_numpy(float))
     assert list(csv["reason"].fillna("")) == list(table["reason"])
     pd.testing.assert_frame_equal(load_results(out), table)
@@ -82,6 +106,11 @@ def test_table_columns_and_files(small) -> None:
     copy.mkdir()
     (copy / "cases.parquet").write_bytes((out / "cases.parquet").read_bytes())
     pd.testing.assert_frame_equal(load_results(copy), table)
+    # A table written before headers carried units reads the same.
+    old = out.parent / "old_table"
+    old.mkdir()
+    table.to_parquet(old / "cases.parquet", index=False)
+    pd.testing.assert_frame_equal(load_results(old), table)
 
 
 def test_failed_cases_keep_their_reason_and_the_others_finish(small) -> None:

@@ -2,7 +2,7 @@
 jointgap's timed runs, the matched-accuracy choice and the JSON results.
 
 The peers (``scipy_slider_crank.py``, ``exudyn_slider_crank.py``) run the founding
-clearance slider-crank (``examples/slider_crank_clearance.toml``, PHYSICS.md section 5)
+clearance slider-crank (``examples/slider_crank_clearance.toml``, docs/physics.md section 5)
 from 0 to 0.5 s and score the slider acceleration on a 10 kHz grid against one converged
 jointgap run. Runs in the main ``.venv`` (numpy, jointgap); the machine description is
 ``benchmarks/run.machine``.

@@ -1,8 +1,8 @@
 """Peer benchmark: the founding clearance slider-crank written in Exudyn, against jointgap.
 
-The case is examples/slider_crank_clearance.toml (PHYSICS.md section 5), 0 to 0.5 s: crank
-0.08 m, rod 0.32 m, vertical plane, the crank driven from rest to 300 rpm in 0.2 s, and a
-0.5 mm radial clearance between rod and slider with the ADAMS IMPACT contact law and ADAMS
+The case is examples/slider_crank_clearance.toml (docs/physics.md section 5), 0 to 0.5 s:
+crank 0.08 m, rod 0.32 m, vertical plane, the crank driven from rest to 300 rpm in 0.2 s, and
+a 0.5 mm radial clearance between rod and slider with the ADAMS IMPACT contact law and ADAMS
 Coulomb friction. Here it is written the way an Exudyn user would write it, in two
 formulations, because Exudyn's explicit solvers take no constraints:
 

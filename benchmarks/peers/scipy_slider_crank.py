@@ -1,6 +1,6 @@
 """Peer benchmark: the founding clearance slider-crank written with SciPy, against jointgap.
 
-The case is examples/slider_crank_clearance.toml (PHYSICS.md section 5): the Haroun &
+The case is examples/slider_crank_clearance.toml (docs/physics.md section 5): the Haroun &
 Megahed slider-crank in a vertical plane, crank 0.08 m, rod 0.32 m, the crank driven from
 rest to 300 rpm in 0.2 s, and a 0.5 mm radial clearance in the rod-slider joint with an
 ADAMS IMPACT contact law and ADAMS Coulomb friction; 0 to 0.5 s.

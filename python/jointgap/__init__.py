@@ -12,6 +12,8 @@ Quantities are SI numbers or strings with units (``"300 rpm"``, ``"15 mm"``); se
 :mod:`jointgap.units`. Output channels are named ``<element>.<quantity>``.
 """
 
+from typing import TYPE_CHECKING
+
 from . import laws, profiles, units, variants
 from .batch import simulate_batch
 from .calibration import calibrate_damping, damping_from_restitution, restitution_from_damping
@@ -23,6 +25,10 @@ from .profiles import constant_speed, linear_ramp, smooth_ramp, table_angle, tab
 from .results import Result, channel_unit
 from .schema import GROUND, ModelError
 from .statistics import contact_statistics, deviation_from_ideal
+
+if TYPE_CHECKING:  # loaded on first use (below); type checkers see the real signatures
+    from .comparison import compare
+    from .measured import read_measured, synthetic_record
 
 __version__ = "0.1.0"
 
@@ -71,5 +77,11 @@ def __getattr__(name: str) -> object:
     if name in _LAZY:
         import importlib
 
-        return getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value  # later look-ups skip this function
+        return value
     raise AttributeError(f"module 'jointgap' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})

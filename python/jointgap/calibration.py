@@ -1,5 +1,5 @@
 """Damping calibration of an ADAMS IMPACT clearance joint (the founding paper's Eq. 10
-and 11, PHYSICS.md section 3).
+and 11, docs/physics.md section 3).
 
 For a target restitution r, the hysteresis damping that dissipates as much as r does at
 the average onset speed V_avg of the mechanism's impacts is

@@ -102,7 +102,7 @@ overlaid. One file per figure and format.
 """
 
 _CALIBRATE_DESCRIPTION = """\
-Damping calibration of an ADAMS IMPACT clearance joint (PHYSICS.md section 3, the
+Damping calibration of an ADAMS IMPACT clearance joint (docs/physics.md section 3, the
 founding paper's Eq. 10-11): for a target restitution r, run, average the onset
 speeds V_avg of the selected impacts, set C_max = 3 K (1 - r^2) / (4 V_avg) d_max^n,
 and repeat until the integer part of C_max no longer changes (or --tolerance).
@@ -119,7 +119,7 @@ ones (each ten times tighter), and compare with the tightest: impact counts and
 onset times (to one output sample), peaks (--peak-tol) and NRMSE (--nrmse-tol) of
 the main outputs (slider motion, driver efforts, contact forces). Says plainly
 whether the run at the given tolerance has converged, and which tolerance would.
-Exit status 4 when it has not.
+Exit status 4 when it has not, 3 when a run stops early (no verdict then).
 """
 
 
@@ -241,7 +241,11 @@ def build_parser() -> argparse.ArgumentParser:
     calibrate.add_argument(
         "--max-iterations", type=int, default=40, metavar="N", help="most runs (default 40)"
     )
-    calibrate.add_argument("--write", metavar="OUT.toml", help="save the calibrated model")
+    calibrate.add_argument(
+        "--write",
+        metavar="OUT.toml",
+        help="save the calibrated model: MODEL with the new c_max in its unit, comments kept",
+    )
     calibrate.add_argument("--table", metavar="TABLE.csv", help="save the iteration table as CSV")
     _add_run_options(calibrate, t_end_required=False)
 
@@ -676,13 +680,17 @@ def _write_partial_table(args: argparse.Namespace, table: Any) -> str:
 
 
 def _write_table_and_model(args: argparse.Namespace, table: Any, model: Model) -> None:
-    """``--table`` (a DataFrame as CSV) and ``--write`` (the model file), if asked for."""
+    """``--table`` (a DataFrame as CSV) and ``--write`` (the user's model file with the
+    changed values, in the user's units, comments kept), if asked for."""
     if args.table:
         Path(args.table).parent.mkdir(parents=True, exist_ok=True)
         table.to_csv(args.table, index=False)
         print(f"written    {args.table}")
     if args.write:
-        model.save(args.write)
+        from .writeback import write_back
+
+        for change in write_back(args.model, model, args.write):
+            print(f"changed    {change}")
         print(f"written    {args.write}")
 
 
@@ -701,13 +709,13 @@ def _impact_joint(model: Model) -> str:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from .convergence import check_convergence
+    from .convergence import RunStopped, check_convergence
 
     model = _load(args.model)
     options = _run_options(args)
     check = None
-    with progress_line(args.t_end) as progress:
-        try:
+    try:
+        with progress_line(args.t_end) as progress:
             check = check_convergence(
                 model,
                 args.t_end,
@@ -717,8 +725,10 @@ def _converge(args: argparse.Namespace) -> int:
                 progress=progress,
                 **options,
             )
-        except KeyboardInterrupt:
-            pass
+    except KeyboardInterrupt:
+        pass
+    except RunStopped as exc:
+        return _fail(f"{args.model}: {exc}", EXIT_RUN_FAILED)
     if check is None:
         return _interrupted("a run stopped before every tolerance level ran: nothing compared")
     print(check.table())

@@ -52,9 +52,15 @@ best so far and exits with 130.
 
 _SYNTHESIZE_DESCRIPTION = """\
 Turn a simulation into a synthetic measured record, e.g. an accelerometer on the
-slider: sample --signal at --rate (default 5 kHz) with a lag (measured(t) =
-simulated(t - lag)), an optional band limit (zero-phase Butterworth), Gaussian noise
-and an offset; write it as CSV that 'jointgap compare' and 'identify' read.
+slider: run the model to --t-end, sampled at --rate (default 50 kHz: well above the
+record's rate, since the record interpolates the run linearly and would flatten the
+impact peaks of a coarser one), then sample --signal at --sample-rate (default 5 kHz)
+on the record's clock t = k / sample-rate, with a lag (--lag, default 0.01 s;
+measured(t) = simulated(t - lag), so the record covers t = lag .. t_end), an optional
+band limit (--band-limit: a zero-phase 4th-order Butterworth low-pass applied before
+sampling), Gaussian noise (--noise, a standard deviation in the signal's unit) and an
+offset. Writes FILE.csv (time and the signal, their units in a comment line; the
+folder is created) that 'jointgap compare' and 'identify' read.
 """
 
 
@@ -114,7 +120,11 @@ def add_commands(sub: Any) -> None:
     identify.add_argument(
         "--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)"
     )
-    identify.add_argument("--write", metavar="OUT.toml", help="save the fitted model")
+    identify.add_argument(
+        "--write",
+        metavar="OUT.toml",
+        help="save the fitted model: MODEL with the fitted values in its units, comments kept",
+    )
     identify.add_argument("--table", metavar="TABLE.csv", help="save the trial table as CSV")
     _add_run_options(identify, rate_default="10000", t_end_required=False)
 

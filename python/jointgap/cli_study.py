@@ -22,7 +22,8 @@ the local cores, or on an existing Dask cluster with --scheduler. Writes
   OUT/study.json     the resolved study (parameters in SI, metrics, case count)
   OUT/cases.jsonl    one line per case as it ends (what a restart skips)
   OUT/cases.csv      one row per case: case, the parameters (SI; a model as its
-  OUT/cases.parquet  file name), the metrics, status, reason, run_time_s
+  OUT/cases.parquet  file name), the metrics, status, reason, run_time_s; each
+                     header with its unit, e.g. "rod_slider.clearance [m]"
   OUT/series/        with time_series in the study file: case_NNNNNN.parquet
   OUT/study.lock     who runs the study while it runs: a second run on the same
                      OUT is refused, naming it

@@ -29,10 +29,18 @@ import numpy as np
 from .model import Model
 from .results import Result, channel_unit, main_channels
 
-__all__ = ["ChannelChange", "Convergence", "TIGHTEN", "check_convergence"]
+__all__ = ["ChannelChange", "Convergence", "RunStopped", "TIGHTEN", "check_convergence"]
 
 TIGHTEN = 10.0
 """Factor between successive tolerances."""
+
+
+class RunStopped(ValueError):
+    """A run of the check stopped early: no verdict; ``result`` holds what it computed."""
+
+    def __init__(self, message: str, result: Result) -> None:
+        super().__init__(message)
+        self.result = result
 
 
 @dataclass(frozen=True)
@@ -163,7 +171,7 @@ def check_convergence(
         if run.interrupted:
             raise KeyboardInterrupt
         if not run.ok:
-            raise ValueError(f"the run at rtol {tight_rtol:g} {run.message}")
+            raise RunStopped(f"the run at rtol {tight_rtol:g} {run.message}", run)
         runs.append(run)
     reference = runs[-1]
     onset_tolerance = 1.0 / float(reference.options["rate"])

@@ -58,6 +58,9 @@ __all__ = ["Fit", "Parameter", "Trial", "identify", "trial_frame", "MEASURES"]
 MEASURES = ("nrmse", "rms", "max_abs", "max_percent")
 """Error measures that can be minimised (see docs/comparison.md)."""
 
+PROFILE_ROUNDS = 4
+"""How many times the uncertainty profile is taken again around a lower trial it found."""
+
 
 @dataclass(frozen=True)
 class Parameter:
@@ -121,6 +124,8 @@ class Trial:
         measures: every error measure of the comparison.
         derived: values that follow from the parameters (e.g. the calibrated C_max).
         phase: "start", "scan", "refine" or "profile".
+        by_name: the parameter values (SI) by parameter name, e.g.
+            ``trial.by_name["rod_slider.restitution"]``, in the order of the parameters.
     """
 
     trial: int
@@ -130,6 +135,7 @@ class Trial:
     measures: dict[str, float]
     derived: dict[str, float]
     phase: str
+    by_name: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -243,7 +249,10 @@ class _Objective:
         except (ValueError, ArithmeticError):
             pass  # an infeasible candidate (no impact, no overlap...) scores inf
         with self.lock:
-            trial = Trial(len(self.trials) + 1, tuple(values), error, lag, measures, derived, phase)
+            names = {p.name: v for p, v in zip(self.parameters, values, strict=True)}
+            trial = Trial(
+                len(self.trials) + 1, tuple(values), error, lag, measures, derived, phase, names
+            )
             self.trials.append(trial)
             self.cache[key] = trial
         return trial
@@ -408,9 +417,28 @@ def identify(
                 "fatol": 1e-3 * best.error,
             },
         )
+    # The profile trials around the best may find a lower error (the error of a
+    # restitution is rough at that scale: impacts come and go): the best is then the
+    # lowest of the table and the profile is taken again around it, a few times at most.
+    notes: list[str] = []
     best = min(objective.trials, key=lambda t: t.error)
-    x_best = _coordinates(best, parameters, mapped)
-    uncertainty = _uncertainty(run, search, mapped, best, x_best, steps, tolerance, threads, stop)
+    for _ in range(PROFILE_ROUNDS):
+        x_best = _coordinates(best, parameters, mapped)
+        uncertainty = _uncertainty(
+            run, search, mapped, best, x_best, steps, tolerance, threads, stop
+        )
+        lowest = min(objective.trials, key=lambda t: t.error)
+        if lowest is best:
+            break
+        best = lowest
+    else:
+        x_best = _coordinates(best, parameters, mapped)
+        uncertainty = [math.nan] * n
+        notes.append(
+            f"note: the profile trials found lower errors {PROFILE_ROUNDS} times in a row; "
+            "the best is the lowest trial, its uncertainty is unknown (NaN): the error "
+            "is rough near the minimum (scan finer or narrow the bounds)"
+        )
     fitted = objective.model_data(x_best)
     return Fit(
         parameters=list(parameters),
@@ -419,6 +447,7 @@ def identify(
         trials=sorted(objective.trials, key=lambda t: t.trial),
         model=Model.from_dict(fitted),
         measure=measure,
+        notes=notes,
     )
 
 

@@ -1,7 +1,7 @@
 """Measured signals: read a test record (CSV or whitespace text), or make a synthetic one.
 
 The founding case was fitted against an accelerometer on the slider, sampled at 5 kHz,
-whose record lags the simulation by about 0.01 s (PHYSICS.md section 5). This module
+whose record lags the simulation by about 0.01 s (docs/physics.md section 5). This module
 brings such a record into SI (:func:`read_measured`), checks it covers the simulated
 interval (:func:`check_overlap`), and makes a synthetic record from a run with a known
 rate, lag, band limit, noise and offset (:func:`synthetic_record`), so that the comparison

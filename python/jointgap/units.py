@@ -446,3 +446,20 @@ def describe(dim: Dimension) -> str:
 
 def _example(dim: Dimension) -> str:
     return f"1 {dim.si_unit()}" if dim != DIMENSIONLESS else "1"
+
+
+def written_like(value: float, written: object) -> float | str:
+    """``value`` (SI) in the form ``written`` had, to write a changed value back into a
+    model file: a quantity string keeps its unit (``written_like(0.0175, "15 mm")`` is
+    ``"17.5 mm"``), a plain number stays a plain SI number. The number has the fewest
+    digits (12 at least) that read back to ``value`` exactly."""
+    if not isinstance(written, str):
+        return float(value)
+    unit = _split(written.strip())[1]
+    dimension = parse_unit(unit)[0][1] if unit else DIMENSIONLESS
+    number = from_si(value, unit) if unit else value
+    for digits in range(12, 18):
+        text = f"{number:.{digits}g} {unit}".strip()
+        if to_si(text, dimension) == value:
+            break
+    return text

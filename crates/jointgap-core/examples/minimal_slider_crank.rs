@@ -34,7 +34,7 @@ const T_END: f64 = 0.5;
 const RATE: f64 = 10_000.0;
 const RTOLS: [f64; 7] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 3e-9, 1e-9];
 
-// The founding clearance case (PHYSICS.md section 5), SI units.
+// The founding clearance case (docs/physics.md section 5), SI units.
 const G: f64 = 9.81;
 const OMEGA: f64 = 300.0 * 2.0 * PI / 60.0;
 const RAMP: f64 = 0.2;

@@ -187,7 +187,7 @@ fn default_true() -> bool {
 }
 
 /// Normal contact force laws, `F_N` as a function of penetration `delta > 0` and its
-/// rate (PHYSICS.md section 3). `clip` (default true) sets pulling forces to zero.
+/// rate (docs/physics.md section 3). `clip` (default true) sets pulling forces to zero.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum NormalLawSpec {
@@ -269,7 +269,7 @@ pub enum NormalLawSpec {
     },
 }
 
-/// Friction laws: the tangential force opposes the slip `v_t` (PHYSICS.md section 4).
+/// Friction laws: the tangential force opposes the slip `v_t` (docs/physics.md section 4).
 #[derive(Debug, Clone, Default, Serialize, Deserialize, PartialEq)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum FrictionSpec {

@@ -25,7 +25,7 @@ fn free_journal(velocity: [f64; 2], omega: f64, gravity: f64, law: Value, fricti
 }
 
 /// Peak penetration `(5 m v0^2 / (4 K))^(2/5)` and duration `2.94 delta_max / v0`
-/// (PHYSICS.md section 6), within 0.5 %; the rebound is elastic.
+/// (docs/physics.md section 6), within 0.5 %; the rebound is elastic.
 #[test]
 fn hertz_impact_matches_closed_form() {
     let (m, v0) = (0.72, 0.5);

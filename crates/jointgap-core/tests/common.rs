@@ -9,7 +9,7 @@ pub const L: f64 = 0.32;
 pub const W: f64 = 300.0 * 2.0 * std::f64::consts::PI / 60.0;
 pub const T_RAMP: f64 = 0.2;
 
-/// The founding slider-crank with ideal joints (PHYSICS.md section 5).
+/// The founding slider-crank with ideal joints (docs/physics.md section 5).
 pub fn slider_crank(gravity: f64) -> Model {
     Model::from_json(
         &json!({
@@ -38,7 +38,7 @@ pub fn slider_crank(gravity: f64) -> Model {
     .unwrap()
 }
 
-/// The founding slider-crank with the rod-slider joint a clearance joint (PHYSICS.md
+/// The founding slider-crank with the rod-slider joint a clearance joint (docs/physics.md
 /// section 5: 0.5 mm radial clearance, ADAMS impact law, ADAMS Coulomb friction).
 pub fn slider_crank_clearance() -> Model {
     let mut raw = serde_json::to_value(slider_crank(9.81)).unwrap();
@@ -67,7 +67,7 @@ pub fn crank(t: f64) -> (f64, f64, f64) {
     }
 }
 
-/// Closed-form slider position, velocity and acceleration (PHYSICS.md section 6).
+/// Closed-form slider position, velocity and acceleration (docs/physics.md section 6).
 pub fn slider_closed_form(t: f64) -> (f64, f64, f64) {
     let (th, w, al) = crank(t);
     let (s, c) = th.sin_cos();

@@ -3,7 +3,8 @@
     DIR/study.json        {"name", "base_model", "parameters": [{"path", "kind", ...}],
                           "metrics": [...], "sampling", "n_cases"}
     DIR/cases.csv         one row per case: case, one column per parameter (named by
-    (or cases.parquet)    its path), one per metric, status, reason, run_time_s
+    (or cases.parquet)    its path), one per metric, status, reason, run_time_s; headers
+                          "name [unit]" (or the bare name, as older tables have them)
     DIR/figures/*.png     the study's figures ('jointgap study-plot'), if any
 
 The page shows the study's settings, every metric against every parameter (finished
@@ -20,6 +21,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..study.store import column_name
 from .encode import rounded
 from .scene import ReportError
 from .tables import Table, key_value_table
@@ -57,9 +59,9 @@ def _read_cases(folder: Path) -> Any:
 
     csv, parquet = folder / CASES_CSV, folder / CASES_PARQUET
     if csv.exists():
-        return pd.read_csv(csv)
+        return pd.read_csv(csv).rename(columns=column_name)
     if parquet.exists():
-        return pd.read_parquet(parquet)
+        return pd.read_parquet(parquet).rename(columns=column_name)
     raise ReportError(f"{folder}: a study folder needs {CASES_CSV} or {CASES_PARQUET}")
 
 

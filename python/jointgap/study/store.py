@@ -7,7 +7,8 @@ time series.
     DIR/cases.jsonl         one line per case as it ends, appended and flushed to disk
                             at once: the record a restart reads to skip what is done
     DIR/cases.csv           the table, one row per case in case order: case, the
-    DIR/cases.parquet       parameters, the metrics, status, reason, run_time_s
+    DIR/cases.parquet       parameters, the metrics, status, reason, run_time_s; each
+                            header carries its column's SI unit: "rod_slider.clearance [m]"
     DIR/series/case_000012.parquet
                             with time_series: that case's time and channels
     DIR/study.lock          who runs the study (host, process id, start), while a run
@@ -23,6 +24,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
 import socket
 import time
 from collections.abc import Iterable, Mapping
@@ -40,6 +42,8 @@ if TYPE_CHECKING:
 
 __all__ = [
     "CASES_CSV",
+    "column_name",
+    "with_units",
     "CASES_PARQUET",
     "FAILED",
     "FINISHED",
@@ -160,15 +164,34 @@ class Store:
 
     def write_tables(self) -> pd.DataFrame:
         """Writes ``cases.csv`` and ``cases.parquet`` from the log (synced to disk first,
-        so that a table never holds a case the log could lose); returns the table."""
+        so that a table never holds a case the log could lose), each header with its
+        column's unit (:func:`with_units`); returns the table (plain column names)."""
         with open(self.dir / LOG, "rb") as f:
             os.fsync(f.fileno())
         table = load_results(self.dir)
-        _write_atomic(self.dir / CASES_CSV, table.to_csv(index=False))
+        headed = with_units(table, self.study.get("units", {}))
+        _write_atomic(self.dir / CASES_CSV, headed.to_csv(index=False))
         partial = self.dir / f"{CASES_PARQUET}.partial"
-        table.to_parquet(partial, index=False)
+        headed.to_parquet(partial, index=False)
         os.replace(partial, self.dir / CASES_PARQUET)
         return table
+
+
+_HEADER_UNIT = re.compile(r"^(.*\S) \[[^\[\]]*\]$")
+
+
+def with_units(table: pd.DataFrame, units: Mapping[str, str]) -> pd.DataFrame:
+    """The table with each column headed ``name [unit]`` (SI; no unit for a
+    dimensionless column, a count or text)."""
+    return table.rename(columns=lambda c: f"{c} [{units[c]}]" if units.get(c) else c)
+
+
+def column_name(header: str) -> str:
+    """A column's name from its header: ``"rod_slider.clearance [m]"`` gives
+    ``"rod_slider.clearance"``; a header without a unit (tables written before headers
+    carried units) is the name itself."""
+    m = _HEADER_UNIT.match(header)
+    return m.group(1) if m else header
 
 
 def read_log(directory: str | PathLike[str]) -> list[dict[str, Any]]:
@@ -199,7 +222,8 @@ def load_results(directory: str | PathLike[str]) -> pd.DataFrame:
 
     folder = Path(directory)
     if not (folder / LOG).exists():
-        return pd.read_parquet(folder / CASES_PARQUET)
+        table = pd.read_parquet(folder / CASES_PARQUET)
+        return table.rename(columns=column_name)
     study = json.loads((folder / STUDY_JSON).read_text(encoding="utf-8"))
     return _table(study, sorted(read_log(folder), key=lambda r: int(r["case"])))
 

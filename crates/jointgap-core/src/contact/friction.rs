@@ -1,6 +1,6 @@
 //! Friction laws: tangential force from the slip speed and the normal force
-//! (PHYSICS.md section 4). The model's `FrictionSpec` is the law; this module checks its
-//! values and evaluates it.
+//! (docs/physics.md section 4). The model's `FrictionSpec` is the law; this module checks
+//! its values and evaluates it.
 
 use super::normal::{step, step_slope};
 use crate::model::FrictionSpec;

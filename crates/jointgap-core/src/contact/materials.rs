@@ -1,5 +1,5 @@
 //! Contact materials: a small library of engineering metals and the generalised
-//! stiffness of a journal in a bearing (PHYSICS.md section 3; sources in
+//! stiffness of a journal in a bearing (docs/physics.md section 3; sources in
 //! docs/clearance-joints.md).
 
 use crate::model::{Material, MaterialRef};
@@ -83,7 +83,7 @@ mod tests {
     use super::*;
 
     /// The founding case: stainless steel 207 GPa in brass 97 GPa, nu 0.3, radii 7.0
-    /// and 7.5 mm give K = 3.136e10 N/m^1.5 (PHYSICS.md section 5).
+    /// and 7.5 mm give K = 3.136e10 N/m^1.5 (docs/physics.md section 5).
     #[test]
     fn founding_case_stiffness() {
         let journal = Material { youngs_modulus: 207e9, poisson_ratio: 0.3 };

@@ -1,6 +1,6 @@
 //! Clearance revolute joints: the journal (pin on body j) moves freely inside the
 //! bearing (hole on body i) and a contact force acts when it reaches the wall
-//! (PHYSICS.md section 2).
+//! (docs/physics.md section 2).
 
 pub mod friction;
 pub mod materials;

@@ -1,4 +1,4 @@
-//! Normal contact force laws (PHYSICS.md section 3).
+//! Normal contact force laws (docs/physics.md section 3).
 
 use crate::model::NormalLawSpec;
 use crate::Error;

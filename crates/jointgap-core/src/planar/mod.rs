@@ -168,7 +168,7 @@ mod tests {
     }
 
     /// Checks jac against finite differences of C, ct against dC/dt, and gamma against
-    /// `-(d/dt (Cq qd))` at fixed qd, the definition of PHYSICS.md section 1.
+    /// `-(d/dt (Cq qd))` at fixed qd, the definition of docs/physics.md section 1.
     fn check(kind: RowKind, bi: BodyState, bj: BodyState, motion: Motion) {
         let ev = kind.eval(&bi, &bj, motion);
         let e = 1e-6;
