@@ -18,6 +18,10 @@ def clearance_data(model_json: str) -> str:
     Raises ValueError naming the offending element.
     """
 
+def channel_names(model_json: str, options_json: str) -> list[str]:
+    """The channels a run with these options records, in result order, without running
+    it. Raises ValueError for an invalid model or unknown channels."""
+
 def simulate(
     model_json: str,
     options_json: str,

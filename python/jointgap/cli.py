@@ -17,7 +17,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +30,7 @@ from .results import (
     RESULTS_PARQUET,
     SUMMARY_JSON,
     Result,
+    RunWarning,
     channel_unit,
     main_channels,
 )
@@ -396,7 +398,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     for module in _command_modules():
         commands.update(module.COMMANDS)
     try:
-        return commands[args.command](args)
+        return _with_clean_warnings(commands[args.command], args)
     except ModelError as exc:
         return _fail(str(exc))
     except OSError as exc:
@@ -406,6 +408,21 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _fail(str(exc))
     except KeyboardInterrupt:  # outside a run (a run returns its partial result)
         return _interrupted("stopped by Ctrl-C")
+
+
+def _with_clean_warnings(command: Callable[[argparse.Namespace], int], args: Any) -> int:
+    """Runs a command with Python's warnings printed as one line each on stderr,
+    ``jointgap: warning: ...``, without the source path. A run's own notes
+    (:class:`RunWarning`) are the command's to print from its result ('run' lists them
+    in its summary)."""
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        warnings.simplefilter("ignore", RunWarning)
+        return command(args)
+
+
+def _show_warning(message: Warning | str, *_: Any, **__: Any) -> None:
+    print(f"jointgap: warning: {message}", file=sys.stderr)
 
 
 def _fail(message: str, status: int = EXIT_INVALID) -> int:

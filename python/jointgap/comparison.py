@@ -34,10 +34,12 @@ from typing import Any, Protocol
 import numpy as np
 from scipy.signal import butter, sosfiltfilt  # type: ignore[import-untyped]
 
+from . import units
 from .plots import comparison_figure  # drawn with the other figures, re-exported here
 from .results import Result, channel_unit
 
 __all__ = [
+    "ComparisonWarning",
     "MeasuredSignal",
     "ErrorMeasures",
     "Spectra",
@@ -64,6 +66,11 @@ MIN_SAMPLES = 8
 """Fewest common samples a comparison or a lag estimate accepts."""
 _UNIFORM_TOLERANCE = 0.05  # largest deviation from a uniform grid, in sample steps
 _TURN = 2.0 * math.pi
+
+
+class ComparisonWarning(UserWarning):
+    """A comparison that runs but may mislead: a unit of the same quantity that differs
+    from the channel's, a record shorter than the lag search window."""
 
 
 class MeasuredSignal(Protocol):
@@ -706,6 +713,52 @@ def _same_unit(a: str, b: str) -> bool:
     return not a or not b or norm(a) == norm(b)
 
 
+def _dimensions(unit: str) -> set[units.Dimension]:
+    """The quantities a unit can be (two for the ambiguous ``g``); none when it is empty
+    or not a unit the reader knows."""
+    try:
+        return {dim for _, dim in units.parse_unit(unit)} if unit.strip() else set()
+    except units.UnitError:
+        return set()
+
+
+def _check_units(channel: str, measured: MeasuredSignal) -> None:
+    """A measured signal of another quantity than the channel is an error naming both
+    units; the same quantity in another unit than the channel's SI one is compared as
+    it is, with a warning."""
+    sim_unit = channel_unit(channel)
+    sim, meas = _dimensions(sim_unit), _dimensions(measured.unit)
+    if sim and meas and not sim & meas:
+        raise ValueError(
+            f"compare: {channel} is {next(iter(sim)).noun()}, measured '{measured.name}' is "
+            f"{' or '.join(sorted(d.noun() for d in meas))}: they are different quantities; "
+            "give the measured column's unit (--unit, unit=) or compare it with a channel of "
+            "its kind"
+        )
+    if not _same_unit(sim_unit, measured.unit):
+        warnings.warn(
+            f"compare: {channel} is in {sim_unit}, measured '{measured.name}' in "
+            f"{measured.unit}; the values are compared as they are",
+            ComparisonWarning,
+            stacklevel=3,
+        )
+
+
+def _check_record_length(time: np.ndarray, max_lag: float, name: str) -> None:
+    """A warning when the record is shorter than the lag search window (2 max_lag): the
+    correlation then rests on the record's ends and may peak at a wrong lag."""
+    span = float(time[-1] - time[0])
+    if span < 2.0 * max_lag:
+        warnings.warn(
+            f"compare: measured '{name}' lasts {span:.4g} s, shorter than the lag search "
+            f"window of ±{max_lag:g} s ({2.0 * max_lag:g} s): the lag estimate may lock onto "
+            "a wrong one; give the lag (--lag), a smaller search (--max-lag), or a longer "
+            "record",
+            ComparisonWarning,
+            stacklevel=3,
+        )
+
+
 def compare(
     result: Result,
     measured: MeasuredSignal,
@@ -744,22 +797,24 @@ def compare(
         crank: the crank-angle channel for the cycle table; default
             :func:`crank_channel` (no table when there is none).
 
+    Warns (:class:`ComparisonWarning`) when the measured unit is another unit of the
+    channel's quantity (the values are compared as they are), and when the lag is
+    estimated from a record shorter than the search window ``2 max_lag``.
+
     Raises:
         KeyError: ``channel`` or ``crank`` is not in the result (close matches listed).
-        ValueError: the measurement is not uniformly sampled, does not overlap the
-            simulated interval after the lag, or a setting is out of range.
+        ValueError: the measured signal is another quantity than the channel (e.g. a
+            length against an acceleration), is not uniformly sampled, does not overlap
+            the simulated interval after the lag, or a setting is out of range.
     """
     sim_values = result[channel]
     sim_time = result.time
     unit = channel_unit(channel) or measured.unit
-    if not _same_unit(channel_unit(channel), measured.unit):
-        warnings.warn(
-            f"compare: {channel} is in {channel_unit(channel)}, measured '{measured.name}' in "
-            f"{measured.unit}; the values are compared as they are",
-            stacklevel=2,
-        )
+    _check_units(channel, measured)
     tm, vm = _series(measured.time, measured.values, f"measured '{measured.name}'")
     dt = _uniform_step(tm, f"measured '{measured.name}'")
+    if lag is None:
+        _check_record_length(tm, max_lag, measured.name)
     crank_name = crank if crank is not None else crank_channel(result)
     crank_angle = result[crank_name] if crank_name is not None else None
     if lowpass is not None:

@@ -529,7 +529,7 @@ class Model:
         options stay ValueErrors."""
         message = str(exc)
         if message.startswith(("option", "options")):
-            return ValueError(message)
+            return exc
         m = _CORE_ERROR.match(message)
         if m is None:
             return self._located(ModelError(message))

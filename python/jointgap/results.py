@@ -28,6 +28,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Result",
+    "RunWarning",
     "Impact",
     "channel_unit",
     "RESULTS_CSV",
@@ -43,6 +44,12 @@ SUMMARY_JSON = "summary.json"
 IMPACTS_CSV = "impacts.csv"
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
 """Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
+
+
+class RunWarning(UserWarning):
+    """A note about a run that its :attr:`Result.warnings` also holds (e.g. impacts that
+    fell between output samples): raised by :meth:`jointgap.Model.simulate` for the
+    caller to see; the ``jointgap run`` command prints it in its summary."""
 
 
 @dataclass(frozen=True)

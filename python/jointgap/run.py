@@ -5,14 +5,31 @@ from __future__ import annotations
 import json
 import math
 import os
+import warnings
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from os import PathLike
+from pathlib import Path
 from typing import Any
 
-from . import units as u
-from .results import Result
+import numpy as np
 
-__all__ = ["DEFAULT_OPTIONS", "METHODS", "run_options", "simulate", "simulate_many"]
+from . import units as u
+from .results import Result, RunWarning
+
+__all__ = [
+    "DEFAULT_OPTIONS",
+    "METHODS",
+    "OUTPUT_MEMORY_FRACTION",
+    "OutputSize",
+    "OutputTooLarge",
+    "check_output_size",
+    "machine_memory",
+    "output_size",
+    "run_options",
+    "simulate",
+    "simulate_many",
+]
 
 METHODS = ("auto", "dopri5", "sdirk4", "radau5")
 """Integration methods: automatic choice, explicit Dormand-Prince 5(4), implicit SDIRK4,
@@ -93,6 +110,149 @@ def run_options(
     return options
 
 
+OUTPUT_MEMORY_FRACTION = 0.25
+"""The largest share of the machine's memory (:func:`machine_memory`) that the samples of
+the runs held in memory at once may take, 8 bytes per value. A run holds its samples
+more than once at its peak (the engine's buffers, the NumPy arrays of the Result, the
+CSV writer): ``jointgap run`` of 1,000,001 samples x 48 channels (392 MB) peaked 690 MB
+above the process's own memory, 1.8 times its samples, so a quarter leaves room for the
+copies and the rest of the machine."""
+
+CSV_BYTES_PER_VALUE = 20
+"""About how many characters one value takes in ``results.csv`` (shortest exact floats
+with their comma; 18.4 on the founding case at 2 MHz): the estimate of the file's size."""
+
+
+@dataclass(frozen=True)
+class OutputSize:
+    """The expected size of the output of one run, or of a batch of runs with the same
+    options, known before they run.
+
+    Attributes:
+        samples: output samples of one run (a lower bound when every accepted step is
+            recorded besides the sampled output).
+        channels: recorded channels of one run (the largest of a batch), the time column
+            not counted.
+        runs: runs held in memory together.
+    """
+
+    samples: int
+    channels: int
+    runs: int = 1
+
+    @property
+    def memory(self) -> int:
+        """Bytes of the samples in memory, the time column included: 8 per value."""
+        return 8 * self.runs * self.samples * (self.channels + 1)
+
+    @property
+    def csv(self) -> int:
+        """About the bytes of ``results.csv`` (:data:`CSV_BYTES_PER_VALUE` per value)."""
+        return self.memory // 8 * CSV_BYTES_PER_VALUE
+
+    def describe(self) -> str:
+        """E.g. ``50,000,001 samples x 48 channels = 19.6 GB in memory (...)``."""
+        runs = f"{self.runs} runs x " if self.runs > 1 else ""
+        return (
+            f"{runs}{self.samples:,} samples x {self.channels} channels = "
+            f"{_bytes(self.memory)} in memory (a results.csv of about {_bytes(self.csv)})"
+        )
+
+
+class OutputTooLarge(ValueError):
+    """A run refused before it starts because its samples would not fit in memory: the
+    message gives the figure, the limit and the ways out.
+
+    Attributes:
+        size: the expected output (of all the runs of a batch together).
+        limit: the limit [bytes], :data:`OUTPUT_MEMORY_FRACTION` of the memory.
+
+    The message starts with ``options``, the options it concerns.
+    """
+
+    def __init__(
+        self, size: OutputSize, limit: int, memory: int, options: Mapping[str, Any]
+    ) -> None:
+        self.size = size
+        self.limit = limit
+        given = f"t_end = {options['t_end']:g} s, rate = {options['rate']:g} Hz"
+        super().__init__(
+            f"options {given}: the output would take {size.describe()}, above the limit of "
+            f"{_bytes(limit)} ({OUTPUT_MEMORY_FRACTION:g} of this machine's {_bytes(memory)} "
+            "of memory): "
+            "sample at a lower rate (--rate, rate=), keep every K-th sample (--decimate K, "
+            "decimate=K), record fewer channels (--channel, channels=), or write the samples "
+            "to disk as the run goes (--stream, stream=PATH)"
+        )
+
+
+def _bytes(n: float) -> str:
+    for unit in ("B", "kB", "MB", "GB"):
+        if n < 1000:
+            return f"{n:.3g} {unit}"
+        n /= 1000
+    return f"{n:.3g} TB"
+
+
+def machine_memory() -> int | None:
+    """The memory this process may use [bytes], read from the OS: the physical memory,
+    or the control group's limit where that is lower (a container); None where the OS
+    does not say (the output size is then not limited)."""
+    try:
+        memory = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+    for limit_file in ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory/memory.limit_in_bytes"):
+        try:
+            text = Path(limit_file).read_text().strip()
+        except OSError:
+            continue
+        if text.isdigit():
+            memory = min(memory, int(text))
+    return memory if memory > 0 else None
+
+
+def output_size(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputSize | None:
+    """The expected output of a run of ``model`` (SI dictionary) with complete
+    ``options``: samples at the output rate to ``t_end``, thinned by ``decimate``, times
+    the channels the engine records; None without a rate (every accepted step is
+    recorded, a number known only after the run). Raises the engine's ValueError for an
+    invalid model or channel selection."""
+    rate = options.get("rate")
+    if rate is None:
+        return None
+    from . import _jointgap
+
+    samples = math.floor(float(options["t_end"]) * float(rate) * (1 + 1e-12)) + 1
+    samples = -(-samples // int(options.get("decimate") or 1))
+    channels = _jointgap.channel_names(json.dumps(model), json.dumps(options))
+    return OutputSize(samples, len(channels))
+
+
+def check_output_size(models: Sequence[Mapping[str, Any]], options: Mapping[str, Any]) -> None:
+    """Refuses runs whose samples, held in memory together, would take more than
+    :data:`OUTPUT_MEMORY_FRACTION` of :func:`machine_memory`: raises
+    :class:`OutputTooLarge` with the figure and the ways out."""
+    memory = machine_memory()
+    if memory is None or not models:
+        return
+    known = [s for m in models if (s := _size_if_valid(m, options)) is not None]
+    if not known:
+        return
+    total = OutputSize(known[0].samples, max(s.channels for s in known), len(models))
+    limit = int(OUTPUT_MEMORY_FRACTION * memory)
+    if total.memory > limit:
+        raise OutputTooLarge(total, limit, memory, options)
+
+
+def _size_if_valid(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputSize | None:
+    """:func:`output_size`, None for a model the engine refuses (its run says why)."""
+    try:
+        return output_size(model, options)
+    except ValueError:
+        return None
+
+
 Progress = Callable[[float, int, int], object]
 """``progress(t, steps, impacts)``: simulated time [s], steps taken, impacts so far."""
 
@@ -138,8 +298,9 @@ def simulate(
     from . import _jointgap
 
     if stream is None:
+        check_output_size([model], options)
         arrays = _jointgap.simulate(json.dumps(model), json.dumps(options), progress, **_interval())
-        return _result(arrays, model, options)
+        return _warned(_result(arrays, model, options))
     from .stream import ParquetSink, StoredChannels, read_time
 
     sink = ParquetSink(stream)
@@ -152,7 +313,7 @@ def simulate(
         sink.close(names)
     times = read_time(stream)
     data = StoredChannels(stream, list(names), len(times))
-    return _result((times, names, data, summary), model, options)
+    return _warned(_result((times, names, data, summary), model, options))
 
 
 def simulate_many(
@@ -160,11 +321,14 @@ def simulate_many(
 ) -> list[Result | ValueError]:
     """Runs model dictionaries (SI) with the same complete options on ``threads`` threads
     in the engine (all cores by default, the GIL released): in order, each one's Result
-    (bit for bit the one :func:`simulate` gives) or the ValueError that model raised."""
+    (bit for bit the one :func:`simulate` gives) or the ValueError that model raised.
+    The runs' notes (:func:`impacts_between_samples`) go to each Result's ``warnings``
+    only, not to Python's warnings."""
     from . import _jointgap
 
     if threads is not None and threads < 1:
         raise ValueError(f"threads = {threads}: must be at least 1")
+    check_output_size(models, options)
     texts = [json.dumps(m) for m in models]
     out: list[Result | ValueError] = []
     batch = _jointgap.simulate_batch(texts, json.dumps(options), threads)
@@ -182,7 +346,7 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         message = f"interrupted at t = {status['time']:.6g} s"
     elif status["status"] != "finished":
         message = f"failed at t = {status.get('time', math.nan):.6g} s: {status.get('reason', '')}"
-    return Result(
+    result = Result(
         time=time,
         channels=list(names),
         data=data,
@@ -194,4 +358,56 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         options=dict(options),
         impacts=summary.get("impacts", []),
         clearances=summary.get("clearances", []),
+    )
+    note = impacts_between_samples(result)
+    if note is not None:
+        result.warnings.append(note)
+    return result
+
+
+def _warned(result: Result) -> Result:
+    """The result, its notes of :func:`impacts_between_samples` also raised as a
+    :class:`~jointgap.results.RunWarning` at the caller of ``Model.simulate``."""
+    for note in result.warnings:
+        if note.startswith(_BETWEEN_SAMPLES):
+            warnings.warn(note, RunWarning, stacklevel=4)
+    return result
+
+
+_BETWEEN_SAMPLES = "impacts between output samples: "
+
+
+def impacts_between_samples(result: Result) -> str | None:
+    """A note when impacts fell between two output samples (no sample from onset to
+    separation): the sampled channels then miss their forces and accelerations entirely
+    (with very stiff contact, every impact can). It counts them per clearance joint, gives
+    the shortest impact and the output interval, and says how to see them; None when
+    every impact has a sample (an every-step run always has one, at the located onset).
+    """
+    if len(result.time) < 2:
+        return None
+    parts = []
+    shortest = math.inf
+    last = result.time[-1]
+    for joint, impacts in result.impacts.items():
+        closed = [i for i in impacts if i.onset_time + i.duration <= last]
+        if not closed:
+            continue
+        onset = np.array([i.onset_time for i in closed])
+        end = onset + np.array([i.duration for i in closed])
+        first = np.searchsorted(result.time, onset, side="left")
+        after = np.searchsorted(result.time, end, side="right")
+        missed = int(np.count_nonzero(after <= first))
+        if missed:
+            parts.append(f"{joint}: {missed} of {len(impacts)}")
+            shortest = min(shortest, min(i.duration for i in closed))
+    if not parts:
+        return None
+    interval = float(np.median(np.diff(result.time)))
+    return (
+        f"{_BETWEEN_SAMPLES}{'; '.join(parts)} impacts had no output sample from onset to "
+        f"separation (shortest {1e3 * shortest:.3g} ms, output interval {1e3 * interval:.3g} "
+        "ms): the sampled channels miss their forces and accelerations (the impact list has "
+        "them all); to see them, record every step (--every-step, every_step=True) or raise "
+        f"the rate above {1e-3 / shortest:.3g} kHz (ten times that to resolve their peaks)"
     )

@@ -36,6 +36,13 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// The channel names a run with these options records, in result order, without running.
+#[pyfunction]
+fn channel_names(model_json: &str, options_json: &str) -> PyResult<Vec<String>> {
+    let (model, options) = parse(model_json, options_json)?;
+    jointgap_core::solve::recorded_channels(&model, &options).map_err(to_py_err)
+}
+
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
 
 /// A result as `(time, names, data[n_channels, n_samples], summary_json)`.
@@ -197,5 +204,6 @@ fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance_data, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(channel_names, m)?)?;
     Ok(())
 }

@@ -329,8 +329,18 @@ class _Reader:
             metric = parse_metric(name, raw, lambda v: u.to_si(v, u.TIME))
         except (ValueError, TypeError) as exc:
             raise self.error("metrics", name, raw, str(exc)) from None
-        if metric.window is not None and (metric.window[1] or 0.0) > t_end:
-            raise self.error("metrics", name, raw, f"the window ends after t_end = {t_end:g} s")
+        if metric.window is not None:
+            start, end = metric.window
+            if start >= t_end:
+                raise self.error(
+                    "metrics",
+                    name,
+                    raw,
+                    f"the window starts at {start:g} s, not before the run ends (t_end = "
+                    f"{t_end:g} s): it holds no sample",
+                )
+            if end is not None and end > t_end:
+                raise self.error("metrics", name, raw, f"the window ends after t_end = {t_end:g} s")
         return metric
 
     # ------------------------------------------------------------ parameters

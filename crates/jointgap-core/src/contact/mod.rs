@@ -59,6 +59,11 @@ pub struct ContactKinematics {
     pub point_bearing: Vec2,
 }
 
+/// The largest normal force [N] an initial penetration may stand for: a journal that
+/// starts deeper in its bearing than its own normal law presses under 1 MN (100 t) is a
+/// modelling error, not a preloaded contact.
+pub const MAX_INITIAL_CONTACT_FORCE: f64 = 1e6;
+
 /// Velocity of a global point `p` of a body.
 fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
     b.v + perp(p - b.r) * b.omega
@@ -163,6 +168,39 @@ impl ClearanceRevolute {
                 c.friction.clone()
             },
         })
+    }
+
+    /// Penetration [m] at which the elastic part of the normal law, `K delta^n`, reaches
+    /// [`MAX_INITIAL_CONTACT_FORCE`]: the deepest initial penetration an elastic contact
+    /// can have.
+    pub fn max_initial_penetration(&self) -> f64 {
+        (MAX_INITIAL_CONTACT_FORCE / self.normal.stiffness).powf(1.0 / self.normal.exponent)
+    }
+
+    /// Rejects an initial state (`k`, the kinematics after assembly) whose penetration no
+    /// elastic contact can have ([`Self::max_initial_penetration`]); the error names the
+    /// joint, the penetration and the likely causes.
+    pub fn check_initial_penetration(&self, k: &ContactKinematics) -> Result<(), Error> {
+        let limit = self.max_initial_penetration();
+        if k.penetration <= limit {
+            return Ok(());
+        }
+        let mm = 1e3;
+        Err(Error::Model(format!(
+            "joint '{}': the journal starts {:.4} mm deep in the bearing (its centre {:.4} mm from the \
+             bearing centre, radial clearance {:.4} mm), deeper than any elastic contact: this joint's \
+             normal law (K = {:.4e} N/m^{}) presses {:.4} mm deep only under {:.0e} N; likely a wrong \
+             point (point_i or point_j of this joint, or a point of a joint that places its bodies), \
+             a wrong bearing or journal radius, or a length in the wrong unit",
+            self.name,
+            mm * k.penetration,
+            mm * k.e.norm(),
+            mm * self.clearance,
+            self.normal.stiffness,
+            self.normal.exponent,
+            mm * limit,
+            MAX_INITIAL_CONTACT_FORCE,
+        )))
     }
 
     /// Journal-in-bearing geometry and relative motion (`contact_journal_bearing`).

@@ -9,7 +9,7 @@ use super::monitor::{Monitor, Progress};
 use super::ode::{DenseStep, Ode};
 use super::profile;
 use super::radau5::Radau5;
-use super::record::Recorder;
+use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
 use super::sdirk4::Sdirk4;
 use super::stepper::{StepFailure, Stepper};
 use super::switching::AutoSwitch;
@@ -61,6 +61,12 @@ pub fn integrate(
             "the constraint equations became singular at t = {t:.6} s: the mechanism locks up or passes a \
              singular position (e.g. a four-bar at a change point, a crank at a dead centre with the driver on the rod)"
         ))
+    };
+    let sample_failed = |t: f64, error: SampleError| match error {
+        SampleError::Singular => singular(t),
+        SampleError::NonFinite { channel, value } => {
+            fail(t, format!("{channel} = {value}: {NON_FINITE_CAUSE}"))
+        }
     };
     // Every exit leads past the counters below, so a failed run reports them too.
     let status = 'run: {
@@ -147,8 +153,8 @@ pub fn integrate(
                             let ts = ts.min(t_new);
                             step.at((ts - t) / h, &mut sample);
                             let (q, v) = sample.split_at(n);
-                            if rec.push(sys, &mut ode.ws, ts, q, v).is_err() {
-                                break 'run singular(ts);
+                            if let Err(error) = rec.push(sys, &mut ode.ws, ts, q, v) {
+                                break 'run sample_failed(ts, error);
                             }
                             log.update(sys, &mut ode.ws.contacts, q, v);
                             next_sample += 1;
@@ -171,8 +177,12 @@ pub fn integrate(
                         t = t_new;
                         std::mem::swap(y, &mut y_new);
                         std::mem::swap(&mut f, &mut f_new);
-                        if y.iter().any(|x| !x.is_finite()) {
-                            break 'run fail(t, "the state became non-finite".into());
+                        if let Some(i) = y.iter().position(|x| !x.is_finite()) {
+                            let name = record::state_name(sys, i);
+                            break 'run fail(
+                                t,
+                                format!("the state became non-finite, {name} = {}: {NON_FINITE_CAUSE}", y[i]),
+                            );
                         }
                         // Keep the drift far below the tolerance: project when it shows.
                         let lap = profile::start(&ode.ws.profile);
@@ -199,11 +209,10 @@ pub fn integrate(
                         }
                         log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
                         let lap = profile::start(&ode.ws.profile);
-                        if every_step
-                            && rec.last_time.is_none_or(|tl| tl < t)
-                            && rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]).is_err()
-                        {
-                            break 'run singular(t);
+                        if every_step && rec.last_time.is_none_or(|tl| tl < t) {
+                            if let Err(error) = rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]) {
+                                break 'run sample_failed(t, error);
+                            }
                         }
                         profile::stop(&mut ode.ws.profile, lap, |p| &mut p.output);
                         if chunk.is_some_and(|c| rec.time.len() >= c) {

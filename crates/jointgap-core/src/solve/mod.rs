@@ -34,12 +34,61 @@ pub struct Prepared {
     pub initial: assembly::Assembled,
 }
 
-/// Checks and compiles a model and assembles its initial configuration.
+/// Checks and compiles a model and assembles its initial configuration; rejects an
+/// assembled state that no physical mechanism has (a clearance joint's journal deep in
+/// its bearing wall).
 pub fn prepare(model: &Model) -> Result<Prepared, Error> {
     let mut system = System::new(model)?;
+    check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
+    for (k, c) in system.clearances.iter().enumerate() {
+        c.check_initial_penetration(&contacts::kinematics(&system, k, &initial.q, &initial.v))?;
+    }
     system.warnings.extend(initial.warnings.iter().cloned());
     Ok(Prepared { system, initial })
+}
+
+/// A body whose weight overflows the floating-point range (a mass near 1.8e308 kg) is an
+/// error before the run, naming the body.
+fn check_weights(system: &System) -> Result<(), Error> {
+    let g = system.gravity.norm();
+    match system.bodies.iter().find(|b| !(b.mass * g).is_finite()) {
+        Some(b) => Err(Error::Model(format!(
+            "body '{}': mass = {:e} kg: its weight m |g| = {} N overflows the floating-point range \
+             (about 1.8e308); check the value and its unit",
+            b.name,
+            b.mass,
+            b.mass * g
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The error of a model whose initial state (t = 0) gives a non-finite output: it names
+/// the channel's element, so that the message is located in the model.
+fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
+    let (element, quantity) = channel.rsplit_once('.').unwrap_or(("model", channel));
+    let kind = if system.bodies.iter().any(|b| b.name == element) {
+        "body"
+    } else if system.joints.iter().any(|j| j.name == element) {
+        "joint"
+    } else if system.drivers.iter().any(|d| d.name == element) {
+        "driver"
+    } else {
+        "model"
+    };
+    Error::Model(format!(
+        "{kind} '{element}': {quantity} = {value} at the initial state (t = 0), before the run: {}",
+        record::NON_FINITE_CAUSE
+    ))
+}
+
+/// The channels a run of `model` with `opts` records (`opts.channels` selects them), in
+/// the order of its result, without assembling or running it: what the output's size is
+/// estimated from before a run.
+pub fn recorded_channels(model: &Model, opts: &SimOptions) -> Result<Vec<String>, Error> {
+    let system = System::new(model)?;
+    Ok(record::Recorder::new(&system, &[], opts.channels.as_deref(), opts.decimate)?.names())
 }
 
 /// Simulates many models with the same options on a pool of `threads` threads (all
@@ -95,10 +144,14 @@ pub fn simulate_with(
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
     let mut log = contacts::ImpactLog::new(&system);
-    let mut status = if rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]).is_err() {
-        Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
-    } else {
-        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
+    let mut status = match rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]) {
+        Err(record::SampleError::NonFinite { channel, value }) => {
+            return Err(initial_overflow(&system, &channel, value))
+        }
+        Err(record::SampleError::Singular) => {
+            Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
+        }
+        Ok(()) => integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor),
     };
     if monitor.chunk_len().is_some() && !rec.time.is_empty() {
         let last = rec.time[rec.time.len() - 1];

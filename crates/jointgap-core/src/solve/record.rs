@@ -26,6 +26,32 @@ fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
     }
 }
 
+/// Why a sample was not recorded.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SampleError {
+    /// The constraint equations are singular at the sample's state.
+    Singular,
+    /// A kept channel came out infinite or NaN (the first one in model order).
+    NonFinite {
+        /// Its name, `<element>.<quantity>`.
+        channel: String,
+        /// Its value: `inf`, `-inf` or `NaN`.
+        value: f64,
+    },
+}
+
+/// Why a run can produce an infinite or undefined number, and what to check: the tail of
+/// the message of a run stopped by one.
+pub const NON_FINITE_CAUSE: &str = "a number overflowed the floating-point range (about 1.8e308) or \
+     was undefined (0/0, inf - inf); check the magnitudes and units of the masses, inertias, \
+     stiffnesses, loads and speeds";
+
+impl From<Singular> for SampleError {
+    fn from(_: Singular) -> Self {
+        SampleError::Singular
+    }
+}
+
 /// Collects the chosen channels at sample times.
 pub struct Recorder {
     /// All channel names of the system, in model order.
@@ -65,6 +91,14 @@ pub fn channel_names(sys: &System) -> Vec<String> {
         names.push(format!("system.{q}"));
     }
     names
+}
+
+/// The name of entry `i` of the state `y = (q, v)` as the channel that records it,
+/// e.g. `crank.omega`.
+pub fn state_name(sys: &System, i: usize) -> String {
+    let n = sys.n_coords();
+    let (k, quantity) = if i < n { (i, i % 3) } else { (i - n, 3 + (i - n) % 3) };
+    format!("{}.{}", sys.bodies[k / 3].name, BODY_QUANTITIES[quantity])
 }
 
 impl Recorder {
@@ -129,7 +163,8 @@ impl Recorder {
         self.keep.iter().map(|&k| self.all[k].clone()).collect()
     }
 
-    /// Records one sample at `(t, q, v)`, unless decimation drops it.
+    /// Records one sample at `(t, q, v)`, unless decimation drops it. A sample with a
+    /// non-finite kept channel is not recorded: the error names that channel.
     pub fn push(
         &mut self,
         sys: &System,
@@ -137,7 +172,7 @@ impl Recorder {
         t: f64,
         q: &[f64],
         v: &[f64],
-    ) -> Result<(), Singular> {
+    ) -> Result<(), SampleError> {
         let keep = self.count.is_multiple_of(self.decimate);
         self.count += 1;
         self.last_time = Some(t);
@@ -235,6 +270,13 @@ impl Recorder {
             out.put_system(sys, ws, q, v);
         }
         debug_assert_eq!(out.next, out.values.len(), "channels written and named differ");
+        // One sum per sample is the whole cost of the check: a single inf or NaN makes it
+        // non-finite (finite values that overflow the sum are searched for in vain and pass).
+        if !self.keep.iter().map(|&k| self.values[k]).sum::<f64>().is_finite() {
+            if let Some(&k) = self.keep.iter().find(|&&k| !self.values[k].is_finite()) {
+                return Err(SampleError::NonFinite { channel: self.all[k].clone(), value: self.values[k] });
+            }
+        }
         self.time.push(t);
         for (slot, &k) in self.keep.iter().enumerate() {
             self.data[slot].push(self.values[k]);
