@@ -18,6 +18,12 @@ def clearance_data(model_json: str) -> str:
     Raises ValueError naming the offending element.
     """
 
+def channel_names(model_json: str) -> list[str]:
+    """Every output channel of a model, in model order, without running it.
+
+    Raises ValueError naming the offending element.
+    """
+
 def simulate(
     model_json: str,
     options_json: str,
@@ -36,7 +42,10 @@ def simulate(
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
     holds ``stats``, ``status`` (``{"status": "finished"}`` or ``{"status": "failed",
     "time": t, "reason": ...}``), ``warnings``, ``impacts`` (per clearance joint) and
-    ``clearances`` (as :func:`clearance_data`). Raises ValueError for an invalid model
+    ``clearances`` (as :func:`clearance_data`), ``peaks`` (per channel, the largest
+    absolute value over the samples, and every step with ``step_peaks``) and ``samples``
+    (for an ``every_step`` run with a rate: the indices of the output samples among the
+    records; else null). Raises ValueError for an invalid model
     or invalid options.
     """
 

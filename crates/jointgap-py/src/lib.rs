@@ -36,6 +36,14 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
+/// Every output channel of a model (JSON, SI units), in model order, without running it.
+#[pyfunction]
+fn channel_names(model_json: &str) -> PyResult<Vec<String>> {
+    let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
+    let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
+    Ok(jointgap_core::solve::record::channel_names(&system))
+}
+
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
 
 /// A result as `(time, names, data[n_channels, n_samples], summary_json)`.
@@ -46,6 +54,8 @@ fn to_python<'py>(py: Python<'py>, result: jointgap_core::SimResult) -> PyResult
         "warnings": result.warnings,
         "impacts": result.impacts,
         "clearances": result.clearances,
+        "samples": result.samples,
+        "peaks": result.peaks,
     });
     let (time, data) = samples_to_python(py, &result.time, &result.data)?;
     Ok((time, result.names, data, summary.to_string()))
@@ -178,5 +188,6 @@ fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance_data, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(channel_names, m)?)?;
     Ok(())
 }
