@@ -298,7 +298,8 @@ def _synthesize(args: argparse.Namespace) -> int:
     from .measured import synthetic_record
 
     model = _load(args.model)
-    result = model.simulate(args.t_end, **_run_options(args))
+    # The record needs its signal alone: recording it only keeps a long run small.
+    result = model.simulate(args.t_end, channels=[args.signal], **_run_options(args))
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     record = synthetic_record(
