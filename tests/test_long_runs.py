@@ -65,6 +65,21 @@ def test_converge_keeps_the_compared_channels_and_the_step_peaks(engine) -> None
     assert run.peaks["rod_slider.fn"] > 1.01 * np.max(run["rod_slider.fn"])
 
 
+def test_converge_states_its_memory_need_when_large(capsys, engine) -> None:
+    from jointgap.convergence import LARGE_MEMORY, memory_need
+
+    model = _model()
+    # 5 compared channels and the time, 600 002 samples (the end state too), 3 runs.
+    assert memory_need(model, 60, "10 kHz", 2) == 8 * 3 * 600_002 * 6
+    assert memory_need(model, 0.01, 1e9, 1) == 8 * 2 * 10_000_002 * 6 > LARGE_MEMORY
+    args = ["converge", CLEARANCE, "--t-end", "0.01", "--rate", "1e9", "--levels", "1"]
+    # A bad --peak-tol stops the command before any run: the statement comes first.
+    assert main([*args, "--peak-tol", "-1"]) == 1
+    assert "converge: the 2 runs keep about 960 MB of samples" in capsys.readouterr().err
+    assert main([*args[:5], "1e7", "--levels", "1", "--peak-tol", "-1"]) == 1
+    assert "keep about" not in capsys.readouterr().err
+
+
 # --- 2. options lost or wrong ----------------------------------------------------------
 
 

@@ -667,10 +667,17 @@ def _impact_joint(model: Model) -> str:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from .convergence import check_convergence
+    from .convergence import LARGE_MEMORY, check_convergence, memory_need
 
     model = _load(args.model)
     options = _run_options(args)
+    need = memory_need(model, args.t_end, args.rate, args.levels)
+    if need > LARGE_MEMORY:
+        print(
+            f"converge: the {args.levels + 1} runs keep about {need / 1e6:.0f} MB of samples; "
+            "a lower --rate or a shorter --t-end needs less",
+            file=sys.stderr,
+        )
     with progress_line(args.t_end) as progress:
         check = check_convergence(
             model,

@@ -33,7 +33,14 @@ import numpy as np
 from .model import Model
 from .results import Result, channel_unit, clearance_joints, main_channels, model_channels
 
-__all__ = ["ChannelChange", "Convergence", "TIGHTEN", "check_convergence"]
+__all__ = [
+    "ChannelChange",
+    "Convergence",
+    "LARGE_MEMORY",
+    "TIGHTEN",
+    "check_convergence",
+    "memory_need",
+]
 
 TIGHTEN = 10.0
 """Factor between successive tolerances."""
@@ -229,6 +236,20 @@ def check_convergence(
         nrmse_tolerance=nrmse_tolerance,
         onset_tolerance=onset_tolerance,
     )
+
+
+LARGE_MEMORY = 256e6
+"""Bytes of samples above which ``jointgap converge`` states what its runs will keep."""
+
+
+def memory_need(model: Model, t_end: float | str, rate: float | str, levels: int) -> int:
+    """Bytes of samples that :func:`check_convergence` keeps: ``levels + 1`` runs of the
+    compared channels and the time at ``rate`` (each 8 bytes a sample), the end state
+    included."""
+    from . import units as u
+
+    samples = math.floor(u.to_si(t_end, u.TIME) * u.to_si(rate, u.FREQUENCY)) + 2
+    return 8 * (levels + 1) * samples * (len(_compared_channels(model)) + 1)
 
 
 def _compared_channels(model: Model) -> list[str]:
