@@ -24,14 +24,13 @@ def test_loose_tolerance_is_flagged(founding, engine) -> None:
     # The figures are what a direct comparison of the runs gives.
     loose, ref = check.runs[0], check.runs[-1]
     change = {c.channel: c for c in check.changes[0]}
+    # Peaks over every accepted step, from the engine (the runs keep only the samples).
     assert change["slider.ax"].peak_change == pytest.approx(
-        np.abs(loose["slider.ax"]).max() / np.abs(ref["slider.ax"]).max() - 1, rel=1e-12
+        loose.peaks["slider.ax"] / ref.peaks["slider.ax"] - 1, rel=1e-12
     )
-    # NRMSE on the 10 kHz grid (the runs also record every step, for the peaks).
-    grid = [
-        np.isclose(r.time * 1e4, np.round(r.time * 1e4), rtol=0, atol=1e-6) for r in (loose, ref)
-    ]
-    ax, ax_ref = loose["slider.ax"][grid[0]], ref["slider.ax"][grid[1]]
+    assert loose.peaks["slider.ax"] >= np.abs(loose["slider.ax"]).max()
+    # NRMSE on the 10 kHz samples.
+    ax, ax_ref = loose["slider.ax"], ref["slider.ax"]
     assert len(ax) == len(ax_ref) == 5001
     assert change["slider.ax"].nrmse == pytest.approx(
         np.sqrt(np.mean((ax - ax_ref) ** 2)) / np.ptp(ax_ref), rel=1e-12
@@ -80,7 +79,7 @@ def test_advice_needs_every_tighter_level_to_pass() -> None:
     )
     assert check.verdict().endswith("Use rtol 1e-08 (atol 1e-11) or tighter.")
     check.converged[-1] = False
-    assert check.verdict().endswith("than were tried (raise the levels).")
+    assert check.verdict().endswith("than were tried (raise --levels).")
 
 
 def test_converge_exits_3_when_a_run_stops_early(capsys, engine) -> None:

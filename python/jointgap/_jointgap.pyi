@@ -18,9 +18,10 @@ def clearance_data(model_json: str) -> str:
     Raises ValueError naming the offending element.
     """
 
-def channel_names(model_json: str, options_json: str) -> list[str]:
-    """The channels a run with these options records, in result order, without running
-    it. Raises ValueError for an invalid model or unknown channels."""
+def channel_names(model_json: str, options_json: str | None = None) -> list[str]:
+    """The channels a run records, in result order, without running it: with options,
+    those a run with them records; without, every channel of the model (model order).
+    Raises ValueError naming the offending element, or for unknown channels."""
 
 def simulate(
     model_json: str,
@@ -44,8 +45,11 @@ def simulate(
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
     holds ``stats``, ``status`` (``{"status": "finished"}``, ``{"status": "failed",
     "time": t, "reason": ...}`` or ``{"status": "interrupted", "time": t}``),
-    ``warnings``, ``impacts`` (per clearance joint) and ``clearances`` (as
-    :func:`clearance_data`). Raises ValueError for an invalid model or invalid options.
+    ``warnings``, ``impacts`` (per clearance joint), ``clearances`` (as
+    :func:`clearance_data`), ``peaks`` (per channel, the largest absolute value over the
+    samples, and every step with ``step_peaks``) and ``samples`` (for an ``every_step``
+    run with a rate: the indices of the output samples among the records; else null).
+    Raises ValueError for an invalid model or invalid options.
     """
 
 def simulate_batch(

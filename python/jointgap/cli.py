@@ -352,7 +352,8 @@ def _add_run_options(
         "--max-steps",
         type=int,
         metavar="N",
-        help=f"step budget; the run fails when spent (default {DEFAULT_OPTIONS['max_steps']:g})",
+        help="step budget; the run fails when spent (default 1e7 steps, or 1e6 per simulated "
+        "second when that is more)",
     )
 
 
@@ -502,9 +503,16 @@ def _run(args: argparse.Namespace) -> int:
         return _interrupted(f"the run {result.message}: the results up to there are in {out}")
     ideal = None
     if args.ideal:
+        # The ideal run records as the clearance run does: same sampling, same memory.
         with progress_line(args.t_end, "ideal run: ") as progress:
             ideal = _load(args.ideal).simulate(
-                args.t_end, channels=args.channels, progress=progress, **options
+                args.t_end,
+                every_step=args.every_step,
+                channels=args.channels,
+                decimate=args.decimate,
+                stream=out / IDEAL_DIR / RESULTS_PARQUET if args.stream else None,
+                progress=progress,
+                **options,
             )
         written += _save(ideal, out / IDEAL_DIR)
         if ideal.interrupted:
@@ -541,7 +549,10 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _save(result: Result, out: Path) -> list[Path]:
-    result.save(out)
+    from .cli_progress import writing_line
+
+    with writing_line(str(out / RESULTS_CSV)) as progress:
+        result.save(out, progress)
     written = [
         out / (RESULTS_CSV if result.stored is None else RESULTS_PARQUET),
         out / SUMMARY_JSON,
@@ -554,7 +565,7 @@ def _save(result: Result, out: Path) -> list[Path]:
 def _summary(model: Model, path: str, result: Result, written: list[Path], contact: str) -> str:
     s = result.stats
     o = result.options
-    rate = "every step" if o.get("rate") is None else f"{o['rate']:g} Hz"
+    rate = _sampling(o)
     end = f"{result.time[-1]:g}" if len(result.time) else "-"
     lines = [
         f"model      {model.name or Path(path).stem} ({path}): {_counts(model)}",
@@ -580,6 +591,15 @@ def _summary(model: Model, path: str, result: Result, written: list[Path], conta
         lines.append(f"warning    {warning}")
     lines.append("written    " + ", ".join(str(p) for p in written))
     return "\n".join(lines)
+
+
+def _sampling(options: dict[str, Any]) -> str:
+    """How a run's records were taken, e.g. ``every step and 10000 Hz``."""
+    rate = options.get("rate")
+    every = "every step" if rate is None or options.get("every_step") else ""
+    text = " and ".join(x for x in (every, "" if rate is None else f"{rate:g} Hz") if x)
+    decimate = int(options.get("decimate") or 1)
+    return text if decimate == 1 else f"{text}, 1 record in {decimate} kept"
 
 
 def _plot(args: argparse.Namespace) -> int:
@@ -633,7 +653,7 @@ def _calibrate(args: argparse.Namespace) -> int:
 
             with progress_line(args.t_end) as progress:
                 probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(
-                    args.t_end, progress=progress, **options
+                    args.t_end, channels=[f"{joint}.fn"], progress=progress, **options
                 )
             if probe.interrupted:
                 return _interrupted(f"the run {probe.message}: no V_avg, nothing written")
@@ -671,6 +691,8 @@ def _calibrate(args: argparse.Namespace) -> int:
                 max_iterations=args.max_iterations,
                 progress=finished,
                 run_progress=line,
+                # The impact list is what V_avg needs: one channel keeps each run small.
+                channels=[f"{joint}.fn"],
                 **options,
             )
         except KeyboardInterrupt:
@@ -726,10 +748,17 @@ def _impact_joint(model: Model) -> str:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from .convergence import RunStopped, check_convergence
+    from .convergence import LARGE_MEMORY, RunStopped, check_convergence, memory_need
 
     model = _load(args.model)
     options = _run_options(args)
+    need = memory_need(model, args.t_end, args.rate, args.levels)
+    if need > LARGE_MEMORY:
+        print(
+            f"converge: the {args.levels + 1} runs keep about {need / 1e6:.0f} MB of samples; "
+            "a lower --rate or a shorter --t-end needs less",
+            file=sys.stderr,
+        )
     check = None
     try:
         with progress_line(args.t_end) as progress:

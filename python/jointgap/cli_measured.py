@@ -354,8 +354,11 @@ def _synthesize(args: argparse.Namespace) -> int:
     from .measured import synthetic_record
 
     model = _load(args.model)
+    # The record needs its signal alone: recording it only keeps a long run small.
     with progress_line(args.t_end) as progress:
-        result = model.simulate(args.t_end, progress=progress, **_run_options(args))
+        result = model.simulate(
+            args.t_end, channels=[args.signal], progress=progress, **_run_options(args)
+        )
     if result.interrupted:
         return _interrupted(f"the run {result.message}: no record written ({args.out})")
     if not result.ok:

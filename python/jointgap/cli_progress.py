@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import TextIO
 
-__all__ = ["ProgressLine", "progress_line"]
+__all__ = ["ProgressLine", "progress_line", "writing_line"]
 
 
 class ProgressLine:
@@ -100,3 +100,32 @@ def progress_line(
         yield line
     finally:
         line.clear()
+
+
+@contextmanager
+def writing_line(
+    label: str, stream: TextIO | None = None
+) -> Iterator[Callable[[int, int], None] | None]:
+    """``progress(rows_written, rows)`` for :meth:`jointgap.Result.save` that shows
+    ``writing LABEL: 45 %`` in place while a long result is written, erased after it;
+    None when ``stream`` (default stderr) is not a terminal."""
+    out = stream if stream is not None else sys.stderr
+    isatty = getattr(out, "isatty", None)
+    if not (callable(isatty) and isatty()):
+        yield None
+        return
+    width = 0
+
+    def progress(done: int, rows: int) -> None:
+        nonlocal width
+        text = f"writing {label}: {100.0 * done / max(rows, 1):5.1f} % of {rows} rows"
+        out.write("\r" + text + " " * max(0, width - len(text)))
+        out.flush()
+        width = len(text)
+
+    try:
+        yield progress
+    finally:
+        if width:
+            out.write("\r" + " " * width + "\r")
+            out.flush()

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any, Protocol
 
@@ -56,6 +56,7 @@ __all__ = [
     "amplitude_spectrum",
     "compare_spectra",
     "cycle_table",
+    "cycle_lines",
     "compare",
     "comparison_figure",
 ]
@@ -64,6 +65,10 @@ LOWPASS_ORDER = 4
 """Order of the Butterworth filter of :func:`lowpass` (applied forward and backward)."""
 MIN_SAMPLES = 8
 """Fewest common samples a comparison or a lag estimate accepts."""
+CYCLE_LINES = 12
+"""Most crank turns :meth:`Comparison.report` lists one by one; beyond, it summarises
+them and lists the :data:`WORST_CYCLES` that differ most (60 s are 300 turns)."""
+WORST_CYCLES = 5
 _UNIFORM_TOLERANCE = 0.05  # largest deviation from a uniform grid, in sample steps
 _TURN = 2.0 * math.pi
 
@@ -633,17 +638,7 @@ class Comparison:
             f"correlation: {m.correlation:.4f}",
             f"spectral error (0..{self.spectra.f_max:g} Hz): {100.0 * self.spectra.error:.2f} %",
         ]
-        if not self.cycles:
-            lines.append("peak-to-peak per crank turn: no complete turn in the interval")
-            return "\n".join(lines)
-        lines.append(f"peak-to-peak per crank turn ({self.crank}), [{u}]:")
-        lines.append("  turn  start [s]    end [s]   simulated    measured  difference")
-        for c in self.cycles:
-            lines.append(
-                f"  {c.cycle:4d} {c.start:10.4f} {c.end:10.4f} {c.simulated:11.4g} "
-                f"{c.measured:11.4g} {100.0 * c.relative_difference:9.2f} %"
-            )
-        return "\n".join(lines)
+        return "\n".join(lines + cycle_lines(self.cycles, self.crank, u))
 
     def _conditioning(self) -> str:
         parts = []
@@ -757,6 +752,44 @@ def _check_record_length(time: np.ndarray, max_lag: float, name: str) -> None:
             ComparisonWarning,
             stacklevel=3,
         )
+
+
+def cycle_lines(cycles: Sequence[CycleRow], crank: str | None, unit: str) -> list[str]:
+    """The peak-to-peak table of :meth:`Comparison.report`: one line per crank turn up to
+    :data:`CYCLE_LINES` turns; beyond, their spread and the :data:`WORST_CYCLES` turns
+    that differ most."""
+    if not cycles:
+        return ["peak-to-peak per crank turn: no complete turn in the interval"]
+    rows = list(cycles)
+    lines = []
+    if len(rows) > CYCLE_LINES:
+        # A long run has hundreds of turns: their spread, then the worst ones.
+        diffs = np.array([c.relative_difference for c in rows])
+        finite = diffs[np.isfinite(diffs)]
+        spread = (
+            f"mean {100.0 * finite.mean():+.2f} %, RMS {100.0 * np.sqrt(np.mean(finite**2)):.2f}"
+            f" %, from {100.0 * finite.min():+.2f} to {100.0 * finite.max():+.2f} %"
+            if len(finite)
+            else "undefined (measured peak-to-peak 0)"
+        )
+        lines.append(
+            f"peak-to-peak per crank turn ({crank}): {len(rows)} turns, difference {spread}"
+        )
+        worst = np.argsort(-np.abs(np.where(np.isfinite(diffs), diffs, -np.inf)))
+        rows = [rows[k] for k in sorted(worst[:WORST_CYCLES])]
+        lines.append(
+            f"the {len(rows)} turns that differ most (every turn: 'cycles' of comparison.json, "
+            f"Comparison.cycles), [{unit}]:"
+        )
+    else:
+        lines.append(f"peak-to-peak per crank turn ({crank}), [{unit}]:")
+    lines.append("  turn  start [s]    end [s]   simulated    measured  difference")
+    for c in rows:
+        lines.append(
+            f"  {c.cycle:4d} {c.start:10.4f} {c.end:10.4f} {c.simulated:11.4g} "
+            f"{c.measured:11.4g} {100.0 * c.relative_difference:9.2f} %"
+        )
+    return lines
 
 
 def compare(

@@ -13,6 +13,10 @@ takes the tightest run as the reference. The chosen run has converged when, agai
 - the NRMSE of every main output, RMS difference over the reference's range, is at most
   ``nrmse_tolerance`` (1 % by default), on the samples at ``rate``.
 
+Each run keeps only what the test reads: the compared channels at ``rate`` and the
+engine's peaks over every step (``step_peaks``), not every step of every channel, so a
+60 s run of the two-clearance model needs the memory of its samples alone.
+
 The main outputs are the slider motion along its guide, the driver efforts and the
 contact force of each clearance joint (:func:`jointgap.results.main_channels`). The
 same test applied to the next tighter run tells the user which tolerance would do.
@@ -27,9 +31,17 @@ from typing import Any
 import numpy as np
 
 from .model import Model
-from .results import Result, channel_unit, main_channels
+from .results import Result, channel_unit, clearance_joints, main_channels, model_channels
 
-__all__ = ["ChannelChange", "Convergence", "RunStopped", "TIGHTEN", "check_convergence"]
+__all__ = [
+    "ChannelChange",
+    "Convergence",
+    "LARGE_MEMORY",
+    "RunStopped",
+    "TIGHTEN",
+    "check_convergence",
+    "memory_need",
+]
 
 TIGHTEN = 10.0
 """Factor between successive tolerances."""
@@ -108,9 +120,33 @@ class Convergence:
         better = [k for k in range(1, len(self.converged)) if all(self.converged[k:])]
         if better:
             text += f" Use {_tolerance(self.runs[better[0]])} or tighter."
+        elif self.diverging:
+            text += (
+                " The differences do not shrink as the tolerance tightens: the response is"
+                " chaotic here (which impact comes when depends on rounding), so no tolerance"
+                " makes this run repeat. What can help: check convergence over a shorter"
+                " --t-end (up to where the tightest runs still agree), and judge a long run"
+                " by its statistics (contact time fractions, impacts per turn, peak ranges)"
+                " rather than its time history."
+            )
         else:
-            text += " Tighter tolerances are needed than were tried (raise the levels)."
+            text += " Tighter tolerances are needed than were tried (raise --levels)."
         return text
+
+    @property
+    def diverging(self) -> bool:
+        """Whether tightening did not bring the runs closer: the next-to-tightest run
+        differs from the reference by at least half as much as the chosen one (largest
+        NRMSE over the main outputs), as a chaotic response does. False with one level,
+        where there is nothing to compare."""
+        if len(self.changes) < 2:
+            return False
+
+        def worst(changes: list[ChannelChange]) -> float:
+            return max((c.nrmse for c in changes), default=0.0)
+
+        first, last = worst(self.changes[0]), worst(self.changes[-1])
+        return first > self.nrmse_tolerance and last >= 0.5 * first
 
     def table(self) -> str:
         """Runs, their cost and impacts, and each main output's change, as text."""
@@ -161,12 +197,19 @@ def check_convergence(
     for name, value in (("peak_tolerance", peak_tolerance), ("nrmse_tolerance", nrmse_tolerance)):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} = {value!r}: must be positive")
+    channels = _compared_channels(model)
     runs = []
     for k in range(levels + 1):
         # Decimal tolerances: 1e-5 / 10 as a float is not 1e-6, and runs differ by it.
         tight_rtol, tight_atol = (float(f"{x / TIGHTEN**k:.12g}") for x in (rtol, atol))
         run = model.simulate(
-            t_end, rate=rate, rtol=tight_rtol, atol=tight_atol, every_step=True, **run_options
+            t_end,
+            rate=rate,
+            rtol=tight_rtol,
+            atol=tight_atol,
+            channels=channels,
+            step_peaks=True,
+            **run_options,
         )
         if run.interrupted:
             raise KeyboardInterrupt
@@ -175,7 +218,6 @@ def check_convergence(
         runs.append(run)
     reference = runs[-1]
     onset_tolerance = 1.0 / float(reference.options["rate"])
-    channels = _compared_channels(reference)
     impacts = [{j: len(lst) for j, lst in run.impacts.items()} for run in runs]
     shifts = [_onset_shift(run, reference) for run in runs]
     changes, converged, reasons = [], [], []
@@ -208,22 +250,35 @@ def check_convergence(
     )
 
 
-def _compared_channels(result: Result) -> list[str]:
-    chosen = [c for c in main_channels(result) if c != "system.constraint_error"]
-    chosen += [f"{j}.fn" for j in result.impacts if f"{j}.fn" in result]
+LARGE_MEMORY = 256e6
+"""Bytes of samples above which ``jointgap converge`` states what its runs will keep."""
+
+
+def memory_need(model: Model, t_end: float | str, rate: float | str, levels: int) -> int:
+    """Bytes of samples that :func:`check_convergence` keeps: ``levels + 1`` runs of the
+    compared channels and the time at ``rate`` (each 8 bytes a sample), the end state
+    included."""
+    from . import units as u
+
+    samples = math.floor(u.to_si(t_end, u.TIME) * u.to_si(rate, u.FREQUENCY)) + 2
+    return 8 * (levels + 1) * samples * (len(_compared_channels(model)) + 1)
+
+
+def _compared_channels(model: Model) -> list[str]:
+    """The main outputs of ``model`` (not the constraint error) and the contact force of
+    each clearance joint, named before any run so that the runs record only these."""
+    data = model.to_dict()
+    names = model_channels(data)
+    probe = Result(time=np.zeros(0), channels=names, data=np.zeros((len(names), 0)), model=data)
+    chosen = [c for c in main_channels(probe) if c != "system.constraint_error"]
+    chosen += [f"{j}.fn" for j in clearance_joints(probe) if f"{j}.fn" in probe]
     return chosen
 
 
-def _on_grid(run: Result) -> np.ndarray:
-    """Which samples of an every-step run lie on the output grid ``k / rate``."""
-    k = run.time * float(run.options["rate"])
-    return np.isclose(k, np.round(k), rtol=0.0, atol=1e-6)
-
-
 def _change(run: Result, reference: Result, channel: str) -> ChannelChange:
-    peak = float(np.max(np.abs(run[channel])))
-    peak_ref = float(np.max(np.abs(reference[channel])))
-    a, b = run[channel][_on_grid(run)], reference[channel][_on_grid(reference)]
+    peak = run.peaks[channel]
+    peak_ref = reference.peaks[channel]
+    a, b = run[channel][run.sample_index], reference[channel][reference.sample_index]
     if len(a) != len(b):
         raise ValueError(f"{channel}: the runs have {len(a)} and {len(b)} samples")
     span = float(np.ptp(b))

@@ -575,6 +575,7 @@ class Model:
         stream: str | PathLike[str] | None = None,
         progress: Callable[[float, int, int], object] | None = None,
         profile: bool = False,
+        step_peaks: bool = False,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -590,7 +591,8 @@ class Model:
             every_step: also record every accepted step.
             max_step: largest step [s]; unbounded by default.
             channels: channels to record (exact names or ``"element.*"``); all by default.
-            max_steps: step budget (default 1e7); the run fails when it is spent.
+            max_steps: step budget (default 1e7 steps, or 1e6 per simulated second when
+                that is more); the run fails when it is spent.
             decimate: keep every ``decimate``-th output record (e.g. of ``every_step``).
             stream: a Parquet file to write the samples to in chunks as the run goes,
                 for long runs: memory then holds one chunk, and the result reads its
@@ -602,6 +604,8 @@ class Model:
             profile: measure where the time goes: ``stats["profile"]`` then holds the
                 seconds spent in force evaluation, linear solves, Jacobians, output,
                 event location and projection, and the integration's total.
+            step_peaks: evaluate the channels at every accepted step for their peaks
+                (``Result.peaks``) while keeping only the samples.
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -623,6 +627,7 @@ class Model:
             max_steps=max_steps,
             decimate=decimate,
             profile=profile,
+            step_peaks=step_peaks,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

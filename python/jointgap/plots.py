@@ -697,7 +697,10 @@ def comparison_figure(comparison: Comparison, *, labels: Sequence[str] | None = 
         signal.plot(
             c.time, c.measured, color="black", linewidth=0.5, label=names[1], gid="measured"
         )
-        for row in c.cycles:
+        from .comparison import CYCLE_LINES
+
+        # Turn boundaries help over a few turns; hundreds would grey the panel out.
+        for row in c.cycles if len(c.cycles) <= CYCLE_LINES else ():
             for t in (row.start, row.end):
                 signal.axvline(t, color="0.5", linestyle=":", linewidth=0.6, zorder=1)
         signal.set_ylabel(f"{c.channel} [{unit}]")

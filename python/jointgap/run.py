@@ -42,12 +42,15 @@ DEFAULT_OPTIONS: dict[str, Any] = {
     "atol": 1e-11,
     "method": "auto",
     "max_step": None,
-    "max_steps": 10_000_000,
+    "max_steps": None,
     "channels": None,
     "decimate": 1,
+    "step_peaks": False,
     "profile": False,
 }
-"""Defaults of the run options (the engine's own defaults, written out in every result)."""
+"""Defaults of the run options (the engine's own defaults, written out in every result;
+``max_steps`` None is the engine's budget for the run's length: 1e7 steps, or 1e6 per
+simulated second when that is more)."""
 
 
 def _quantity(name: str, value: Any, dim: u.Dimension) -> float:
@@ -69,6 +72,7 @@ def run_options(
     channels: Sequence[str] | None = None,
     max_steps: int | None = None,
     decimate: int | None = None,
+    step_peaks: bool | None = None,
     profile: bool | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
@@ -92,9 +96,13 @@ def run_options(
     if every_step is not None:
         options["every_step"] = bool(every_step)
     if max_steps is not None:
+        if int(max_steps) != max_steps or max_steps < 1:
+            raise ValueError(f"option max_steps = {max_steps}: must be a whole number >= 1")
         options["max_steps"] = int(max_steps)
     if profile is not None:
         options["profile"] = bool(profile)
+    if step_peaks is not None:
+        options["step_peaks"] = bool(step_peaks)
     if decimate is not None:
         if int(decimate) != decimate or decimate < 1:
             raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")
@@ -339,6 +347,10 @@ def simulate_many(
 
 def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -> Result:
     time, names, data, summary_json = arrays
+    # The engine's arrays are the Result's own: frozen here, they are not copied there.
+    for array in (time, data):
+        if isinstance(array, np.ndarray):
+            array.flags.writeable = False
     summary = json.loads(summary_json)
     status = summary["status"]
     message = ""
@@ -358,6 +370,9 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         options=dict(options),
         impacts=summary.get("impacts", []),
         clearances=summary.get("clearances", []),
+        samples=summary.get("samples"),
+        mode_time={j["joint"]: j["mode_time"] for j in summary.get("impacts", [])},
+        peaks=summary.get("peaks", []),
     )
     note = impacts_between_samples(result)
     if note is not None:

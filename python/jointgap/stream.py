@@ -11,7 +11,7 @@ reads its channels back from the file one at a time (:class:`StoredChannels`)::
 Memory is what this module is for, so it keeps pyarrow from importing pandas (about
 45 MB): ``pa.array`` and ``Array.to_numpy`` import it to inspect their argument, so
 columns go to Arrow and back over their own buffers, without a copy
-(:func:`_arrow_column`, :func:`_numpy_column`).
+(:func:`arrow_column`, :func:`numpy_column`).
 """
 
 from __future__ import annotations
@@ -24,7 +24,14 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["ParquetSink", "StoredChannels", "read_column", "read_time"]
+__all__ = [
+    "ParquetSink",
+    "StoredChannels",
+    "arrow_column",
+    "numpy_column",
+    "read_column",
+    "read_time",
+]
 
 
 class ParquetSink:
@@ -53,7 +60,7 @@ class ParquetSink:
             self._writer = pq.ParquetWriter(
                 self.path, self._schema, compression="zstd", use_dictionary=False
             )
-        columns = [_arrow_column(time), *(_arrow_column(row) for row in data)]
+        columns = [arrow_column(time), *(arrow_column(row) for row in data)]
         self._writer.write_batch(pa.RecordBatch.from_arrays(columns, schema=self._schema))
         self.samples += len(time)
 
@@ -85,12 +92,12 @@ def read_column(path: str | PathLike[str], name: str) -> npt.NDArray[np.float64]
         for group in range(file.num_row_groups):
             table = file.read_row_group(group, columns=[name], use_threads=False)
             for chunk in table.column(0).chunks:
-                column[at : at + len(chunk)] = _numpy_column(chunk)
+                column[at : at + len(chunk)] = numpy_column(chunk)
                 at += len(chunk)
     return column
 
 
-def _arrow_column(values: npt.NDArray[np.float64]) -> Any:
+def arrow_column(values: npt.NDArray[np.float64]) -> Any:
     """A float64 Arrow array over the memory of ``values`` (``pa.array`` would import
     pandas to check its argument's type)."""
     import pyarrow as pa
@@ -99,7 +106,7 @@ def _arrow_column(values: npt.NDArray[np.float64]) -> Any:
     return pa.Array.from_buffers(pa.float64(), len(values), [None, pa.py_buffer(values)])
 
 
-def _numpy_column(chunk: Any) -> npt.NDArray[np.float64]:
+def numpy_column(chunk: Any) -> npt.NDArray[np.float64]:
     """The values of an Arrow array as float64: a view of its buffer when it is float64
     without nulls (as :class:`ParquetSink` writes), else converted (nulls become NaN)."""
     import pyarrow as pa

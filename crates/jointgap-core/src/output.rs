@@ -67,6 +67,10 @@ pub struct JointImpacts {
     pub joint: String,
     /// Its impacts.
     pub impacts: Vec<Impact>,
+    /// Time spent in free flight, impact and continuous contact [s], summed over the
+    /// accepted steps (each step in the mode it starts in): exact where contact begins
+    /// and ends, since those end steps, whatever the output rate.
+    pub mode_time: [f64; 3],
 }
 
 /// A clearance joint's contact data as the engine resolved them: the radii it was not
@@ -92,10 +96,17 @@ pub struct ClearanceData {
 pub struct SimResult {
     /// Sample times [s].
     pub time: Vec<f64>,
+    /// For a run that records every step as well as the samples at its rate: the indices
+    /// (into `time`) of the output samples, at `k / rate` and at the end time. `None`
+    /// when every record is an output sample (or, without a rate, a step).
+    pub samples: Option<Vec<usize>>,
     /// Channel names, `<element>.<quantity>`, in model order.
     pub names: Vec<String>,
     /// One vector per channel, SI units.
     pub data: Vec<Vec<f64>>,
+    /// Largest absolute value of each channel over its samples, and over every accepted
+    /// step with `step_peaks` (or `every_step`, whatever the decimation keeps).
+    pub peaks: Vec<f64>,
     /// Counters.
     pub stats: RunStats,
     /// Finished, or failed with time and reason.

@@ -168,7 +168,7 @@ fn failed_run_reports_its_counters() {
     let law = json!({"type": "adams_impact", "c_max": 27960.0, "d_max": 1e-5});
     let friction = json!({"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4, "v_d": 0.01016});
     let model = free_journal([0.0, 0.0], 40.0, 9.81, law, friction);
-    let opts = SimOptions { method: Method::Sdirk4, max_steps: 50, ..SimOptions::new(0.3) };
+    let opts = SimOptions { method: Method::Sdirk4, max_steps: Some(50), ..SimOptions::new(0.3) };
     let res = simulate(&model, &opts).unwrap();
     assert!(matches!(res.status, Status::Failed { .. }), "{:?}", res.status);
     assert_eq!(res.stats.accepted_steps + res.stats.rejected_steps, 50);

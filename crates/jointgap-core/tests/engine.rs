@@ -124,7 +124,7 @@ fn driver_on_a_locked_joint_is_an_error() {
 /// A run that cannot go on returns what it computed up to the failure, with time and reason.
 #[test]
 fn failing_run_keeps_its_samples() {
-    let o = SimOptions { max_steps: 50, ..opts(0.5, 10000.0, 1e-8, Method::Dopri5) };
+    let o = SimOptions { max_steps: Some(50), ..opts(0.5, 10000.0, 1e-8, Method::Dopri5) };
     let res = simulate(&slider_crank(9.81), &o).unwrap();
     match &res.status {
         Status::Failed { time, reason } => {

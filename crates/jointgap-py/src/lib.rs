@@ -36,9 +36,16 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-/// The channel names a run with these options records, in result order, without running.
+/// The channel names a run records, in result order, without running: with options, those
+/// a run with them records; without, every channel of the model (in model order).
 #[pyfunction]
-fn channel_names(model_json: &str, options_json: &str) -> PyResult<Vec<String>> {
+#[pyo3(signature = (model_json, options_json=None))]
+fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<String>> {
+    let Some(options_json) = options_json else {
+        let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
+        let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
+        return Ok(jointgap_core::solve::record::channel_names(&system));
+    };
     let (model, options) = parse(model_json, options_json)?;
     jointgap_core::solve::recorded_channels(&model, &options).map_err(to_py_err)
 }
@@ -53,6 +60,8 @@ fn to_python<'py>(py: Python<'py>, result: jointgap_core::SimResult) -> PyResult
         "warnings": result.warnings,
         "impacts": result.impacts,
         "clearances": result.clearances,
+        "samples": result.samples,
+        "peaks": result.peaks,
     });
     let (time, data) = samples_to_python(py, &result.time, &result.data)?;
     Ok((time, result.names, data, summary.to_string()))

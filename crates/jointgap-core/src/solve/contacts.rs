@@ -272,6 +272,9 @@ pub struct ImpactLog {
     models: Vec<(Cubic, [f64; 2])>,
     /// Extra points for [`locate`] to search, from [`screen`].
     points: Vec<f64>,
+    /// Time each joint spent in free flight, impact and continuous contact [s] (indexed
+    /// by [`Mode`]), summed over the accepted steps by [`ImpactLog::dwell`].
+    pub mode_time: Vec<[f64; 3]>,
 }
 
 impl ImpactLog {
@@ -282,6 +285,17 @@ impl ImpactLog {
             probed: Vec::new(),
             models: Vec::new(),
             points: Vec::new(),
+            mode_time: vec![[0.0; 3]; sys.clearances.len()],
+        }
+    }
+
+    /// Adds a step of length `dt` to the time of each joint's mode at the step's start.
+    /// Onsets and separations end steps, so contact and free flight are exact; the change
+    /// from impact to continuous contact is resolved to the step that sees it.
+    pub fn dwell(&mut self, states: &[ContactState], dt: f64) {
+        for (time, s) in self.mode_time.iter_mut().zip(states) {
+            let mode = if s.in_contact { s.mode } else { Mode::FreeFlight };
+            time[mode as usize] += dt;
         }
     }
 

@@ -51,6 +51,7 @@ pub fn integrate(
     let mut next_sample = 1usize; // sample 0 is recorded by the caller
     let sample_time = |k: usize| sample_dt.map(|dt| k as f64 * dt);
     let every_step = opts.every_step || opts.rate.is_none();
+    let budget = opts.step_budget();
 
     let mut boundaries: Vec<f64> = sys.corners.iter().copied().filter(|&c| c < opts.t_end).collect();
     boundaries.push(opts.t_end);
@@ -89,8 +90,14 @@ pub fn integrate(
                 }
             }
             while t < segment_end {
-                if stats.accepted_steps + stats.rejected_steps >= opts.max_steps {
-                    break 'run fail(t, format!("step budget of {} steps spent (max_steps)", opts.max_steps));
+                if stats.accepted_steps + stats.rejected_steps >= budget {
+                    break 'run fail(
+                        t,
+                        format!(
+                            "step budget of {budget} steps spent (max_steps): raise max_steps \
+                             (--max-steps) for a longer run, or look for what keeps the steps small"
+                        ),
+                    );
                 }
                 if let Some(hmax) = opts.max_step {
                     h = h.min(hmax);
@@ -144,18 +151,23 @@ pub fn integrate(
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
                             _ => (if last { segment_end } else { t + h }, last),
                         };
+                        log.dwell(&ode.ws.contacts, t_new - t);
                         // Output samples inside (t, t_new].
                         let lap = profile::start(&ode.ws.profile);
                         while let Some(ts) = sample_time(next_sample) {
                             if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
                                 break;
                             }
+                            // The last grid time is the end time, whatever its rounding.
+                            let ts =
+                                if (ts - opts.t_end).abs() <= 1e-12 * opts.t_end { opts.t_end } else { ts };
                             let ts = ts.min(t_new);
                             step.at((ts - t) / h, &mut sample);
                             let (q, v) = sample.split_at(n);
                             if let Err(error) = rec.push(sys, &mut ode.ws, ts, q, v) {
                                 break 'run sample_failed(ts, error);
                             }
+                            rec.mark_sample();
                             log.update(sys, &mut ode.ws.contacts, q, v);
                             next_sample += 1;
                         }
@@ -192,7 +204,8 @@ pub fn integrate(
                             let (q, v) = y.split_at(n);
                             violation(sys, t, q, v, &mut ode.ws)
                         };
-                        if pos > 1e-2 * ode.atol || vel > 1e-2 * ode.atol {
+                        let (pos_limit, vel_limit) = drift_limits(ode.atol, y.split_at(n));
+                        if pos > pos_limit || vel > vel_limit {
                             let (q, v) = y.split_at_mut(n);
                             if project(sys, t, q, v, &mut ode.ws).is_err() {
                                 break 'run singular(t);
@@ -211,6 +224,11 @@ pub fn integrate(
                         let lap = profile::start(&ode.ws.profile);
                         if every_step && rec.last_time.is_none_or(|tl| tl < t) {
                             if let Err(error) = rec.push(sys, &mut ode.ws, t, &y[..n], &y[n..]) {
+                                break 'run sample_failed(t, error);
+                            }
+                        }
+                        if !every_step && opts.step_peaks {
+                            if let Err(error) = rec.peek(sys, &mut ode.ws, t, &y[..n], &y[n..]) {
                                 break 'run sample_failed(t, error);
                             }
                         }
@@ -287,6 +305,17 @@ pub fn integrate(
     stats.method =
         if opts.method == Method::Auto { switch.describe(method, t) } else { stepper.name().to_string() };
     status
+}
+
+/// Position and velocity residuals above which a step's end is projected onto the
+/// constraints: a hundredth of `atol`, but no less than the rounding of the coordinates'
+/// size, 16 ulps of the largest position (speed) coordinate. A residual at that rounding
+/// cannot be projected away: after 300 turns a crank angle of 1900 rad rounds at 2e-13
+/// rad, above `1e-2 atol` = 1e-13 at the default tolerance, and a fixed threshold
+/// projected a third of the steps of a 60 s run (1 % at 5 s).
+fn drift_limits(atol: f64, (q, v): (&[f64], &[f64])) -> (f64, f64) {
+    let rounding = |x: &[f64]| 16.0 * f64::EPSILON * x.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    ((1e-2 * atol).max(rounding(q)), (1e-2 * atol).max(rounding(v)))
 }
 
 /// Starting step (Hairer, Norsett, Wanner I, II.4, algorithm of `hinit`).

@@ -144,6 +144,9 @@ pub fn simulate_with(
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
     let mut log = contacts::ImpactLog::new(&system);
+    if opts.every_step && opts.rate.is_some() {
+        rec.mark_samples();
+    }
     let mut status = match rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]) {
         Err(record::SampleError::NonFinite { channel, value }) => {
             return Err(initial_overflow(&system, &channel, value))
@@ -151,8 +154,28 @@ pub fn simulate_with(
         Err(record::SampleError::Singular) => {
             Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
         }
-        Ok(()) => integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor),
+        Ok(()) => {
+            rec.mark_sample();
+            integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
+        }
     };
+    if status == Status::Finished {
+        match rec.push_end(&system, &mut ode.ws, opts.t_end, &y[..n], &y[n..]) {
+            Ok(()) => {}
+            Err(record::SampleError::Singular) => {
+                status = Status::Failed {
+                    time: opts.t_end,
+                    reason: "the constraint equations became singular at the end time".into(),
+                };
+            }
+            Err(record::SampleError::NonFinite { channel, value }) => {
+                status = Status::Failed {
+                    time: opts.t_end,
+                    reason: format!("{channel} = {value}: {}", record::NON_FINITE_CAUSE),
+                };
+            }
+        }
+    }
     if monitor.chunk_len().is_some() && !rec.time.is_empty() {
         let last = rec.time[rec.time.len() - 1];
         match monitor.samples(&rec.names(), &rec.time, &rec.data) {
@@ -173,11 +196,18 @@ pub fn simulate_with(
         .clearances
         .iter()
         .zip(log.impacts)
-        .map(|(c, impacts)| crate::output::JointImpacts { joint: c.name.clone(), impacts })
+        .zip(log.mode_time)
+        .map(|((c, impacts), mode_time)| crate::output::JointImpacts {
+            joint: c.name.clone(),
+            impacts,
+            mode_time,
+        })
         .collect();
     let clearances = system.clearances.iter().map(ClearanceRevolute::data).collect();
     Ok(SimResult {
         names: rec.names(),
+        samples: rec.samples,
+        peaks: rec.peaks,
         time: rec.time,
         data: rec.data,
         stats,

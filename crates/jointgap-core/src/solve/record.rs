@@ -68,10 +68,24 @@ pub struct Recorder {
     pub data: Vec<Vec<f64>>,
     /// Time of the latest record asked for, kept or decimated away.
     pub last_time: Option<f64>,
+    /// Largest absolute value of each kept channel over every evaluated record: the kept
+    /// ones and those only looked at ([`Recorder::peek`]); NaN is passed over.
+    pub peaks: Vec<f64>,
     /// Keep every `decimate`-th record.
     decimate: usize,
     /// Records asked for so far.
     count: usize,
+    /// Records kept so far, including those already handed on in chunks.
+    kept_count: usize,
+    /// Time of the latest kept record.
+    last_kept: Option<f64>,
+    /// Whether the latest record asked for was kept.
+    latest_kept: bool,
+    /// Indices (among the kept records, from 0) of the output samples at the rate and at
+    /// the end time, when the run records every step as well (`None` otherwise: then every
+    /// record is an output sample, or, without a rate, a step). Marked where they are
+    /// recorded, so that nobody has to recognise them by their time.
+    pub samples: Option<Vec<usize>>,
     values: Vec<f64>,
 }
 
@@ -103,6 +117,8 @@ pub fn state_name(sys: &System, i: usize) -> String {
 
 impl Recorder {
     /// Selects channels by exact name or `element.*`; unknown selections are an error.
+    /// Output samples are marked (see [`Recorder::mark_sample`]) once
+    /// [`Recorder::mark_samples`] is called.
     pub fn new(
         sys: &System,
         active: &[usize],
@@ -141,6 +157,7 @@ impl Recorder {
         Ok(Recorder {
             kept,
             data: vec![Vec::new(); keep.len()],
+            peaks: vec![0.0; keep.len()],
             values: vec![0.0; all.len()],
             all,
             keep,
@@ -149,7 +166,47 @@ impl Recorder {
             last_time: None,
             decimate: decimate.max(1),
             count: 0,
+            kept_count: 0,
+            last_kept: None,
+            latest_kept: false,
+            samples: None,
         })
+    }
+
+    /// Marks output samples from now on: for a run whose records mix the samples at the
+    /// rate with every accepted step.
+    pub fn mark_samples(&mut self) {
+        self.samples.get_or_insert_with(Vec::new);
+    }
+
+    /// Marks the latest record as an output sample, if it was kept and samples are marked.
+    pub fn mark_sample(&mut self) {
+        if let (true, Some(marks)) = (self.latest_kept, self.samples.as_mut()) {
+            let index = self.kept_count - 1;
+            if marks.last() != Some(&index) {
+                marks.push(index);
+            }
+        }
+    }
+
+    /// Records the state at the end time `t` as an output sample, whatever the decimation,
+    /// unless the latest kept record is already there: a run keeps its end state when
+    /// `t_end` is off the output grid or decimation would drop it.
+    pub fn push_end(
+        &mut self,
+        sys: &System,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), SampleError> {
+        if self.last_kept.is_some_and(|tl| tl >= t) {
+            self.latest_kept = true;
+        } else {
+            self.record(sys, ws, t, q, v, Keep::Always)?;
+        }
+        self.mark_sample();
+        Ok(())
     }
 
     /// Empties the sample buffers (after a chunk was handed on), keeping their capacity.
@@ -173,11 +230,40 @@ impl Recorder {
         q: &[f64],
         v: &[f64],
     ) -> Result<(), SampleError> {
-        let keep = self.count.is_multiple_of(self.decimate);
-        self.count += 1;
-        self.last_time = Some(t);
-        if !keep {
-            return Ok(());
+        self.record(sys, ws, t, q, v, Keep::Decimated)
+    }
+
+    /// Evaluates the channels at `(t, q, v)` for their peaks only, keeping no record: the
+    /// peaks over every accepted step of a run that keeps only its samples.
+    pub fn peek(
+        &mut self,
+        sys: &System,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+    ) -> Result<(), SampleError> {
+        self.record(sys, ws, t, q, v, Keep::Peek)
+    }
+
+    /// [`Recorder::push`], [`Recorder::push_end`] and [`Recorder::peek`].
+    fn record(
+        &mut self,
+        sys: &System,
+        ws: &mut Workspace,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        how: Keep,
+    ) -> Result<(), SampleError> {
+        if how != Keep::Peek {
+            let keep = how == Keep::Always || self.count.is_multiple_of(self.decimate);
+            self.count += 1;
+            self.last_time = Some(t);
+            self.latest_kept = keep;
+            if !keep {
+                return Ok(());
+            }
         }
         ws.t_piece = t;
         accelerations(sys, t, q, v, ws)?;
@@ -277,12 +363,31 @@ impl Recorder {
                 return Err(SampleError::NonFinite { channel: self.all[k].clone(), value: self.values[k] });
             }
         }
+        for (peak, &k) in self.peaks.iter_mut().zip(&self.keep) {
+            *peak = peak.max(self.values[k].abs());
+        }
+        if how == Keep::Peek {
+            return Ok(());
+        }
         self.time.push(t);
+        self.kept_count += 1;
+        self.last_kept = Some(t);
         for (slot, &k) in self.keep.iter().enumerate() {
             self.data[slot].push(self.values[k]);
         }
         Ok(())
     }
+}
+
+/// Which records a call keeps.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Keep {
+    /// Every `decimate`-th.
+    Decimated,
+    /// This one, whatever the decimation.
+    Always,
+    /// None: the channels are evaluated for their peaks only.
+    Peek,
 }
 
 /// Writes one sample's channels in order, and skips the groups of channels none of

@@ -249,14 +249,17 @@ class JGPlot {
     ctx.rect(JG_MARGIN.left, JG_MARGIN.top, pw, ph);
     ctx.clip();
     if (this.markers.length) {
+      // Many impacts in view (more than one per 6 pixels) would paint the plot orange:
+      // they become ticks along its top edge until a zoom spreads them out.
+      const seen = this.markers.filter((m) => m >= this.view.x0 && m <= this.view.x1);
+      const ticks = seen.length > pw / 6;
       ctx.strokeStyle = "rgba(230, 120, 0, 0.35)";
       ctx.lineWidth = 1;
       ctx.beginPath();
-      for (const m of this.markers) {
-        if (m < this.view.x0 || m > this.view.x1) continue;
+      for (const m of seen) {
         const px = Math.round(X(m)) + 0.5;
         ctx.moveTo(px, JG_MARGIN.top);
-        ctx.lineTo(px, JG_MARGIN.top + ph);
+        ctx.lineTo(px, JG_MARGIN.top + (ticks ? 6 : ph));
       }
       ctx.stroke();
     }

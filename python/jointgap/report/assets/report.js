@@ -320,7 +320,7 @@ class Orbit {
       el("span", { class: "jg-swatch" }, item).style.borderColor = MODE_COLOURS[k];
       item.appendChild(document.createTextNode(name));
     });
-    el("p", { class: "jg-note" }, box, `bearing frame${orbit.bearing_body ? " (" + orbit.bearing_body + ")" : ""}; dashed: the clearance circle, radius ${jgFormat(orbit.clearance * um)} µm`);
+    el("p", { class: "jg-note" }, box, `bearing frame${orbit.bearing_body ? " (" + orbit.bearing_body + ")" : ""}; dashed: the clearance circle, radius ${jgFormat(orbit.clearance * um)} µm${orbit.thinned ? `; drawn through ${orbit.ex.length} of ${orbit.thinned} samples, evenly along the path` : ""}`);
     this.readout = el("p", { class: "jg-readout" }, box, "");
   }
 
@@ -437,7 +437,7 @@ function renderRun(run) {
   const plotsSection = section("plots-section", "Channels");
   el("p", { class: "jg-note" }, plotsSection,
     "wheel: zoom in time (shift+wheel: values) · drag: pan · shift+drag: zoom to a box · double-click: reset · click: move the animation there" +
-      (run.impacts.length ? " · orange lines: impact onsets" : ""));
+      (run.impacts.length ? " · orange lines: impact onsets (ticks along the top where more than one per 6 pixels)" : ""));
   const markerTimes = run.impacts.map((i) => i.t);
   const p = new Player(left, run, views);
   const plots = plotGroup(plotsSection, run.plots, markerTimes, (t) => p.seek(t), run.times);
