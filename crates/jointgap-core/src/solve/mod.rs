@@ -4,6 +4,7 @@ pub mod assembly;
 pub mod contacts;
 pub mod dopri5;
 pub mod dynamics;
+pub mod energy;
 pub mod integrate;
 pub mod jacobian;
 pub mod monitor;
@@ -89,7 +90,8 @@ pub fn simulate_with(
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
     let mut ode = ode::Ode::new(&system, initial.active.clone(), opts.rtol, opts.atol);
-    let mut rec = record::Recorder::new(&system, &ode.ws.active, opts.channels.as_deref(), opts.decimate)?;
+    let mut rec =
+        record::Recorder::new(&system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(profile::Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
