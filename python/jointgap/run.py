@@ -27,6 +27,7 @@ DEFAULT_OPTIONS: dict[str, Any] = {
     "max_steps": 10_000_000,
     "channels": None,
     "decimate": 1,
+    "energy": False,
     "profile": False,
 }
 """Defaults of the run options (the engine's own defaults, written out in every result)."""
@@ -51,6 +52,7 @@ def run_options(
     channels: Sequence[str] | None = None,
     max_steps: int | None = None,
     decimate: int | None = None,
+    energy: bool | None = None,
     profile: bool | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
@@ -77,6 +79,8 @@ def run_options(
         options["max_steps"] = int(max_steps)
     if profile is not None:
         options["profile"] = bool(profile)
+    if energy is not None:
+        options["energy"] = bool(energy)
     if decimate is not None:
         if int(decimate) != decimate or decimate < 1:
             raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")
