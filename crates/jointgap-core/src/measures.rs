@@ -145,4 +145,33 @@ mod tests {
         assert!((own[0] - s).norm() < 1e-15 && own[1].norm() < 1e-13 && own[2].norm() < 1e-11);
         assert!(p.norm() > 0.1);
     }
+
+    /// The rates of a prismatic joint whose body i turns, and of a revolute joint,
+    /// against central differences of their coordinates.
+    #[test]
+    fn joint_rates_are_derivatives_of_joint_coordinates() {
+        let at =
+            |t: f64, r0: Vec2, v: Vec2, phi0: f64, w: f64| BodyState::new(r0 + v * t, phi0 + w * t, v, w);
+        let bi = |t| at(t, Vec2::new(0.1, 0.2), Vec2::new(0.5, -0.3), 0.3, 4.0);
+        let bj = |t| at(t, Vec2::new(0.4, 0.1), Vec2::new(-0.2, 0.7), -0.2, -1.5);
+        let joint = |kind, axis| JointInfo {
+            name: "j".into(),
+            kind,
+            body_i: Some(0),
+            body_j: Some(1),
+            s_i: Vec2::new(0.03, -0.01),
+            s_j: Vec2::new(-0.02, 0.04),
+            axis,
+            rows: 0..0,
+            clearance: None,
+        };
+        let (t, h) = (0.07, 1e-5);
+        for j in [joint(JointKind::Prismatic, Some(Vec2::new(0.6, 0.8))), joint(JointKind::Revolute, None)] {
+            let value = |t: f64| joint_coordinate(&j, &bi(t), &bj(t)).unwrap().0;
+            let (_, rate) = joint_coordinate(&j, &bi(t), &bj(t)).unwrap();
+            let fd = (value(t + h) - value(t - h)) / (2.0 * h);
+            assert!((fd - rate).abs() < 1e-8 * rate.abs().max(1.0), "{:?}: {fd} vs {rate}", j.kind);
+        }
+        assert!(joint_coordinate(&joint(JointKind::Fixed, None), &bi(t), &bj(t)).is_none());
+    }
 }
