@@ -58,7 +58,16 @@ def test_builder_and_file_give_the_same_model(examples, engine) -> None:
 
 def test_to_dict_is_the_engine_schema_in_si() -> None:
     d = slider_crank().to_dict()
-    assert list(d) == ["name", "gravity", "bodies", "joints", "drivers", "forces", "ground_points"]
+    assert list(d) == [
+        "name",
+        "gravity",
+        "bodies",
+        "joints",
+        "drivers",
+        "forces",
+        "ground_points",
+        "markers",
+    ]
     assert d["gravity"] == [0.0, -9.81]
     assert d["bodies"][0] == {
         "name": "crank",

@@ -319,7 +319,8 @@ def test_unknown_section(write_model) -> None:
     with pytest.raises(ModelError) as err:
         jointgap.load(path)
     assert str(err.value) == (
-        f"{path}:43: unknown section 'bodies' (allowed: model, ground, body, joint, driver, force)"
+        f"{path}:43: unknown section 'bodies' "
+        "(allowed: model, ground, body, joint, driver, force, marker)"
     )
 
 

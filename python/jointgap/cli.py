@@ -168,6 +168,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="record only this channel (repeatable; 'element.*' for all of an element)",
     )
     run.add_argument(
+        "--energy",
+        action="store_true",
+        help="also keep the energy accounts: work of drivers and applied loads, energy "
+        "dissipated, and system.energy_balance (about three more evaluations per step)",
+    )
+    run.add_argument(
         "--out",
         metavar="DIR",
         help="output folder (default out/<model file name>)",
@@ -494,6 +500,7 @@ def _run(args: argparse.Namespace) -> int:
             every_step=args.every_step,
             channels=args.channels,
             decimate=args.decimate,
+            energy=args.energy,
             stream=out / RESULTS_PARQUET if args.stream else None,
             progress=progress,
             **options,

@@ -28,6 +28,7 @@ SECTIONS = {
     "joint": True,
     "driver": True,
     "force": True,
+    "marker": True,
 }
 """Top-level sections of a model file; True for arrays of tables (``[[body]]``)."""
 
@@ -175,7 +176,7 @@ def _build(data: Mapping[str, Any]) -> Model:
     points = convert_element("ground", ground)[0]["points"]
     for name in points:
         model.add_ground_point(name, ground["points"][name])
-    for kind in ("body", "joint", "driver", "force"):
+    for kind in ("body", "joint", "driver", "force", "marker"):
         for element in data.get(kind, []):
             model._add(kind, element)
     return model
@@ -202,6 +203,7 @@ def dumps(model: Model) -> str:
         ("joint", "joints"),
         ("driver", "drivers"),
         ("force", "forces"),
+        ("marker", "markers"),
     ):
         for element in d[key]:
             out.append(f"[[{kind}]]")

@@ -48,9 +48,9 @@ Quantity = float | str
 Vector = Sequence[Quantity]
 PointRef = str | Vector
 
-_KINDS = ("body", "joint", "driver", "force")
+_KINDS = ("body", "joint", "driver", "force", "marker")
 _RESERVED = (GROUND, "system")
-_CORE_ERROR = re.compile(r"^(body|joint|driver|force) '([^']*)': (.*)$", re.S)
+_CORE_ERROR = re.compile(r"^(body|joint|driver|force|marker) '([^']*)': (.*)$", re.S)
 _MOTION_UNITS = {"rotation": "angular units (rad, deg, rpm)", "translation": "linear units (m)"}
 
 
@@ -113,6 +113,11 @@ class Model:
         return self._view("force")
 
     @property
+    def markers(self) -> dict[str, dict[str, Any]]:
+        """Markers by name, in model order (copies, SI units)."""
+        return self._view("marker")
+
+    @property
     def ground_points(self) -> dict[str, tuple[float, float]]:
         """Named points of the ground [m], global coordinates."""
         return {k: (v[0], v[1]) for k, v in self._ground_points.items()}
@@ -136,7 +141,8 @@ class Model:
         return n
 
     def __repr__(self) -> str:
-        counts = ", ".join(_count(len(self._elements[k]), k) for k in _KINDS)
+        shown = [k for k in _KINDS if k != "marker" or self._elements[k]]
+        counts = ", ".join(_count(len(self._elements[k]), k) for k in shown)
         return f"<Model {self._name!r}: {counts}>"
 
     def __eq__(self, other: object) -> bool:
@@ -405,6 +411,20 @@ class Model:
         raw = {"name": name, "type": "applied_torque", "body": body, "torque": _signal(torque)}
         return self._add("force", raw)
 
+    def add_marker(self, name: str, body: str, point: PointRef, frame: str | None = None) -> Model:
+        """Adds a marker: a point whose motion the run reports as channels
+        ``<name>.x .y`` [m], ``.vx .vy`` [m/s] and ``.ax .ay`` [m/s^2].
+
+        Args:
+            name: unique name.
+            body: the body carrying the point (or ``ground``).
+            point: a point name of the body or a vector in its frame [m].
+            frame: a body in whose frame the motion is measured (its coordinates in
+                that body's frame and their time derivatives as an observer riding the
+                body sees them); the ground by default.
+        """
+        return self._add("marker", {"name": name, "body": body, "point": point, "frame": frame})
+
     def _add(self, kind: str, raw: Mapping[str, Any]) -> Model:
         index = len(self._elements[kind])
         fields, motion = convert_element(kind, raw, index=index)
@@ -457,6 +477,7 @@ class Model:
             "drivers": copy.deepcopy(self._elements["driver"]),
             "forces": copy.deepcopy(self._elements["force"]),
             "ground_points": copy.deepcopy(self._ground_points),
+            "markers": copy.deepcopy(self._elements["marker"]),
         }
 
     def to_json(self, indent: int | None = None) -> str:
@@ -466,7 +487,16 @@ class Model:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> Model:
         """Rebuilds a model from :meth:`to_dict` output (e.g. a run's ``summary.json``)."""
-        known = {"name", "gravity", "bodies", "joints", "drivers", "forces", "ground_points"}
+        known = {
+            "name",
+            "gravity",
+            "bodies",
+            "joints",
+            "drivers",
+            "forces",
+            "ground_points",
+            "markers",
+        }
         unknown = sorted(set(data) - known)
         if unknown:
             raise ModelError(f"unknown key '{unknown[0]}' (allowed: {', '.join(sorted(known))})")
@@ -478,6 +508,8 @@ class Model:
                 model._add(kind, element)
         for element in data.get("forces") or []:
             model._add("force", element)
+        for element in data.get("markers") or []:
+            model._add("marker", element)
         return model
 
     def save(self, path: str | PathLike[str]) -> None:
@@ -576,6 +608,7 @@ class Model:
         progress: Callable[[float, int, int], object] | None = None,
         profile: bool = False,
         step_peaks: bool = False,
+        energy: bool = False,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -606,6 +639,12 @@ class Model:
                 event location and projection, and the integration's total.
             step_peaks: evaluate the channels at every accepted step for their peaks
                 (``Result.peaks``) while keeping only the samples.
+            energy: keep the energy accounts: channels ``system.driver_work``,
+                ``load_work``, ``damper_dissipation``, ``contact_dissipation``,
+                ``friction_dissipation`` [J] (time integrals of their powers over the
+                steps) and ``system.energy_balance``, kinetic + potential - work in +
+                dissipated, which stays at its initial value. Costs about three more
+                evaluations of the equations of motion per step and per sample.
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -626,6 +665,7 @@ class Model:
             channels=channels,
             max_steps=max_steps,
             decimate=decimate,
+            energy=energy,
             profile=profile,
             step_peaks=step_peaks,
         )

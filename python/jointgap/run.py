@@ -46,6 +46,7 @@ DEFAULT_OPTIONS: dict[str, Any] = {
     "channels": None,
     "decimate": 1,
     "step_peaks": False,
+    "energy": False,
     "profile": False,
 }
 """Defaults of the run options (the engine's own defaults, written out in every result;
@@ -73,6 +74,7 @@ def run_options(
     max_steps: int | None = None,
     decimate: int | None = None,
     step_peaks: bool | None = None,
+    energy: bool | None = None,
     profile: bool | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
@@ -103,6 +105,8 @@ def run_options(
         options["profile"] = bool(profile)
     if step_peaks is not None:
         options["step_peaks"] = bool(step_peaks)
+    if energy is not None:
+        options["energy"] = bool(energy)
     if decimate is not None:
         if int(decimate) != decimate or decimate < 1:
             raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")

@@ -384,6 +384,16 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             ),
         ],
     },
+    "marker": [
+        _name("unique name: the channels are name.x, .y, .vx, .vy, .ax, .ay"),
+        Param("body", "ref", required=True, doc="the body carrying the point, or ground"),
+        Param("point", "point", u.LENGTH, required=True, doc="the point, in the body's frame"),
+        Param(
+            "frame",
+            "ref",
+            doc="the body in whose frame the motion is measured; by default the ground",
+        ),
+    ],
     "material": [
         Param("youngs_modulus", "scalar", u.PRESSURE, required=True, doc="Young's modulus"),
         Param("poisson_ratio", "scalar", u.DIMENSIONLESS, required=True, doc="Poisson's ratio"),
@@ -732,6 +742,7 @@ _TITLES = {
     "driver": "[[driver]]",
     "profile": 'profile = {{ type = "{}", ... }}',
     "force": '[[force]] type = "{}"',
+    "marker": "[[marker]]",
     "shape": 'shape = {{ type = "{}", ... }}',
     "material": "bearing_material = {{ ... }}, journal_material = {{ ... }}",
     "normal_law": 'normal_law = {{ type = "{}", ... }}',

@@ -197,7 +197,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let push_cost = |select: Option<&[String]>, ws: &mut Workspace| {
         let mut per = Vec::new();
         for _ in 0..9 {
-            let mut rec = Recorder::new(sys, &ws.active, select, 1).unwrap();
+            let mut rec = Recorder::new(sys, ws, select, 1, false).unwrap();
             let start = Instant::now();
             for i in 0..=10_000 {
                 rec.push(sys, ws, t + i as f64 * 1e-12, q, v).unwrap();

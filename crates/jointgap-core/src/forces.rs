@@ -128,6 +128,20 @@ pub enum ForceElement {
     },
 }
 
+/// The line of a point-to-point element from point `s_i` of body i to point `s_j` of
+/// body j: unit vector, length and the length's rate; `None` where the points coincide
+/// and the direction is undefined (such an element carries no force).
+fn line(bi: &BodyState, s_i: Vec2, bj: &BodyState, s_j: Vec2) -> Option<(Vec2, f64, f64)> {
+    let (a_i, a_j) = (bi.rotate(s_i), bj.rotate(s_j));
+    let d = bj.r + a_j - bi.r - a_i;
+    let length = d.norm();
+    if length < 1e-12 {
+        return None;
+    }
+    let u = d / length;
+    Some((u, length, u.dot(&(bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega))))
+}
+
 /// Adds force `f` acting at body-frame point `s` of body `b` to `qe`.
 #[inline]
 pub fn add_point_force(qe: &mut [f64], b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
@@ -234,14 +248,9 @@ impl ForceElement {
                 body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
             } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));
-                let (a_i, a_j) = (bi.rotate(*s_i), bj.rotate(*s_j));
-                let d = bj.r + a_j - bi.r - a_i;
-                let length = d.norm();
-                if length < 1e-12 {
-                    return; // direction undefined: coincident points carry no force
-                }
-                let u = d / length;
-                let rate = u.dot(&(bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega));
+                let Some((u, length, rate)) = line(&bi, *s_i, &bj, *s_j) else {
+                    return;
+                };
                 let tension = stiffness * (length - free_length) + damping * rate;
                 add_point_force(qe, *body_i, &bi, *s_i, u * tension);
                 add_point_force(qe, *body_j, &bj, *s_j, -u * tension);
@@ -259,6 +268,32 @@ impl ForceElement {
                 add_point_force(qe, *body, &state(*body), *s, Vec2::new(f[0], f[1]));
             }
             ForceElement::AppliedTorque { body, torque, .. } => add_torque(qe, *body, torque.at(t)[0]),
+        }
+    }
+
+    /// Power [W] the element delivers to the bodies at time `t`, as `(load, loss)`: the
+    /// work rate of an applied force or torque (energy from outside the mechanism), and
+    /// the rate at which a damper dissipates, `c rate^2 >= 0` (its force `-c rate` along
+    /// the rate). A spring's elastic power is the rate of its potential energy and is in
+    /// neither.
+    pub fn power(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState) -> (f64, f64) {
+        match self {
+            ForceElement::SpringDamper { body_i, s_i, body_j, s_j, damping, .. } => {
+                match line(&state(*body_i), *s_i, &state(*body_j), *s_j) {
+                    Some((_, _, rate)) => (0.0, damping * rate * rate),
+                    None => (0.0, 0.0),
+                }
+            }
+            ForceElement::RotationalSpringDamper { body_i, body_j, damping, .. } => {
+                let rate = state(*body_j).omega - state(*body_i).omega;
+                (0.0, damping * rate * rate)
+            }
+            ForceElement::AppliedForce { body, s, force, .. } => {
+                let b = state(*body);
+                let f = force.at(t);
+                (Vec2::new(f[0], f[1]).dot(&(b.v + perp(b.rotate(*s)) * b.omega)), 0.0)
+            }
+            ForceElement::AppliedTorque { body, torque, .. } => (torque.at(t)[0] * state(*body).omega, 0.0),
         }
     }
 

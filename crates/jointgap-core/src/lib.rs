@@ -11,6 +11,7 @@ pub mod contact;
 pub mod drivers;
 pub mod forces;
 pub mod math;
+pub mod measures;
 pub mod model;
 pub mod output;
 pub mod planar;

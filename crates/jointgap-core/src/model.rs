@@ -34,6 +34,25 @@ pub struct Model {
     /// Named points fixed in the ground frame (global coordinates) [m].
     #[serde(default)]
     pub ground_points: std::collections::BTreeMap<String, [f64; 2]>,
+    /// Points whose motion the run reports as channels.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub markers: Vec<Marker>,
+}
+
+/// A point of a body whose position, velocity and acceleration are output channels,
+/// measured in the ground frame or in the frame of another body.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Marker {
+    /// Unique name; the channels are `<name>.x`, `.y`, `.vx`, `.vy`, `.ax`, `.ay`.
+    pub name: String,
+    /// The body the point belongs to (or `ground`).
+    pub body: String,
+    /// The point: a named point of the body or a vector in its frame [m].
+    pub point: PointRef,
+    /// The body in whose frame the motion is measured; the ground by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frame: Option<String>,
 }
 
 /// A rigid body in the plane; coordinates are those of its centre of mass.

@@ -7,6 +7,7 @@ use crate::contact::ClearanceRevolute;
 use crate::drivers::MotionProfile;
 use crate::forces::ForceElement;
 use crate::math::Vec2;
+use crate::measures::Marker;
 use crate::model::{JointKind, Model, PointRef, GROUND};
 use crate::planar::{BodyState, RowKind};
 use crate::Error;
@@ -65,6 +66,8 @@ pub struct JointInfo {
     pub s_j: Vec2,
     /// Joint point on body i, body frame [m].
     pub s_i: Vec2,
+    /// Sliding direction of a prismatic joint, unit vector in the frame of body i.
+    pub axis: Option<Vec2>,
     /// Its rows in `System::rows` (none for a clearance joint).
     pub rows: std::ops::Range<usize>,
     /// Index in `System::clearances` of a clearance joint.
@@ -101,6 +104,8 @@ pub struct System {
     pub forces: Vec<ForceElement>,
     /// Clearance joints, in model order.
     pub clearances: Vec<ClearanceRevolute>,
+    /// Markers, in model order.
+    pub markers: Vec<Marker>,
     /// Gravity [m/s^2].
     pub gravity: Vec2,
     /// Approximate initial coordinates (user placement).
@@ -250,6 +255,7 @@ impl System {
                 })
             };
             let mut clearance = None;
+            let mut sliding = None;
             if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
                 return Err(Error::Model(format!(
                     "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
@@ -282,6 +288,7 @@ impl System {
                         return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
                     }
                     let u = u.normalize();
+                    sliding = Some(u);
                     push(RowKind::Angle { offset: rel_angle }, "angle");
                     push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
                 }
@@ -293,6 +300,7 @@ impl System {
                 body_j: bj,
                 s_i,
                 s_j,
+                axis: sliding,
                 rows: first..rows.len(),
                 clearance,
             });
@@ -377,6 +385,12 @@ impl System {
             forces.push(element);
         }
 
+        let mut markers = Vec::new();
+        for m in &model.markers {
+            claim("marker", &m.name)?;
+            markers.push(Marker::new(m, &res)?);
+        }
+
         corners.retain(|t| *t > 0.0);
         corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
         corners.dedup();
@@ -394,6 +408,7 @@ impl System {
             rows,
             forces,
             clearances,
+            markers,
             gravity: Vec2::new(model.gravity[0], model.gravity[1]),
             q_guess,
             v_guess,

@@ -44,7 +44,7 @@ fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<S
     let Some(options_json) = options_json else {
         let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
         let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
-        return Ok(jointgap_core::solve::record::channel_names(&system));
+        return Ok(jointgap_core::solve::record::channel_names(&system, false));
     };
     let (model, options) = parse(model_json, options_json)?;
     jointgap_core::solve::recorded_channels(&model, &options).map_err(to_py_err)

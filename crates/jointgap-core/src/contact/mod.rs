@@ -232,6 +232,19 @@ impl ClearanceRevolute {
         (f_n, f_t)
     }
 
+    /// Power [W] the contact dissipates, as `(normal, friction)`. The contact force does
+    /// work at the rate `-F_N delta_dot + F_T v_t` on the two bodies (the journal force
+    /// at the journal's contact point, its opposite at the bearing's, and `delta_dot`,
+    /// `v_t` the relative velocity of those points along `n` and `t`); of it,
+    /// `-K delta^n delta_dot` is the rate of the elastic energy counted as potential
+    /// energy. The rest is lost: `(F_N - K delta^n) delta_dot` by the normal law's
+    /// damping (and by clipping, which drops the elastic force a pulling force would
+    /// return), `-F_T v_t >= 0` by friction.
+    pub fn losses(&self, k: &ContactKinematics, state: &ContactState) -> (f64, f64) {
+        let (f_n, f_t) = self.contact_force(k, state.onset_for(k));
+        ((f_n - self.normal.elastic_force(k.penetration)) * k.penetration_rate, -f_t * k.slip)
+    }
+
     /// Force on the journal, global axes: `-F_N n + F_T t` [N].
     pub fn journal_force(k: &ContactKinematics, f_n: f64, f_t: f64) -> Vec2 {
         -k.n * f_n + perp(k.n) * f_t

@@ -134,13 +134,24 @@ impl NormalForce {
         }
     }
 
+    /// The elastic part `K delta^n` of the force [N] (zero for `delta <= 0`), whose
+    /// work is the change of [`NormalForce::elastic_energy`].
+    #[inline]
+    pub fn elastic_force(&self, delta: f64) -> f64 {
+        if delta <= 0.0 {
+            0.0
+        } else {
+            self.stiffness * power(delta, self.exponent)
+        }
+    }
+
     /// Normal force [N] (compressive positive) at penetration `delta` [m], rate
     /// `delta_dot` [m/s], with `onset_speed` the approach speed of the current impact.
     pub fn force(&self, delta: f64, delta_dot: f64, onset_speed: f64) -> f64 {
         if delta <= 0.0 {
             return 0.0;
         }
-        let elastic = self.stiffness * power(delta, self.exponent);
+        let elastic = self.elastic_force(delta);
         let f = match self.law {
             NormalLaw::Hertz => elastic,
             NormalLaw::KelvinVoigt { damping } => elastic + damping * delta_dot,

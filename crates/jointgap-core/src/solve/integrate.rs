@@ -154,6 +154,9 @@ pub fn integrate(
                         log.dwell(&ode.ws.contacts, t_new - t);
                         // Output samples inside (t, t_new].
                         let lap = profile::start(&ode.ws.profile);
+                        if rec.begin_step(sys, &ode.ws.contacts, &step, t, t_new).is_err() {
+                            break 'run singular(t);
+                        }
                         while let Some(ts) = sample_time(next_sample) {
                             if ts > t_new * (1.0 + 1e-14) || ts > opts.t_end * (1.0 + 1e-12) {
                                 break;

@@ -4,6 +4,7 @@ pub mod assembly;
 pub mod contacts;
 pub mod dopri5;
 pub mod dynamics;
+pub mod energy;
 pub mod integrate;
 pub mod jacobian;
 pub mod monitor;
@@ -88,7 +89,8 @@ fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
 /// estimated from before a run.
 pub fn recorded_channels(model: &Model, opts: &SimOptions) -> Result<Vec<String>, Error> {
     let system = System::new(model)?;
-    Ok(record::Recorder::new(&system, &[], opts.channels.as_deref(), opts.decimate)?.names())
+    let ws = dynamics::Workspace::new(&system, Vec::new());
+    Ok(record::Recorder::new(&system, &ws, opts.channels.as_deref(), opts.decimate, opts.energy)?.names())
 }
 
 /// Simulates many models with the same options on a pool of `threads` threads (all
@@ -138,7 +140,8 @@ pub fn simulate_with(
     let started = std::time::Instant::now();
     let Prepared { system, initial } = prepare(model)?;
     let mut ode = ode::Ode::new(&system, initial.active.clone(), opts.rtol, opts.atol);
-    let mut rec = record::Recorder::new(&system, &ode.ws.active, opts.channels.as_deref(), opts.decimate)?;
+    let mut rec =
+        record::Recorder::new(&system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(profile::Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();

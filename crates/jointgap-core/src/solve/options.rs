@@ -102,6 +102,11 @@ pub struct SimOptions {
     /// Keep every `decimate`-th output record (default 1: all), e.g. of `every_step` output.
     #[serde(default = "default_decimate")]
     pub decimate: usize,
+    /// Keep the energy accounts: the work of drivers and applied loads and the energy
+    /// dissipated, as channels, and the energy balance (about three more evaluations of
+    /// the equations of motion per step and per sample).
+    #[serde(default)]
+    pub energy: bool,
     /// Measure the time spent per stage (forces, linear solves, Jacobians, output,
     /// events, projection) into `RunStats::profile`.
     #[serde(default)]
@@ -123,6 +128,7 @@ impl SimOptions {
             channels: None,
             decimate: default_decimate(),
             step_peaks: false,
+            energy: false,
             profile: false,
         }
     }

@@ -3,8 +3,11 @@
 
 use super::contacts::{self, Mode};
 use super::dynamics::{accelerations, Singular, Workspace};
+use super::energy::{Accounts, Amounts, ACCOUNTS};
+use super::ode::DenseStep;
 use crate::contact::ClearanceRevolute;
 use crate::math::{cross, rotate, Vec2};
+use crate::measures::{joint_coordinate, BodyMotion};
 use crate::model::JointKind;
 use crate::system::System;
 use crate::Error;
@@ -52,6 +55,20 @@ impl From<Singular> for SampleError {
     }
 }
 
+/// The joint coordinate and its rate ([`joint_coordinate`]), after a joint's forces.
+fn coordinate_quantities(kind: JointKind) -> &'static [&'static str] {
+    match kind {
+        JointKind::Revolute | JointKind::ClearanceRevolute => &["angle", "omega"],
+        JointKind::Prismatic => &["travel", "speed"],
+        JointKind::Fixed => &[],
+    }
+}
+
+/// A marker's channels: position, velocity, acceleration in its frame.
+const MARKER_QUANTITIES: [&str; 6] = ["x", "y", "vx", "vy", "ax", "ay"];
+/// The system's channels, before the energy accounts.
+const SYSTEM_QUANTITIES: [&str; 3] = ["kinetic_energy", "potential_energy", "constraint_error"];
+
 /// Collects the chosen channels at sample times.
 pub struct Recorder {
     /// All channel names of the system, in model order.
@@ -87,22 +104,33 @@ pub struct Recorder {
     /// recorded, so that nobody has to recognise them by their time.
     pub samples: Option<Vec<usize>>,
     values: Vec<f64>,
+    /// The energy accounts, when the run keeps them.
+    accounts: Option<Accounts>,
 }
 
-/// Every channel name of a system, in model order.
-pub fn channel_names(sys: &System) -> Vec<String> {
+/// Every channel name of a system, in model order; the energy accounts' with `energy`.
+pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
     let mut names = Vec::new();
     for b in &sys.bodies {
         names.extend(BODY_QUANTITIES.iter().map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
         names.extend(joint_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
+        names.extend(coordinate_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
     }
     for d in &sys.drivers {
         names.push(format!("{}.{}", d.name, if d.rotation { "torque" } else { "force" }));
     }
-    for q in ["kinetic_energy", "potential_energy", "constraint_error"] {
+    for m in &sys.markers {
+        names.extend(MARKER_QUANTITIES.iter().map(|q| format!("{}.{q}", m.name)));
+    }
+    for q in SYSTEM_QUANTITIES {
         names.push(format!("system.{q}"));
+    }
+    if energy {
+        for q in ACCOUNTS.iter().chain(&["energy_balance"]) {
+            names.push(format!("system.{q}"));
+        }
     }
     names
 }
@@ -119,13 +147,15 @@ impl Recorder {
     /// Selects channels by exact name or `element.*`; unknown selections are an error.
     /// Output samples are marked (see [`Recorder::mark_sample`]) once
     /// [`Recorder::mark_samples`] is called.
+    /// With `energy` the energy accounts are kept, from the run's workspace `ws`.
     pub fn new(
         sys: &System,
-        active: &[usize],
+        ws: &Workspace,
         select: Option<&[String]>,
         decimate: usize,
+        energy: bool,
     ) -> Result<Self, Error> {
-        let all = channel_names(sys);
+        let all = channel_names(sys, energy);
         let keep: Vec<usize> = match select {
             None => (0..all.len()).collect(),
             Some(patterns) => {
@@ -135,7 +165,17 @@ impl Recorder {
                         None => all.contains(p),
                     };
                     if !hit {
-                        return Err(Error::Options(format!("channel '{p}' is not an output of this model")));
+                        let account = p
+                            .strip_prefix("system.")
+                            .is_some_and(|q| ACCOUNTS.contains(&q) || q == "energy_balance");
+                        let hint = if account && !energy {
+                            " (the energy accounts are kept when the run asks for them: option energy)"
+                        } else {
+                            ""
+                        };
+                        return Err(Error::Options(format!(
+                            "channel '{p}' is not an output of this model{hint}"
+                        )));
                     }
                 }
                 (0..all.len())
@@ -149,12 +189,13 @@ impl Recorder {
             }
         };
         let mut active_of_row = vec![None; sys.rows.len()];
-        for (a, &r) in active.iter().enumerate() {
+        for (a, &r) in ws.active.iter().enumerate() {
             active_of_row[r] = Some(a);
         }
         let mut kept = vec![false; all.len()];
         keep.iter().for_each(|&k| kept[k] = true);
         Ok(Recorder {
+            accounts: energy.then(|| Accounts::new(sys, ws)),
             kept,
             data: vec![Vec::new(); keep.len()],
             peaks: vec![0.0; keep.len()],
@@ -220,6 +261,23 @@ impl Recorder {
         self.keep.iter().map(|&k| self.all[k].clone()).collect()
     }
 
+    /// Takes an accepted step into the energy accounts (when kept): the step `step` from
+    /// `t0`, ended at `t1`, with the clearance joints in `contacts` throughout. Called
+    /// before the step's samples.
+    pub fn begin_step(
+        &mut self,
+        sys: &System,
+        contacts: &[contacts::ContactState],
+        step: &DenseStep,
+        t0: f64,
+        t1: f64,
+    ) -> Result<(), Singular> {
+        match self.accounts.as_mut() {
+            Some(accounts) => accounts.begin_step(sys, contacts, step, t0, t1),
+            None => Ok(()),
+        }
+    }
+
     /// Records one sample at `(t, q, v)`, unless decimation drops it. A sample with a
     /// non-finite kept channel is not recorded: the error names that channel.
     pub fn push(
@@ -265,6 +323,12 @@ impl Recorder {
                 return Ok(());
             }
         }
+        let accounts = match self.accounts.as_mut() {
+            Some(accounts) if self.kept[self.kept.len() - ACCOUNTS.len() - 1..].iter().any(|&k| k) => {
+                Some(accounts.at(sys, t)?)
+            }
+            _ => None,
+        };
         ws.t_piece = t;
         accelerations(sys, t, q, v, ws)?;
         let mut out = Cursor { values: &mut self.values, kept: &self.kept, next: 0 };
@@ -283,55 +347,15 @@ impl Recorder {
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
-            if out.skipped(joint_quantities(j.kind).len()) {
-                continue;
+            let (bi, bj) = (sys.body_state(j.body_i, q, v), sys.body_state(j.body_j, q, v));
+            if !out.skipped(joint_quantities(j.kind).len()) {
+                put_joint_forces(&mut out, sys, ws, j, (&bi, &bj), (q, v), &lambda_of);
             }
-            let mut put = |x: f64| out.put(x);
-            if let Some(k) = j.clearance {
-                let c = &sys.clearances[k];
-                let kin = contacts::kinematics(sys, k, q, v);
-                let state = &ws.contacts[k];
-                let (f_n, f_t) = c.contact_force(&kin, state.onset_for(&kin));
-                let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
-                let bearing_angle = sys.body_state(c.bearing, q, v).phi();
-                let e_local = rotate(-bearing_angle, kin.e);
-                // The located state decides, not the sign of the penetration: right after
-                // an onset, projection may leave the penetration a hair below zero.
-                let mode = if state.in_contact { state.mode } else { Mode::FreeFlight };
-                for x in [
-                    f.x,
-                    f.y,
-                    f_n,
-                    f_t,
-                    kin.penetration,
-                    kin.penetration_rate,
-                    e_local.x,
-                    e_local.y,
-                    kin.slip,
-                ] {
-                    put(x);
-                }
-                put(mode as u8 as f64);
-                continue;
-            }
-            let (mut f, mut m) = (Vec2::zeros(), 0.0);
-            let bi = sys.body_state(j.body_i, q, v);
-            let bj = sys.body_state(j.body_j, q, v);
-            for r in j.rows.clone() {
-                let ev = sys.rows[r].kind.eval(
-                    &bi,
-                    &bj,
-                    crate::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
-                );
-                let l = lambda_of(r);
-                f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
-                m -= ev.jac_j[2] * l;
-            }
-            put(f.x);
-            put(f.y);
-            if j.kind != JointKind::Revolute {
-                // Couple about the joint point of body j.
-                put(m - cross(bj.rotate(j.s_j), f));
+            let coordinates = coordinate_quantities(j.kind).len();
+            if coordinates > 0 && !out.skipped(coordinates) {
+                let (value, rate) = joint_coordinate(j, &bi, &bj).expect("a joint with coordinate channels");
+                out.put(value);
+                out.put(rate);
             }
         }
         for d in &sys.drivers {
@@ -352,8 +376,26 @@ impl Recorder {
             };
             out.put(value);
         }
-        if !out.skipped(3) {
-            out.put_system(sys, ws, q, v);
+        let motion = |b: Option<usize>| match b {
+            None => BodyMotion::default(),
+            Some(k) => BodyMotion {
+                state: sys.body_state(b, q, v),
+                acceleration: Vec2::new(ws.qdd[3 * k], ws.qdd[3 * k + 1]),
+                alpha: ws.qdd[3 * k + 2],
+            },
+        };
+        for m in &sys.markers {
+            if out.skipped(MARKER_QUANTITIES.len()) {
+                continue;
+            }
+            for p in m.motion(&motion(m.body), &motion(m.frame)) {
+                out.put(p.x);
+                out.put(p.y);
+            }
+        }
+        // The system's channels close the list; the energy accounts' with them.
+        if !out.skipped(out.values.len() - out.next) {
+            out.put_system(sys, ws, q, v, self.accounts.is_some().then_some(accounts));
         }
         debug_assert_eq!(out.next, out.values.len(), "channels written and named differ");
         // One sum per sample is the whole cost of the check: a single inf or NaN makes it
@@ -390,6 +432,54 @@ enum Keep {
     Peek,
 }
 
+/// A joint's force channels: for a clearance joint the contact force on the journal and
+/// its contact quantities, for the others the reaction on body j (and the couple).
+fn put_joint_forces(
+    out: &mut Cursor,
+    sys: &System,
+    ws: &Workspace,
+    j: &crate::system::JointInfo,
+    (bi, bj): (&crate::planar::BodyState, &crate::planar::BodyState),
+    (q, v): (&[f64], &[f64]),
+    lambda_of: &dyn Fn(usize) -> f64,
+) {
+    let mut put = |x: f64| out.put(x);
+    if let Some(k) = j.clearance {
+        let c = &sys.clearances[k];
+        let kin = contacts::kinematics(sys, k, q, v);
+        let state = &ws.contacts[k];
+        let (f_n, f_t) = c.contact_force(&kin, state.onset_for(&kin));
+        let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
+        let bearing_angle = sys.body_state(c.bearing, q, v).phi();
+        let e_local = rotate(-bearing_angle, kin.e);
+        // The located state decides, not the sign of the penetration: right after
+        // an onset, projection may leave the penetration a hair below zero.
+        let mode = if state.in_contact { state.mode } else { Mode::FreeFlight };
+        for x in [f.x, f.y, f_n, f_t, kin.penetration, kin.penetration_rate, e_local.x, e_local.y, kin.slip] {
+            put(x);
+        }
+        put(mode as u8 as f64);
+        return;
+    }
+    let (mut f, mut m) = (Vec2::zeros(), 0.0);
+    for r in j.rows.clone() {
+        let ev = sys.rows[r].kind.eval(
+            bi,
+            bj,
+            crate::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
+        );
+        let l = lambda_of(r);
+        f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
+        m -= ev.jac_j[2] * l;
+    }
+    put(f.x);
+    put(f.y);
+    if j.kind != JointKind::Revolute {
+        // Couple about the joint point of body j.
+        put(m - cross(bj.rotate(j.s_j), f));
+    }
+}
+
 /// Writes one sample's channels in order, and skips the groups of channels none of
 /// which is kept, so that a run that records a few channels does not compute the rest.
 struct Cursor<'a> {
@@ -413,8 +503,17 @@ impl Cursor<'_> {
         skip
     }
 
-    /// The system's channels: kinetic and potential energy, constraint error.
-    fn put_system(&mut self, sys: &System, ws: &Workspace, q: &[f64], v: &[f64]) {
+    /// The system's channels: kinetic and potential energy, constraint error, and, when
+    /// the run keeps them (`Some`), the energy accounts with the balance
+    /// `T + V - W_in + D` (passed over when none of them is kept: `Some(None)`).
+    fn put_system(
+        &mut self,
+        sys: &System,
+        ws: &Workspace,
+        q: &[f64],
+        v: &[f64],
+        accounts: Option<Option<Amounts>>,
+    ) {
         let mut kinetic = 0.0;
         let mut potential = 0.0;
         for (k, b) in sys.bodies.iter().enumerate() {
@@ -431,5 +530,15 @@ impl Cursor<'_> {
         self.put(kinetic);
         self.put(potential);
         self.put(if ws.active.is_empty() { 0.0 } else { ws.c.amax() });
+        match accounts {
+            Some(Some([driver, load, damper, contact, friction])) => {
+                for x in [driver, load, damper, contact, friction] {
+                    self.put(x);
+                }
+                self.put(kinetic + potential - (driver + load) + (damper + contact + friction));
+            }
+            Some(None) => self.next += ACCOUNTS.len() + 1,
+            None => {}
+        }
     }
 }
