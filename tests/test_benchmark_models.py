@@ -102,10 +102,8 @@ def test_four_bar_chain_passes_the_change_points(n):
     an instant) the chain stays one parallelogram chain: over 3 s the rockers turn more
     than a full turn, passing the horizontal four times, and still share one angle, which
     follows the one-degree-of-freedom equation to 1e-5 rad; energy holds to 3e-4 J of
-    51 J (rtol 1e-7: measured 1.8e-6 rad and 6e-5 J). Passing a change point is luck of
-    where the steps land: at rtol 1e-8 and tighter the engine may stop at one with 'the
-    constraint equations became singular' (dense solve: N = 20 at rtol 1e-8, every N
-    tried at 1e-9); at rtol 1e-6 and 1e-7 N = 1 ... 20 all passed."""
+    51 J (rtol 1e-7: measured 1.8e-6 rad and 6e-5 J). At tight tolerances
+    tests/test_singular_positions.py checks the passage against the same equation."""
     r = four_bar_chain(n).simulate(3.0, rate=200, method="dopri5", rtol=1e-7, atol=1e-9)
     assert r.status == "finished", r.message
     phi = rocker_angles(r, n)

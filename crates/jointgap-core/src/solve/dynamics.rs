@@ -413,7 +413,11 @@ pub fn project(
     }
     for _ in 0..4 {
         constraints(sys, t, q, v, ws);
-        if ws.c.amax() <= POSITION_TOL {
+        // Near a singular position a residual left along the rank that is being lost
+        // would make the velocity projection and the accelerations follow its level
+        // set, which bends away from the mechanism's branch there: take it to rounding.
+        let tol = if ws.schur.ill_conditioned() { NEAR_SINGULAR_POSITION_TOL } else { POSITION_TOL };
+        if ws.c.amax() <= tol {
             break;
         }
         let residual = ws.c.clone();
@@ -473,6 +477,10 @@ pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> 
 
 /// Position residual below which projection stops [m or rad].
 pub const POSITION_TOL: f64 = 1e-13;
+/// Position residual below which projection stops near a singular position [m or rad]
+/// (see [`project`]): below the rounding of coordinates of metres, so up to 4 Newton
+/// steps are taken there.
+pub const NEAR_SINGULAR_POSITION_TOL: f64 = 1e-16;
 
 /// Largest position residual and velocity residual of the active rows at `(t, q, v)`.
 pub fn violation(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> (f64, f64) {
