@@ -114,7 +114,6 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
             )));
         }
     }
-    drop(residuals);
     let (active, warnings, given) = check_initial_conditions(sys, &q, &v0)?;
     // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct and
     // gives each joint rate that was given.
@@ -142,14 +141,13 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
     Ok(Assembled { q, v, active, warnings })
 }
 
+/// The active rows, their warnings, and the Jacobian rows of the given joint coordinates.
+type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
+
 /// The independent rows of the joints and drivers at `q` (and their warnings), and the
 /// Jacobian rows of the given joint coordinates, each of which must move a coordinate the
 /// joints and drivers leave free, and not one another's.
-fn check_initial_conditions(
-    sys: &System,
-    q: &[f64],
-    v: &[f64],
-) -> Result<(Vec<usize>, Vec<String>, DMatrix<f64>), Error> {
+fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
     let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
     constraints(sys, 0.0, q, v, &mut ws);
     let (active, warnings, mut basis) = independent_rows(sys, &ws.dense_jacobian())?;
