@@ -101,8 +101,8 @@ def test_stiffness_unit_follows_the_exponent(engine) -> None:
     [
         (
             {"clearance": None, "journal_radius": "8 mm"},
-            "joint 'rod_slider': journal radius 0.008 m must be positive and below the "
-            "bearing radius 0.0075 m",
+            "joint 'rod_slider': journal_radius = 0.008 m must be smaller than "
+            "bearing_radius = 0.0075 m",
         ),
         ({"clearance": -5e-4}, "joint 'rod_slider': clearance = -0.0005 m must be positive"),
         (
@@ -144,6 +144,8 @@ def test_clearance_joint_between_a_body_and_itself(engine) -> None:
         "gap",
         "a",
         "a",
+        (0, 0),
+        (0, 0),
         clearance="0.1 mm",
         journal_radius="5 mm",
         stiffness=1e9,

@@ -130,8 +130,8 @@ BAD = [
         'bearing_radius = "7.5 mm"               # two of bearing_radius, journal_radius, '
         'clearance\nclearance = "0.5 mm"',
         'bearing_radius = "7.5 mm"\njournal_radius = "7.5 mm"',
-        "joint 'rod_slider': journal radius 0.0075 m must be positive and below the bearing "
-        "radius 0.0075 m",
+        "joint 'rod_slider': journal_radius = 0.0075 m must be smaller than bearing_radius = "
+        "0.0075 m",
     ),
     (
         'clearance = "0.5 mm"',

@@ -135,8 +135,8 @@ def test_missing_file_raises_file_not_found(tmp_path) -> None:
 def test_unknown_key_lists_the_allowed_ones(write_model) -> None:
     path, msg = load_error(write_model, 'mass = "0.72 kg"', 'mas = "0.72 kg"')
     assert msg == (
-        f"{path}:17: body 'rod': unknown key 'mas' (allowed: name, mass, inertia, position, "
-        "angle, velocity, omega, points, shape)"
+        f"{path}:17: body 'rod': unknown key 'mas' (allowed: name, mass, inertia, com, "
+        "position, angle, velocity, omega, points, shape)"
     )
 
 
@@ -198,8 +198,15 @@ def test_driver_naming_an_unknown_joint(write_model, engine) -> None:
     [
         ("mass", "0", 17, "mass must be positive, got 0 kg"),
         ("mass", '"-0.72 kg"', 17, "mass must be positive, got -0.72 kg"),
-        ("inertia", "0", 18, "inertia must be positive, got 0 kg*m^2"),
-        ("inertia", '"-1e-4 kg*m^2"', 18, "inertia must be positive, got -1e-4 kg*m^2"),
+        (
+            "inertia",
+            "0",
+            18,
+            "inertia = 0 (a point mass) needs its rotation fixed by its joints, but its "
+            "rotation is free: no prismatic or fixed joint ties it to the ground or to a body "
+            "that cannot turn (its joints: 'crank_rod' revolute); give its moment of inertia",
+        ),
+        ("inertia", '"-1e-4 kg*m^2"', 18, "inertia must not be negative, got -1e-4 kg*m^2"),
     ],
 )
 def test_zero_or_negative_mass_and_inertia(write_model, field, value, line, problem) -> None:

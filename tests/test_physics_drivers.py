@@ -97,7 +97,9 @@ def pushed_slider(axis_angle: float, profile) -> jointgap.Model:
     c, s = math.cos(axis_angle), math.sin(axis_angle)
     m = jointgap.Model(name="pushed_slider", gravity=(0.0, -G))
     m.add_body("slider", MASS, 0.01)
-    m.add_prismatic("guide", "ground", "slider", axis=(c, s))
+    m.add_prismatic(
+        "guide", "ground", "slider", axis=(c, s), point_i=(0.0, 0.0), point_j=(0.0, 0.0)
+    )
     m.add_driver("push", "guide", profile)
     return m
 
@@ -156,7 +158,7 @@ def test_revolute_driver_torque_sign(direction):
     tau, speed = 2.5, 10.0
     m = jointgap.Model(name="crank_vs_brake", gravity=(0.0, -G))
     m.add_body("crank", 1.2, 0.05)
-    m.add_revolute("ground_crank", "ground", "crank")
+    m.add_revolute("ground_crank", "ground", "crank", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_torque("brake", "crank", -direction * tau)
     m.add_driver("motor", "ground_crank", jointgap.profiles.constant_speed(direction * speed))
     r = simulate_ok(m, 1.0, rate=100, rtol=1e-10, atol=1e-12)
@@ -174,7 +176,7 @@ def test_driver_on_joint_with_ground_as_body_j():
     tau, speed = 1.5, 4.0
     m = jointgap.Model(name="reversed_joint", gravity=(0.0, -G))
     m.add_body("crank", 1.0, 0.02)
-    m.add_revolute("crank_ground", "crank", "ground")
+    m.add_revolute("crank_ground", "crank", "ground", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_torque("load", "crank", tau)
     m.add_driver("motor", "crank_ground", jointgap.profiles.constant_speed(speed))
     r = simulate_ok(m, 1.0, rate=100, rtol=1e-10, atol=1e-12)
@@ -191,7 +193,7 @@ def test_tabulated_torque():
     inertia, tau1 = 0.1, 0.6
     m = jointgap.Model(name="torque_table", gravity=(0.0, 0.0))
     m.add_body("wheel", 1.0, inertia)
-    m.add_revolute("pin", "ground", "wheel")
+    m.add_revolute("pin", "ground", "wheel", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_torque("ramp", "wheel", ([0.0, 1.0], [0.0, tau1]))
     r = simulate_ok(m, 2.0, rate=50, rtol=1e-10, atol=1e-12)
     t = r.time
@@ -212,8 +214,8 @@ def test_driver_between_two_moving_bodies():
     m = jointgap.Model(name="two_wheels", gravity=(0.0, -G))
     m.add_body("wheel_1", 2.0, j1)
     m.add_body("wheel_2", 1.0, j2)
-    m.add_revolute("axle", "ground", "wheel_1")
-    m.add_revolute("hub", "wheel_1", "wheel_2")
+    m.add_revolute("axle", "ground", "wheel_1", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
+    m.add_revolute("hub", "wheel_1", "wheel_2", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_driver("motor", "hub", jointgap.profiles.linear_ramp(speed, ramp))
     r = simulate_ok(m, 1.0, rate=100, rtol=1e-10, atol=1e-12)
     t = r.time
@@ -239,7 +241,7 @@ def test_applied_force_on_pinned_wheel():
     rim = (0.1, 0.05)
     m = jointgap.Model(name="wheel_with_force", gravity=(0.0, -G))
     m.add_body("wheel", mass, inertia, points={"rim": rim})
-    m.add_revolute("pin", "ground", "wheel")
+    m.add_revolute("pin", "ground", "wheel", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_force("push", "wheel", force, point="rim")
     r = simulate_ok(m, 2.0, rate=200, rtol=1e-10, atol=1e-12)
     phi = r["wheel.angle"]

@@ -77,7 +77,9 @@ def hanging_mass(damping: float) -> jointgap.Model:
     m = jointgap.Model(name="spring_mass", gravity=(0.0, -G))
     m.add_ground_point("anchor", (0.0, H))
     m.add_body("mass", MASS, 0.01, position=(0.0, -U0))
-    m.add_prismatic("guide", "ground", "mass", axis=(0.0, 1.0))
+    m.add_prismatic(
+        "guide", "ground", "mass", axis=(0.0, 1.0), point_i=(0.0, 0.0), point_j=(0.0, 0.0)
+    )
     m.add_spring_damper(
         "spring",
         "ground",

@@ -61,17 +61,17 @@ def ring_and_journal(friction: laws.Law, ring_motion: jointgap.profiles.Profile,
     m = jointgap.Model("friction_rig", gravity=(0.0, -G))
     m.add_ground_point("O", (0.0, 0.0))
     m.add_body("ring", 0.5, J_RING)
-    m.add_revolute("ring_bearing", "ground", "ring", point_i="O")
+    m.add_revolute("ring_bearing", "ground", "ring", point_i="O", point_j=(0.0, 0.0))
     m.add_driver("motor", "ring_bearing", ring_motion)
     y0 = -C  # journal touching the bottom of the bearing
     m.add_body("carrier", M_CARRIER, 1e-3, position=(0.0, y0))
-    m.add_prismatic("guide", "ground", "carrier", axis=(0.0, 1.0), point_i="O")
+    m.add_prismatic("guide", "ground", "carrier", axis=(0.0, 1.0), point_i="O", point_j=(0.0, 0.0))
     weight = (M_CARRIER + (M_PIN if pin_turns else 0.0)) * G
     m.add_force("push", "carrier", (0.0, -(LOAD - weight)))
     journal = "carrier"
     if pin_turns:
         m.add_body("pin", M_PIN, J_PIN, position=(0.0, y0))
-        m.add_revolute("pin_axle", "carrier", "pin")
+        m.add_revolute("pin_axle", "carrier", "pin", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
         m.add_rotational_spring_damper("spring", "carrier", "pin", stiffness=SPRING)
         journal = "pin"
     m.add_clearance_revolute(
@@ -79,6 +79,7 @@ def ring_and_journal(friction: laws.Law, ring_motion: jointgap.profiles.Profile,
         "ring",
         journal,
         point_bearing=(0.0, 0.0),
+        point_journal=(0.0, 0.0),
         bearing_radius=R_B,
         clearance=C,
         stiffness=1e10,

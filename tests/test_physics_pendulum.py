@@ -127,7 +127,7 @@ def test_torsional_pendulum():
     inertia, k, phi0, mass = 0.02, 3.0, 0.4, 1.5
     m = jointgap.Model(name="torsional", gravity=(0.0, -G))
     m.add_body("wheel", mass, inertia, angle=phi0)
-    m.add_revolute("pin", "ground", "wheel")
+    m.add_revolute("pin", "ground", "wheel", point_i=(0.0, 0.0), point_j=(0.0, 0.0))
     m.add_rotational_spring_damper("spring", "ground", "wheel", stiffness=k, damping=0.0)
     r = simulate_ok(m, 3.0, rate=1000, rtol=1e-11, atol=1e-13, method="dopri5")
     w = math.sqrt(k / inertia)

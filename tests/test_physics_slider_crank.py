@@ -51,7 +51,9 @@ def build(sc: SliderCrank) -> jointgap.Model:
     m.add_revolute("ground_crank", "ground", "crank", point_i=(0.0, 0.0), point_j="O")
     m.add_revolute("crank_rod", "crank", "rod", point_i="A", point_j="A")
     m.add_revolute("rod_slider", "rod", "slider", point_i="B", point_j=(0.0, 0.0))
-    m.add_prismatic("slider_guide", "ground", "slider", axis=(1.0, 0.0))
+    m.add_prismatic(
+        "slider_guide", "ground", "slider", axis=(1.0, 0.0), point_i=(0.0, 0.0), point_j=(0.0, 0.0)
+    )
     m.add_driver("motor", "ground_crank", jointgap.profiles.linear_ramp(OMEGA, RAMP))
     return m
 

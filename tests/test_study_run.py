@@ -119,7 +119,7 @@ def test_failed_cases_keep_their_reason_and_the_others_finish(small) -> None:
     assert list(table.loc[bad, "status"]) == ["failed"] * 4
     assert list(table.loc[~bad, "status"]) == ["finished"] * 8
     for reason in table.loc[bad, "reason"]:
-        assert "journal radius" in reason and "below the bearing radius 0.0075 m" in reason
+        assert "clearance = 0.008 m is not smaller than bearing_radius = 0.0075 m" in reason
     assert set(table.loc[~bad, "reason"]) == {""}
     assert table.loc[bad, METRICS].isna().all().all()
     assert table.loc[~bad, METRICS].notna().all().all()

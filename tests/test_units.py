@@ -154,3 +154,32 @@ def test_dimension_algebra_and_names() -> None:
     assert u.describe(u.ANGULAR_SPEED) == "an angular speed [rad/s]"
     assert (u.MASS * u.TIME).noun() == "[kg*s]"
     assert len(u.parse_unit("g")) == 2 and len(u.parse_unit("kg")) == 1
+
+
+@pytest.mark.parametrize(
+    ("text", "dim", "expected"),
+    [
+        ("1/12 kg*m^2", u.INERTIA, 1 / 12),
+        ("2.28*(0.05^2 + 0.05^2)/12 kg*m^2", None, None),
+        ("2.28*0.05^2/6 kg*m^2", u.INERTIA, 2.28 * 0.05**2 / 6),
+        ("0.72*0.32^2/12 kg*m^2", u.INERTIA, 0.72 * 0.32**2 / 12),
+        ("-1/4 N*m", u.TORQUE, -0.25),
+        ("300/60 rev/s", u.ANGULAR_SPEED, 10 * math.pi),
+        ("2 kg*m^2/12", u.INERTIA, 1 / 6),
+        ("1e-3/4 kg", u.MASS, 2.5e-4),
+        ("5 1/s", u.FREQUENCY, 5.0),
+    ],
+)
+def test_unit_expressions_with_numbers(text: str, dim: u.Dimension | None, expected: float) -> None:
+    """A value may carry its arithmetic: factors multiply, divide and take powers like
+    units, left to right (``2 kg*m^2/12`` is a sixth of a kg*m^2)."""
+    if dim is None:  # a sum is not a product of factors: named, not misread
+        with pytest.raises(UnitError, match="cannot add or subtract"):
+            to_si(text, u.INERTIA)
+        return
+    assert to_si(text, dim) == pytest.approx(expected, rel=1e-15)
+
+
+def test_numbers_in_a_unit_keep_its_dimension_checked() -> None:
+    with pytest.raises(UnitError, match=r"expected a moment of inertia \[kg\*m\^2\], got a mass"):
+        to_si("1/12 kg", u.INERTIA)

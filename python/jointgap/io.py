@@ -95,6 +95,14 @@ class SourceMap:
         found = self._find(r"(?<![\w\-])name\s*=", start, end)
         return (found if found is not None else start) + 1
 
+    def single_array_header(self) -> tuple[str, int] | None:
+        """The first ``[body]``-style header of an array section (``[[body]]``) and its
+        1-based line, if any."""
+        for name, is_array, line in self.headers:
+            if not is_array and SECTIONS.get(name, False):
+                return name, line + 1
+        return None
+
     def _find(self, pattern: str, start: int, end: int | None) -> int | None:
         regex = re.compile(pattern)
         for n in range(start, len(self.lines) if end is None else end):
@@ -134,7 +142,17 @@ def load(path: str | PathLike[str]) -> Model:
     Raises :class:`~jointgap.ModelError` naming the file, the line, the element and the
     problem; OSError when the file cannot be read.
     """
-    text = Path(path).read_text(encoding="utf-8")
+    data = Path(path).read_bytes()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise ModelError(
+            f"not a UTF-8 text file (byte 0x{data[exc.start]:02x} at offset {exc.start}): "
+            "save the model file as UTF-8",
+            file=str(path),
+            line=line,
+        ) from None
     return loads(text, str(path))
 
 
@@ -146,6 +164,9 @@ def loads(text: str, path: str = "<string>") -> Model:
     except tomllib.TOMLDecodeError as exc:
         m = _TOML_LINE.search(str(exc))
         line = int(m.group(1)) if m else None
+        single = source.single_array_header()  # [body] twice is the reader's error
+        if single is not None:
+            raise _array_hint(single[0]).located(path, single[1]) from None
         raise ModelError(f"invalid TOML: {exc}", file=path, line=line) from None
     try:
         model = _build(data)
@@ -156,6 +177,12 @@ def loads(text: str, path: str = "<string>") -> Model:
     return model
 
 
+def _array_hint(section: str) -> ModelError:
+    return ModelError(
+        f"write [[{section}]] (one table per {section}), not [{section}]", key=section
+    )
+
+
 def _build(data: Mapping[str, Any]) -> Model:
     for section, value in data.items():
         if section not in SECTIONS:
@@ -164,9 +191,7 @@ def _build(data: Mapping[str, Any]) -> Model:
             )
         is_array = SECTIONS[section]
         if is_array and not (isinstance(value, list) and all(isinstance(v, dict) for v in value)):
-            raise ModelError(
-                f"write [[{section}]] (one table per {section}), not [{section}]", key=section
-            )
+            raise _array_hint(section)
         if not is_array and not isinstance(value, dict):
             raise ModelError(f"write [{section}] as a table", key=section)
     head = data.get("model", {})

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import copy
 import json
+import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
@@ -163,22 +164,31 @@ class Model:
         omega: Quantity | None = None,
         points: Mapping[str, Vector] | None = None,
         shape: Mapping[str, Any] | None = None,
+        com: Vector | None = None,
     ) -> Model:
-        """Adds a rigid body; coordinates are those of its centre of mass.
+        """Adds a rigid body, described in its own frame.
+
+        The frame's origin is the centre of mass unless ``com`` places the centre of mass
+        elsewhere in it (as URDF's inertial origin or an ADAMS part's cm marker): the
+        position, velocity, points and shape are then those of the frame, and the engine
+        works at the centre of mass (:meth:`to_dict`).
 
         Args:
             name: unique name (letters, digits, ``_``, ``-``).
             mass: mass [kg], > 0.
-            inertia: moment of inertia about the centre of mass [kg m^2], > 0.
-            position: approximate initial position [m], default (0, 0); the engine
-                assembles the mechanism from it.
+            inertia: moment of inertia about the centre of mass [kg m^2], >= 0 (0 for a
+                point mass whose joints fix its rotation).
+            position: approximate initial position of the frame's origin [m], default
+                (0, 0); the engine assembles the mechanism from it.
             angle: approximate initial angle [rad], default 0.
-            velocity: initial velocity [m/s], default (0, 0).
+            velocity: initial velocity of the frame's origin [m/s], default (0, 0).
             omega: initial angular velocity [rad/s], default 0.
-            points: named points in the body frame, relative to the centre of mass [m].
+            points: named points in the body frame [m].
             shape: drawing shape, e.g. ``{"type": "bar", "from": "O", "to": "A",
                 "width": "20 mm"}``, ``{"type": "block", "width": .., "height": ..}`` or
-                ``{"type": "disk", "radius": ..}``; the engine ignores it.
+                ``{"type": "disk", "radius": ..}`` (block and disk centred on the centre
+                of mass); the engine ignores it.
+            com: the centre of mass in the body frame [m]; by default the origin.
         """
         raw = {
             "name": name,
@@ -190,6 +200,7 @@ class Model:
             "omega": omega,
             "points": points,
             "shape": shape,
+            "com": com,
         }
         return self._add("body", raw)
 
@@ -206,13 +217,21 @@ class Model:
         name: str,
         body_i: str,
         body_j: str,
-        point_i: PointRef | None = None,
-        point_j: PointRef | None = None,
+        point_i: PointRef,
+        point_j: PointRef,
+        *,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
     ) -> Model:
         """Adds a pin joint: ``point_i`` of ``body_i`` and ``point_j`` of ``body_j``
-        coincide. Points are point names or local vectors [m], default (0, 0), the centre
-        of mass (for the ground: global coordinates)."""
-        return self._add_joint("revolute", name, body_i, body_j, point_i, point_j)
+        coincide. Points are point names or vectors [m] in the body frame (for the
+        ground: global coordinates); both are required.
+
+        ``initial`` and ``initial_rate`` set the joint's relative angle ``phi_j - phi_i``
+        [rad] and its rate [rad/s] at t = 0; assembly solves the other coordinates."""
+        return self._add_joint(
+            "revolute", name, body_i, body_j, point_i, point_j, None, initial, initial_rate
+        )
 
     def add_prismatic(
         self,
@@ -220,20 +239,28 @@ class Model:
         body_i: str,
         body_j: str,
         axis: Vector,
-        point_i: PointRef | None = None,
-        point_j: PointRef | None = None,
+        point_i: PointRef,
+        point_j: PointRef,
+        *,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
     ) -> Model:
         """Adds a slider: ``point_j`` stays on the line through ``point_i`` along ``axis``
-        (a direction in the frame of ``body_i``), and the relative angle is fixed."""
-        return self._add_joint("prismatic", name, body_i, body_j, point_i, point_j, axis)
+        (a direction in the frame of ``body_i``), and the relative angle is fixed.
+
+        ``initial`` and ``initial_rate`` set the travel of ``point_j`` from ``point_i``
+        along the axis [m] and its rate [m/s] at t = 0; assembly solves the rest."""
+        return self._add_joint(
+            "prismatic", name, body_i, body_j, point_i, point_j, axis, initial, initial_rate
+        )
 
     def add_fixed(
         self,
         name: str,
         body_i: str,
         body_j: str,
-        point_i: PointRef | None = None,
-        point_j: PointRef | None = None,
+        point_i: PointRef,
+        point_j: PointRef,
     ) -> Model:
         """Welds two bodies: the points coincide and the relative angle is fixed."""
         return self._add_joint("fixed", name, body_i, body_j, point_i, point_j)
@@ -244,9 +271,11 @@ class Model:
         name: str,
         body_i: str,
         body_j: str,
-        point_i: PointRef | None,
-        point_j: PointRef | None,
+        point_i: PointRef,
+        point_j: PointRef,
         axis: Vector | None = None,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
     ) -> Model:
         raw = {
             "name": name,
@@ -256,6 +285,8 @@ class Model:
             "body_j": body_j,
             "point_j": point_j,
             "axis": axis,
+            "initial": initial,
+            "initial_rate": initial_rate,
         }
         return self._add("joint", raw)
 
@@ -264,8 +295,8 @@ class Model:
         name: str,
         bearing_body: str,
         journal_body: str,
-        point_bearing: PointRef | None = None,
-        point_journal: PointRef | None = None,
+        point_bearing: PointRef,
+        point_journal: PointRef,
         *,
         bearing_radius: Quantity | None = None,
         journal_radius: Quantity | None = None,
@@ -285,8 +316,7 @@ class Model:
             name: unique name; channels ``<name>.fx fy fn ft penetration
                 penetration_rate ex ey slip mode`` and the impact list of the result.
             bearing_body, journal_body: the two bodies (either may be ``ground``).
-            point_bearing, point_journal: point names or local vectors [m], default
-                (0, 0).
+            point_bearing, point_journal: point names or vectors [m] in the body frame.
             bearing_radius, journal_radius, clearance: two of the three [m].
             stiffness: contact stiffness K [N/m^n], n the normal law's exponent; by
                 default computed from the two materials and the radii.
@@ -352,7 +382,9 @@ class Model:
     ) -> Model:
         """Adds a point-to-point spring-damper: tension ``k (l - l0) + c dl/dt``.
 
-        ``stiffness`` [N/m], ``damping`` [N s/m] and ``free_length`` [m] default to 0."""
+        ``stiffness`` [N/m], ``damping`` [N s/m] and ``free_length`` [m] default to 0;
+        the attachments ``point_i`` and ``point_j`` (point names or vectors in the body
+        frames) are required."""
         raw = {
             "name": name,
             "type": "spring_damper",
@@ -391,7 +423,8 @@ class Model:
         return self._add("force", raw)
 
     def add_force(self, name: str, body: str, force: Any, point: PointRef | None = None) -> Model:
-        """Applies a force [N] in global axes at a point of a body.
+        """Applies a force [N] in global axes at a point of a body (by default its centre
+        of mass).
 
         ``force`` is a constant ``(fx, fy)`` or a table against time:
         ``(times, [(fx, fy), ...])`` or ``{"time": [...], "value": [...]}`` (linear
@@ -468,17 +501,20 @@ class Model:
     # ------------------------------------------------------------------ conversion
 
     def to_dict(self) -> dict[str, Any]:
-        """The model as the engine reads it: plain data, SI units and radians."""
-        return {
-            "name": self._name,
-            "gravity": list(self._gravity),
-            "bodies": copy.deepcopy(self._elements["body"]),
-            "joints": copy.deepcopy(self._elements["joint"]),
-            "drivers": copy.deepcopy(self._elements["driver"]),
-            "forces": copy.deepcopy(self._elements["force"]),
-            "ground_points": copy.deepcopy(self._ground_points),
-            "markers": copy.deepcopy(self._elements["marker"]),
-        }
+        """The model as the engine reads it: plain data, SI units and radians, every body
+        in its centre-of-mass frame (:func:`_at_centres_of_mass`)."""
+        return _at_centres_of_mass(
+            {
+                "name": self._name,
+                "gravity": list(self._gravity),
+                "bodies": copy.deepcopy(self._elements["body"]),
+                "joints": copy.deepcopy(self._elements["joint"]),
+                "drivers": copy.deepcopy(self._elements["driver"]),
+                "forces": copy.deepcopy(self._elements["force"]),
+                "ground_points": copy.deepcopy(self._ground_points),
+                "markers": copy.deepcopy(self._elements["marker"]),
+            }
+        )
 
     def to_json(self, indent: int | None = None) -> str:
         """:meth:`to_dict` as JSON, the engine's input."""
@@ -673,6 +709,52 @@ class Model:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)
         except ValueError as exc:
             raise self.engine_error(exc) from None
+
+
+def _at_centres_of_mass(model: dict[str, Any]) -> dict[str, Any]:
+    """Moves every body given in its own frame (``com`` = the centre of mass in that
+    frame) to its centre-of-mass frame, the engine's, in place: the one place where
+    frames are converted.
+
+    With ``c`` the centre of mass in the body frame and ``R`` the frame's rotation, a
+    point ``s`` of the frame becomes ``s - c``; the frame origin's position ``r`` and
+    velocity ``v`` become the centre of mass's ``r + R c`` and ``v + omega k x (R c)``.
+    Joint and force points given as vectors move with their body's points; the ground
+    has no centre of mass, and the angle is the same in both frames.
+    """
+    offsets: dict[str, tuple[float, float]] = {}
+    for body in model["bodies"]:
+        cx, cy = body.pop("com", None) or (0.0, 0.0)
+        if cx == 0.0 and cy == 0.0:
+            continue
+        offsets[body["name"]] = (cx, cy)
+        body["points"] = {k: [x - cx, y - cy] for k, (x, y) in body["points"].items()}
+        shape = body.get("shape") or {}
+        for end in ("from", "to"):
+            if isinstance(shape.get(end), list):
+                shape[end] = [shape[end][0] - cx, shape[end][1] - cy]
+        c, s = math.cos(body["angle"]), math.sin(body["angle"])
+        rc = (c * cx - s * cy, s * cx + c * cy)  # R c, global axes
+        body["position"] = [body["position"][0] + rc[0], body["position"][1] + rc[1]]
+        w = body["omega"]
+        body["velocity"] = [body["velocity"][0] - w * rc[1], body["velocity"][1] + w * rc[0]]
+
+    def move(element: dict[str, Any], body_key: str, point_key: str) -> None:
+        offset = offsets.get(element.get(body_key, ""))
+        point = element.get(point_key)
+        if offset is not None and isinstance(point, list):
+            element[point_key] = [point[0] - offset[0], point[1] - offset[1]]
+
+    for joint in model["joints"]:
+        move(joint, "body_i", "point_i")
+        move(joint, "body_j", "point_j")
+    for force in model["forces"]:
+        move(force, "body_i", "point_i")
+        move(force, "body_j", "point_j")
+        move(force, "body", "point")
+    for marker in model["markers"]:
+        move(marker, "body", "point")
+    return model
 
 
 def _count(n: int, kind: str) -> str:

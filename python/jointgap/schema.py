@@ -152,9 +152,9 @@ _JOINT_COMMON = [
         doc="revolute, prismatic, fixed or clearance_revolute",
     ),
     Param("body_i", "ref", required=True, doc="first body, or ground"),
-    Param("point_i", "point", u.LENGTH, default=(0.0, 0.0), doc="joint point on body_i"),
+    Param("point_i", "point", u.LENGTH, required=True, doc="joint point on body_i"),
     Param("body_j", "ref", required=True, doc="second body (reactions are forces on it)"),
-    Param("point_j", "point", u.LENGTH, default=(0.0, 0.0), doc="joint point on body_j"),
+    Param("point_j", "point", u.LENGTH, required=True, doc="joint point on body_j"),
 ]
 
 _FORCE_HEAD = [_name(), Param("type", "choice", required=True, doc="force element kind")]
@@ -243,30 +243,47 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             "scalar",
             u.INERTIA,
             required=True,
-            bound=">0",
-            doc="moment of inertia about the centre of mass",
+            bound=">=0",
+            doc="moment of inertia about the centre of mass; 0 for a point mass whose "
+            "joints fix its rotation",
+        ),
+        Param(
+            "com",
+            "vector",
+            u.LENGTH,
+            doc="centre of mass in the body frame; by default the frame's origin",
         ),
         Param(
             "position",
             "vector",
             u.LENGTH,
             default=(0.0, 0.0),
-            doc="initial centre of mass (approximate: assembly corrects it)",
+            doc="initial position of the frame's origin (approximate: assembly corrects it)",
         ),
         Param("angle", "scalar", u.ANGLE, default=0.0, doc="initial angle (approximate)"),
-        Param("velocity", "vector", u.SPEED, default=(0.0, 0.0), doc="initial velocity"),
-        Param("omega", "scalar", u.ANGULAR_SPEED, default=0.0, doc="initial angular velocity"),
         Param(
-            "points",
-            "points",
-            u.LENGTH,
-            default={},
-            doc="named points in the body frame, relative to the centre of mass",
+            "velocity", "vector", u.SPEED, default=(0.0, 0.0), doc="initial velocity of the origin"
         ),
+        Param("omega", "scalar", u.ANGULAR_SPEED, default=0.0, doc="initial angular velocity"),
+        Param("points", "points", u.LENGTH, default={}, doc="named points in the body frame"),
         Param("shape", "shape", doc="drawing shape (bar, block or disk); ignored by the engine"),
     ],
     "joint": {
-        "revolute": _JOINT_COMMON,
+        "revolute": [
+            *_JOINT_COMMON,
+            Param(
+                "initial",
+                "scalar",
+                u.ANGLE,
+                doc="relative angle phi_j - phi_i at t = 0; assembly solves the rest",
+            ),
+            Param(
+                "initial_rate",
+                "scalar",
+                u.ANGULAR_SPEED,
+                doc="relative angular velocity at t = 0; assembly solves the rest",
+            ),
+        ],
         "prismatic": [
             *_JOINT_COMMON,
             Param(
@@ -276,6 +293,13 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
                 required=True,
                 doc="sliding direction in the frame of body_i",
             ),
+            Param(
+                "initial",
+                "scalar",
+                u.LENGTH,
+                doc="travel of point_j from point_i along the axis at t = 0",
+            ),
+            Param("initial_rate", "scalar", u.SPEED, doc="sliding speed at t = 0"),
         ],
         "fixed": _JOINT_COMMON,
         "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE],
@@ -325,9 +349,9 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         "spring_damper": [
             *_FORCE_HEAD,
             Param("body_i", "ref", required=True, doc="first body"),
-            Param("point_i", "point", u.LENGTH, default=(0.0, 0.0), doc="attachment on body_i"),
+            Param("point_i", "point", u.LENGTH, required=True, doc="attachment on body_i"),
             Param("body_j", "ref", required=True, doc="second body"),
-            Param("point_j", "point", u.LENGTH, default=(0.0, 0.0), doc="attachment on body_j"),
+            Param("point_j", "point", u.LENGTH, required=True, doc="attachment on body_j"),
             Param("stiffness", "scalar", u.STIFFNESS, default=0.0, bound=">=0", doc="stiffness"),
             Param("damping", "scalar", u.DAMPING, default=0.0, bound=">=0", doc="damping"),
             Param("free_length", "scalar", u.LENGTH, default=0.0, bound=">=0", doc="free length"),
@@ -363,7 +387,12 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         "applied_force": [
             *_FORCE_HEAD,
             Param("body", "ref", required=True, doc="loaded body"),
-            Param("point", "point", u.LENGTH, default=(0.0, 0.0), doc="point of application"),
+            Param(
+                "point",
+                "point",
+                u.LENGTH,
+                doc="point of application; by default the centre of mass",
+            ),
             Param(
                 "force",
                 "vector_signal",

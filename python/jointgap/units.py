@@ -2,10 +2,11 @@
 
 Inside jointgap every number is SI (kg, m, s, N) and angles are radians. Users may
 write a quantity as a plain number (taken as SI) or as a string ``"<number> <unit>"``.
-The unit expression multiplies and divides unit names (``*``, ``/``, a space also
-multiplies) and raises them to powers (``^``, exponents may be fractional:
-``N/m^1.5``, ``m^(3/2)``). SI prefixes (G, M, k, c, m, u or µ, n) apply to the metric
-units m, g, s, N, Pa, J, W, Hz and rad.
+The unit expression multiplies and divides unit names and numbers (``*``, ``/``, a
+space also multiplies) and raises them to powers (``^``, exponents may be fractional:
+``N/m^1.5``, ``m^(3/2)``), so a value may carry its own arithmetic:
+``"1/12 kg*m^2"``, ``"2.28*0.05^2/6 kg*m^2"``. SI prefixes (G, M, k, c, m, u or µ,
+n) apply to the metric units m, g, s, N, Pa, J, W, Hz and rad.
 
 Dimensions are exponents of mass, length, time and angle. The angle is dimensionless
 in SI (1 rad = 1) but tracked here, strictly: a field that expects an angular speed
@@ -208,7 +209,10 @@ _PREFIXES = {
 }
 
 _NUMBER = re.compile(r"\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?)")
-_TOKEN = re.compile(r"\s*(?:(\*\*|[*/^()·+-])|([A-Za-zµμ°_]+)|(\d+(?:\.\d*)?|\.\d+))")
+_TOKEN = re.compile(
+    r"\s*(?:(\*\*|[*/^()·+-])|(\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)"
+    r"|([A-Za-zµμ°_]+))"
+)
 
 _Interpretations = list[tuple[Factor, Dimension]]
 
@@ -242,7 +246,7 @@ def _lookup(name: str) -> _Interpretations:
 class _UnitParser:
     """Recursive descent over a unit expression; each term keeps its interpretations.
 
-    expr := term (('*' | '/' | space) term)* ;  term := (name | '1' | '(' expr ')') ['^' exp]
+    expr := term (('*' | '/' | space) term)* ;  term := (name | number | '(' expr ')') ['^' exp]
     exp := ['-' | '+'] (number | '(' number ['/' number] ')')
     Products and quotients associate to the left: ``N*s/m`` is ``(N*s)/m``.
     """
@@ -255,7 +259,7 @@ class _UnitParser:
             m = _TOKEN.match(self.text, pos)
             if m is None:
                 raise self.error(self.text[pos:].strip())
-            op, name, num = m.groups()
+            op, num, name = m.groups()
             if op is not None:
                 self.tokens.append(("op", {"**": "^", "·": "*"}.get(op, op)))
             elif name is not None:
@@ -299,8 +303,13 @@ class _UnitParser:
             elif tok == ("op", "/"):
                 self.take()
                 acc = _combine(acc, self.term(), -1)
-            elif tok is not None and (tok[0] == "name" or tok == ("op", "(")):
+            elif tok is not None and (tok[0] in ("name", "num") or tok == ("op", "(")):
                 acc = _combine(acc, self.term(), 1)  # a space multiplies: "N m"
+            elif tok in (("op", "+"), ("op", "-")):
+                raise UnitError(
+                    f"cannot add or subtract in '{self.text}': a quantity is a product of "
+                    "numbers and units"
+                )
             else:
                 return acc
 
@@ -311,8 +320,8 @@ class _UnitParser:
         elif (kind, value) == ("op", "("):
             base = self.expr()
             self.expect(("op", ")"))
-        elif kind == "num" and float(value) == 1.0:
-            base = [(_F(1), DIMENSIONLESS)]  # as in "1/s"
+        elif kind == "num":
+            base = [(_F(value), DIMENSIONLESS)]  # as in "1/s" or "1/12 kg*m^2"
         else:
             raise self.error(value)
         if self.peek() == ("op", "^"):
@@ -369,11 +378,17 @@ def parse_unit(expr: str) -> list[tuple[Factor, Dimension]]:
 
 
 def _split(text: str) -> tuple[Fraction, str]:
-    """Splits ``"<number> <unit>"``; the number is kept exact."""
+    """Splits ``"<number> <unit>"``; the number is kept exact. A number followed by an
+    operator (``"1/12 kg*m^2"``, ``"0.05^2 kg"``) leaves only its sign outside: the rest
+    is a product of numbers and units for :func:`parse_unit`."""
     m = _NUMBER.match(text)
     if m is None:
         raise UnitError(f"'{text}': malformed number")
     rest = text[m.end() :].strip()
+    if rest[:1] in ("/", "*", "^", "·"):
+        number = m.group(1)
+        sign = Fraction(-1) if number.startswith("-") else Fraction(1)
+        return sign, number.lstrip("+-") + rest
     if (rest[:1] in (".", ",") or rest[:1].isdigit()) and not re.match(r"1\s*/", rest):
         raise UnitError(f"'{text}': malformed number")
     return Fraction(m.group(1)), rest

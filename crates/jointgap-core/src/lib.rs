@@ -10,6 +10,7 @@
 pub mod contact;
 pub mod drivers;
 pub mod forces;
+mod magnitudes;
 pub mod math;
 pub mod measures;
 pub mod model;

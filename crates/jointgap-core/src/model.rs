@@ -63,7 +63,8 @@ pub struct Body {
     pub name: String,
     /// Mass [kg], > 0.
     pub mass: f64,
-    /// Moment of inertia about the centre of mass [kg m^2], > 0.
+    /// Moment of inertia about the centre of mass [kg m^2], >= 0; zero (a point mass)
+    /// only where the body's joints fix its rotation.
     pub inertia: f64,
     /// Approximate initial position of the centre of mass [m]; assembly corrects it.
     #[serde(default)]
@@ -112,13 +113,11 @@ pub struct Joint {
     pub kind: JointKind,
     /// First body (reactions are reported as forces on the second body).
     pub body_i: String,
-    /// Joint point on the first body.
-    #[serde(default)]
+    /// Joint point on the first body; required, since no default can be right for it.
     pub point_i: PointRef,
     /// Second body.
     pub body_j: String,
-    /// Joint point on the second body.
-    #[serde(default)]
+    /// Joint point on the second body; required.
     pub point_j: PointRef,
     /// Sliding direction of a prismatic joint in the frame of `body_i` (normalised by
     /// the engine); required for `prismatic`, rejected for the others.
@@ -128,6 +127,15 @@ pub struct Joint {
     /// required for that type, rejected for the others.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clearance: Option<Clearance>,
+    /// Joint coordinate at t = 0 of a revolute (relative angle `phi_j - phi_i` [rad]) or
+    /// prismatic joint (travel of `point_j` from `point_i` along the axis [m]); assembly
+    /// solves the other coordinates. By default free: assembly keeps it near the placement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial: Option<f64>,
+    /// Rate of that coordinate at t = 0 [rad/s or m/s]; assembly solves the other
+    /// velocities. By default free.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub initial_rate: Option<f64>,
 }
 
 /// The closed set of ideal joints.
@@ -411,13 +419,11 @@ pub enum Force {
         name: String,
         /// First body.
         body_i: String,
-        /// Attachment point on the first body.
-        #[serde(default)]
+        /// Attachment point on the first body; required.
         point_i: PointRef,
         /// Second body.
         body_j: String,
-        /// Attachment point on the second body.
-        #[serde(default)]
+        /// Attachment point on the second body; required.
         point_j: PointRef,
         /// Stiffness [N/m], >= 0.
         #[serde(default)]
@@ -454,7 +460,7 @@ pub enum Force {
         name: String,
         /// Loaded body.
         body: String,
-        /// Point of application.
+        /// Point of application; by default the centre of mass.
         #[serde(default)]
         point: PointRef,
         /// Force vector (global axes), constant or against time.

@@ -19,8 +19,30 @@ pub struct BodyInfo {
     pub name: String,
     /// Mass [kg].
     pub mass: f64,
-    /// Centroidal moment of inertia [kg m^2].
+    /// Centroidal moment of inertia [kg m^2]. For a point mass (inertia 0 in the model)
+    /// whose joints hold its rotation fixed, a stand-in (see [`point_mass_inertia`]): its
+    /// angular acceleration is then zero, so the motion and the reactions do not depend
+    /// on it, and the mass matrix stays invertible.
     pub inertia: f64,
+}
+
+/// A joint coordinate given at t = 0 (a joint's `initial` and `initial_rate`): a row that
+/// assembly alone solves, with the joints and drivers, and that the run then drops.
+#[derive(Debug, Clone)]
+pub struct InitialCondition {
+    /// Body i of the joint (`None`: ground).
+    pub body_i: Option<usize>,
+    /// Body j of the joint.
+    pub body_j: Option<usize>,
+    /// The joint coordinate as a row: `Angle` (revolute) or `Along` the axis (prismatic),
+    /// its offset the given coordinate.
+    pub kind: RowKind,
+    /// True when the coordinate is given (else only its rate).
+    pub placed: bool,
+    /// The given rate [rad/s or m/s].
+    pub rate: Option<f64>,
+    /// For messages, e.g. `joint 'ground_crank' (initial angle)`.
+    pub label: String,
 }
 
 /// Which element a constraint row belongs to.
@@ -114,7 +136,10 @@ pub struct System {
     pub v_guess: Vec<f64>,
     /// Times where a prescribed input has a corner; steps stop there.
     pub corners: Vec<f64>,
-    /// Notes for the user (redundant constraints removed, ...).
+    /// Joint coordinates and rates given at t = 0, for assembly.
+    pub initial_conditions: Vec<InitialCondition>,
+    /// Notes for the user: implausible magnitudes (`magnitudes`), redundant constraints
+    /// removed by assembly, ...
     pub warnings: Vec<String>,
 }
 
@@ -190,9 +215,120 @@ fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<(), Error> {
     }
 }
 
+/// The row of joint `k`'s coordinate (relative angle of a revolute joint, travel of a
+/// prismatic one along its axis) with its value at t = 0: `initial`, else the value at the
+/// placement; and whether it is a rotation. `None` for fixed and clearance joints.
+fn coordinate_row(
+    model: &Model,
+    res: &Resolver,
+    joints: &[JointInfo],
+    k: usize,
+    initial: Option<f64>,
+) -> Option<(RowKind, bool)> {
+    let joint = &joints[k];
+    let (pi, pj) = (res.placement(joint.body_i), res.placement(joint.body_j));
+    match joint.kind {
+        JointKind::Revolute => {
+            Some((RowKind::Angle { offset: initial.unwrap_or(pj.phi() - pi.phi()) }, true))
+        }
+        JointKind::Prismatic => {
+            let axis = model.joints[k].axis.expect("checked with the joint");
+            let u = Vec2::new(axis[0], axis[1]).normalize();
+            let here = pj.r + pj.rotate(joint.s_j) - pi.r - pi.rotate(joint.s_i);
+            let placed = pi.rotate(u).dot(&here);
+            Some((
+                RowKind::Along { s_i: joint.s_i, w: u, s_j: joint.s_j, offset: initial.unwrap_or(placed) },
+                false,
+            ))
+        }
+        JointKind::Fixed | JointKind::ClearanceRevolute => None,
+    }
+}
+
+/// Gives each point mass (a body of zero inertia) a stand-in inertia where its joints
+/// fix its rotation, or an error naming the free rotation.
+///
+/// A body's rotation is fixed when the angle rows of prismatic and fixed joints tie it to
+/// the ground, directly or through bodies so tied. Its angular acceleration is then zero
+/// at all times, so its inertia multiplies zero in every equation: any value gives the
+/// same motion and reactions, and a positive one keeps `M` invertible for the Schur
+/// complement. The stand-in is the body's mass times the square of the largest distance
+/// of a joint point from its centre of mass in the model (1 m when all sit at centres of
+/// mass), which keeps the Schur complement's rows of one scale. A rotation held by a
+/// driver is not fixed in this sense: the motor's torque would carry the stand-in.
+fn point_mass_inertia(
+    model: &Model,
+    rows: &[Row],
+    joints: &[JointInfo],
+    bodies: &mut [BodyInfo],
+) -> Result<(), Error> {
+    if bodies.iter().all(|b| b.inertia > 0.0) {
+        return Ok(());
+    }
+    let mut fixed = vec![false; bodies.len()];
+    let held = |b: Option<usize>, fixed: &[bool]| b.is_none_or(|k| fixed[k]);
+    loop {
+        let mut grew = false;
+        for row in rows.iter().filter(|r| matches!(r.kind, RowKind::Angle { .. }) && r.driver.is_none()) {
+            for (a, b) in [(row.body_i, row.body_j), (row.body_j, row.body_i)] {
+                if let Some(k) = b {
+                    if !fixed[k] && held(a, &fixed) {
+                        fixed[k] = true;
+                        grew = true;
+                    }
+                }
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    let reach = joints
+        .iter()
+        .flat_map(|j| [j.s_i.norm(), j.s_j.norm()])
+        .chain(model.bodies.iter().flat_map(|b| b.points.values().map(|p| p[0].hypot(p[1]))))
+        .fold(0.0, f64::max);
+    let length = if reach > 0.0 { reach } else { 1.0 };
+    for (k, b) in bodies.iter_mut().enumerate() {
+        if b.inertia > 0.0 {
+            continue;
+        }
+        if !fixed[k] {
+            let mine: Vec<String> = joints
+                .iter()
+                .filter(|j| j.body_i == Some(k) || j.body_j == Some(k))
+                .map(|j| {
+                    let kind = match j.kind {
+                        JointKind::Revolute => "revolute",
+                        JointKind::Prismatic => "prismatic",
+                        JointKind::Fixed => "fixed",
+                        JointKind::ClearanceRevolute => "clearance_revolute",
+                    };
+                    format!("'{}' {kind}", j.name)
+                })
+                .collect();
+            return Err(Error::Model(format!(
+                "body '{}': inertia = 0 (a point mass) needs its rotation fixed by its joints, but its \
+                 rotation is free: no prismatic or fixed joint ties it to the ground or to a body that \
+                 cannot turn (its joints: {}); give its moment of inertia",
+                b.name,
+                if mine.is_empty() { "none".to_string() } else { mine.join(", ") }
+            )));
+        }
+        b.inertia = b.mass * length * length;
+    }
+    Ok(())
+}
+
 impl System {
     /// Checks and compiles a model.
     pub fn new<'m>(model: &'m Model) -> Result<System, Error> {
+        if model.bodies.is_empty() {
+            return Err(Error::Model(
+                "the model has no bodies: a mechanism needs at least one [[body]] (is the file empty?)"
+                    .into(),
+            ));
+        }
         check_finite("model", "gravity", &model.gravity)?;
         let mut seen: HashMap<&str, &str> = HashMap::new();
         let mut claim = |kind: &'static str, name: &'m str| -> Result<(), Error> {
@@ -215,8 +351,11 @@ impl System {
             if !(b.mass.is_finite() && b.mass > 0.0) {
                 return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
             }
-            if !(b.inertia.is_finite() && b.inertia > 0.0) {
-                return Err(Error::Model(format!("{who}: inertia = {} kg m^2 must be positive", b.inertia)));
+            if !(b.inertia.is_finite() && b.inertia >= 0.0) {
+                return Err(Error::Model(format!(
+                    "{who}: inertia = {} kg m^2 must not be negative",
+                    b.inertia
+                )));
             }
             check_finite(&who, "position", &b.position)?;
             check_finite(&who, "angle", &[b.angle])?;
@@ -330,33 +469,20 @@ impl System {
             if let Some(v) = d.initial {
                 check_finite(&who, "initial", &[v])?;
             }
-            let (pi, pj) = (res.placement(joint.body_i), res.placement(joint.body_j));
-            let (kind, rotation) = match joint.kind {
-                JointKind::Revolute => {
-                    (RowKind::Angle { offset: d.initial.unwrap_or(pj.phi() - pi.phi()) }, true)
-                }
-                JointKind::Prismatic => {
-                    let axis = model.joints[jk].axis.expect("checked above");
-                    let u = Vec2::new(axis[0], axis[1]).normalize();
-                    let here = pj.r + pj.rotate(joint.s_j) - pi.r - pi.rotate(joint.s_i);
-                    let placed = pi.rotate(u).dot(&here);
-                    (
-                        RowKind::Along {
-                            s_i: joint.s_i,
-                            w: u,
-                            s_j: joint.s_j,
-                            offset: d.initial.unwrap_or(placed),
-                        },
-                        false,
-                    )
-                }
-                JointKind::Fixed | JointKind::ClearanceRevolute => {
-                    return Err(Error::Model(format!(
-                        "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
-                        d.joint,
-                        if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
-                    )));
-                }
+            if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
+                return Err(Error::Model(format!(
+                    "joint '{}': initial and initial_rate cannot be given for a driven joint \
+                     (driver '{}' sets its motion): give its coordinate at t = 0 as the \
+                     driver's initial",
+                    d.joint, d.name
+                )));
+            }
+            let Some((kind, rotation)) = coordinate_row(model, &res, &joints, jk, d.initial) else {
+                return Err(Error::Model(format!(
+                    "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                    d.joint,
+                    if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+                )));
             };
             corners.extend(profile.corners());
             rows.push(Row {
@@ -374,6 +500,34 @@ impl System {
                 rotation,
                 profile,
                 row: rows.len() - 1,
+            });
+        }
+
+        let mut initial_conditions = Vec::new();
+        for (k, j) in model.joints.iter().enumerate() {
+            if j.initial.is_none() && j.initial_rate.is_none() {
+                continue;
+            }
+            let who = format!("joint '{}'", j.name);
+            check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
+            check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
+            let Some((kind, rotation)) = coordinate_row(model, &res, &joints, k, j.initial) else {
+                return Err(Error::Model(format!(
+                    "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
+                )));
+            };
+            let what = match (j.initial.is_some(), rotation) {
+                (true, true) => "initial angle",
+                (true, false) => "initial travel",
+                (false, _) => "initial rate",
+            };
+            initial_conditions.push(InitialCondition {
+                body_i: joints[k].body_i,
+                body_j: joints[k].body_j,
+                kind,
+                placed: j.initial.is_some(),
+                rate: j.initial_rate,
+                label: format!("{who} ({what})"),
             });
         }
 
@@ -401,7 +555,8 @@ impl System {
             q_guess.extend([b.position[0], b.position[1], b.angle]);
             v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
         }
-        Ok(System {
+        point_mass_inertia(model, &rows, &joints, &mut bodies)?;
+        let mut system = System {
             bodies,
             joints,
             drivers,
@@ -413,8 +568,11 @@ impl System {
             q_guess,
             v_guess,
             corners,
+            initial_conditions,
             warnings: Vec::new(),
-        })
+        };
+        system.warnings = crate::magnitudes::warnings(model, &system);
+        Ok(system)
     }
 
     /// Number of coordinates (3 per moving body).

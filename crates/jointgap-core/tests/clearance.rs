@@ -14,7 +14,7 @@ fn free_journal(velocity: [f64; 2], omega: f64, gravity: f64, law: Value, fricti
             "gravity": [0.0, -gravity],
             "bodies": [{"name": "pin", "mass": 0.72, "inertia": 1e-5, "velocity": velocity, "omega": omega}],
             "joints": [{
-                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin",
+                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0],
                 "clearance": {"bearing_radius": 7.5e-3, "clearance": CLEARANCE, "stiffness": K,
                               "normal_law": law, "friction": friction}
             }]
@@ -121,7 +121,11 @@ fn bad_clearance_data_is_named() {
     let cases = [
         (
             json!({"bearing_radius": 7e-3, "journal_radius": 7.5e-3, "stiffness": K, "normal_law": law}),
-            "below the bearing radius",
+            "journal_radius = 0.0075 m must be smaller than bearing_radius = 0.007 m",
+        ),
+        (
+            json!({"bearing_radius": 7.5e-3, "clearance": 1e-2, "stiffness": K, "normal_law": law}),
+            "clearance = 0.01 m is not smaller than bearing_radius = 0.0075 m",
         ),
         (
             json!({"bearing_radius": 7.5e-3, "clearance": -1e-4, "stiffness": K, "normal_law": law}),
@@ -143,7 +147,7 @@ fn bad_clearance_data_is_named() {
     for (clearance, expected) in cases {
         let model = json!({
             "bodies": [{"name": "pin", "mass": 1.0, "inertia": 1e-5}],
-            "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin", "clearance": clearance}]
+            "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0], "clearance": clearance}]
         });
         let err = simulate(&Model::from_json(&model.to_string()).unwrap(), &SimOptions::new(0.01))
             .unwrap_err()
@@ -152,7 +156,7 @@ fn bad_clearance_data_is_named() {
     }
     let model = json!({
         "bodies": [{"name": "pin", "mass": 1.0, "inertia": 1e-5}],
-        "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "pin", "body_j": "pin",
+        "joints": [{"name": "gap", "type": "clearance_revolute", "body_i": "pin", "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0],
                     "clearance": {"bearing_radius": 7.5e-3, "clearance": 5e-4, "stiffness": K, "normal_law": law}}]
     });
     let err = simulate(&Model::from_json(&model.to_string()).unwrap(), &SimOptions::new(0.01))

@@ -23,10 +23,10 @@ pub fn slider_crank(gravity: f64) -> Model {
                 {"name": "slider", "mass": 2.28, "inertia": 0.001, "position": [R + L, 0.0]}
             ],
             "joints": [
-                {"name": "ground_crank", "type": "revolute", "body_i": "ground", "body_j": "crank", "point_j": "O"},
+                {"name": "ground_crank", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "crank", "point_j": "O"},
                 {"name": "crank_rod", "type": "revolute", "body_i": "crank", "point_i": "A", "body_j": "rod", "point_j": "A"},
-                {"name": "rod_slider", "type": "revolute", "body_i": "slider", "body_j": "rod", "point_j": "B"},
-                {"name": "slider_guide", "type": "prismatic", "body_i": "ground", "body_j": "slider", "axis": [1.0, 0.0]}
+                {"name": "rod_slider", "type": "revolute", "body_i": "slider", "point_i": [0.0, 0.0], "body_j": "rod", "point_j": "B"},
+                {"name": "slider_guide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "slider", "point_j": [0.0, 0.0], "axis": [1.0, 0.0]}
             ],
             "drivers": [
                 {"name": "motor", "joint": "ground_crank",
@@ -45,7 +45,7 @@ pub fn slider_crank_clearance() -> Model {
     let joints = raw["joints"].as_array_mut().unwrap();
     let k = joints.iter().position(|j| j["name"] == "rod_slider").unwrap();
     joints[k] = json!({
-        "name": "rod_slider", "type": "clearance_revolute", "body_i": "slider", "body_j": "rod",
+        "name": "rod_slider", "type": "clearance_revolute", "body_i": "slider", "point_i": [0.0, 0.0], "body_j": "rod",
         "point_j": "B",
         "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3,
                       "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},

@@ -116,6 +116,8 @@ fn driver_on_a_locked_joint_is_an_error() {
         point_j: jointgap_core::model::PointRef::Named("O".into()),
         axis: None,
         clearance: None,
+        initial: None,
+        initial_rate: None,
     });
     let err = simulate(&model, &SimOptions::new(0.1)).unwrap_err().to_string();
     assert!(err.contains("driver 'motor'") && err.contains("cannot move"), "{err}");
@@ -146,16 +148,16 @@ fn bad_elements_are_named() {
         ),
         (
             json!({"bodies": [{"name": "b", "mass": 1.0, "inertia": -1.0}]}),
-            "body 'b': inertia = -1 kg m^2 must be positive",
+            "body 'b': inertia = -1 kg m^2 must not be negative",
         ),
         (
             json!({"bodies": [{"name": "b", "mass": 1.0, "inertia": 1.0}],
-                   "joints": [{"name": "j", "type": "revolute", "body_i": "ground", "body_j": "bb"}]}),
+                   "joints": [{"name": "j", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "bb", "point_j": [0.0, 0.0]}]}),
             "joint 'j': body_j 'bb' is not a body of the model",
         ),
         (
             json!({"bodies": [{"name": "b", "mass": 1.0, "inertia": 1.0}],
-                   "joints": [{"name": "j", "type": "revolute", "body_i": "b", "body_j": "b"}]}),
+                   "joints": [{"name": "j", "type": "revolute", "body_i": "b", "point_i": [0.0, 0.0], "body_j": "b", "point_j": [0.0, 0.0]}]}),
             "joint 'j': connects body 'b' to itself",
         ),
         (
@@ -164,12 +166,12 @@ fn bad_elements_are_named() {
         ),
         (
             json!({"bodies": [{"name": "b", "mass": 1.0, "inertia": 1.0}],
-                   "joints": [{"name": "j", "type": "prismatic", "body_i": "ground", "body_j": "b"}]}),
+                   "joints": [{"name": "j", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "b", "point_j": [0.0, 0.0]}]}),
             "joint 'j': a prismatic joint needs an 'axis'",
         ),
         (
             json!({"bodies": [{"name": "b", "mass": 1.0, "inertia": 1.0}],
-                   "joints": [{"name": "j", "type": "revolute", "body_i": "ground", "body_j": "b", "point_j": "P"}]}),
+                   "joints": [{"name": "j", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "b", "point_j": "P"}]}),
             "joint 'j': point_j 'P' is not a point of body 'b'",
         ),
     ];

@@ -58,7 +58,7 @@ fn equals_forward_differences_without_constraints() {
             "gravity": [0.0, -9.81],
             "bodies": [{"name": "pin", "mass": 0.72, "inertia": 1e-5}],
             "joints": [{
-                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "body_j": "pin",
+                "name": "gap", "type": "clearance_revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0],
                 "clearance": {"bearing_radius": 7.5e-3, "clearance": 0.5e-3, "stiffness": 3.136e10,
                               "normal_law": {"type": "adams_impact", "c_max": 27960.0, "d_max": 1e-5},
                               "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05,

@@ -100,7 +100,7 @@ fn driven_arm_on_a_driven_arm_matches_the_dense_augmented_solve() {
         "gravity": [0.0, -9.81],
         "bodies": [link("upper", 0.2), link("lower", 0.6)],
         "joints": [
-            {"name": "shoulder", "type": "revolute", "body_i": "ground", "body_j": "upper", "point_j": "a"},
+            {"name": "shoulder", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "upper", "point_j": "a"},
             {"name": "elbow", "type": "revolute", "body_i": "upper", "point_i": "b", "body_j": "lower", "point_j": "a"}
         ],
         "drivers": [
@@ -129,8 +129,8 @@ fn driven_slider_matches_the_dense_augmented_solve() {
                  "points": {"top": [0.0, 0.3]}}
             ],
             "joints": [
-                {"name": "guide", "type": "prismatic", "body_i": "ground", "body_j": "carriage", "axis": [0.92, 0.39]},
-                {"name": "hinge", "type": "revolute", "body_i": "carriage", "body_j": "bob", "point_j": "top"}
+                {"name": "guide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "carriage", "point_j": [0.0, 0.0], "axis": [0.92, 0.39]},
+                {"name": "hinge", "type": "revolute", "body_i": "carriage", "point_i": [0.0, 0.0], "body_j": "bob", "point_j": "top"}
             ],
             "drivers": [
                 {"name": "screw", "joint": "guide", "profile": {"type": "linear_ramp", "speed": 0.8, "ramp_time": 0.3}}
@@ -178,7 +178,7 @@ fn driven_arm_torques_equal_the_closed_form_inverse_dynamics() {
             "gravity": [0.0, -g],
             "bodies": [link("upper", l / 2.0), link("lower", 1.5 * l)],
             "joints": [
-                {"name": "shoulder", "type": "revolute", "body_i": "ground", "body_j": "upper", "point_j": "a"},
+                {"name": "shoulder", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "upper", "point_j": "a"},
                 {"name": "elbow", "type": "revolute", "body_i": "upper", "point_i": "b", "body_j": "lower", "point_j": "a"}
             ],
             "drivers": [

@@ -22,7 +22,7 @@ fn stiff_spring_takes_far_fewer_steps_than_dopri5() {
         &json!({
             "gravity": [0.0, 0.0],
             "bodies": [{"name": "mass", "mass": 1.0, "inertia": 1.0, "position": [l0 + u0, 0.0]}],
-            "joints": [{"name": "guide", "type": "prismatic", "body_i": "ground", "body_j": "mass", "axis": [1.0, 0.0]}],
+            "joints": [{"name": "guide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "mass", "point_j": [0.0, 0.0], "axis": [1.0, 0.0]}],
             "forces": [{"name": "spring", "type": "spring_damper", "body_i": "ground", "point_i": [0.0, 0.0],
                         "body_j": "mass", "point_j": [0.0, 0.0], "stiffness": k, "damping": c, "free_length": l0}]
         })

@@ -19,14 +19,13 @@ fn chain(n: usize) -> Model {
         .collect();
     let joints: Vec<_> = (0..n)
         .map(|k| {
-            let (body_i, point_i) =
-                if k == 0 { ("ground".to_string(), None) } else { (format!("bar{}", k - 1), Some("R")) };
-            let mut j = json!({"name": format!("j{k}"), "type": "revolute", "body_i": body_i,
-                               "body_j": format!("bar{k}"), "point_j": "L"});
-            if let Some(p) = point_i {
-                j["point_i"] = json!(p);
-            }
-            j
+            let (body_i, point_i) = if k == 0 {
+                ("ground".to_string(), json!([0.0, 0.0]))
+            } else {
+                (format!("bar{}", k - 1), json!("R"))
+            };
+            json!({"name": format!("j{k}"), "type": "revolute", "body_i": body_i, "point_i": point_i,
+                   "body_j": format!("bar{k}"), "point_j": "L"})
         })
         .collect();
     Model::from_json(

@@ -123,9 +123,19 @@ impl ClearanceRevolute {
                 )));
             }
         };
-        if r_journal <= 0.0 || r_journal >= r_bearing {
+        // Said in the keys the user gave: a clearance that leaves no journal, or a
+        // journal that does not fit its bearing.
+        if r_journal <= 0.0 {
             return Err(Error::Model(format!(
-                "{who}: journal radius {r_journal} m must be positive and below the bearing radius {r_bearing} m"
+                "{who}: clearance = {} m is not smaller than bearing_radius = {r_bearing} m: \
+                 the clearance is the radial gap between bearing and journal, a small fraction \
+                 of the bearing radius (check the units)",
+                c.clearance.unwrap_or(r_bearing - r_journal)
+            )));
+        }
+        if r_journal >= r_bearing {
+            return Err(Error::Model(format!(
+                "{who}: journal_radius = {r_journal} m must be smaller than bearing_radius = {r_bearing} m"
             )));
         }
         let (stiffness, d_max_default) = match (c.stiffness, &c.bearing_material, &c.journal_material) {

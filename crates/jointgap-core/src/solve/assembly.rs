@@ -1,10 +1,13 @@
-//! Initial conditions: Newton solve of the position constraints from the user's
-//! approximate placement, detection of redundant rows, then the velocity constraints.
+//! Initial conditions: Newton solve of the position constraints (and of the joint
+//! coordinates given at t = 0) from the user's approximate placement, detection of
+//! redundant rows, then the velocity constraints (and the given joint rates).
 
 use nalgebra::{DMatrix, DVector};
 
 use super::dynamics::{constraints, Workspace};
-use crate::system::{Owner, System};
+use crate::drivers::Motion;
+use crate::planar::RowEval;
+use crate::system::{InitialCondition, Owner, System};
 use crate::Error;
 
 /// Residual that counts as assembled [m or rad].
@@ -33,49 +36,69 @@ fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
     svd.solve(b, tol).unwrap_or_else(|_| DVector::zeros(a.ncols()))
 }
 
-/// Assembles the mechanism at t = 0.
+/// Assembles the mechanism at t = 0: the joints, the drivers and the joint coordinates
+/// given as initial conditions hold exactly; the placement and the bodies' velocities
+/// change as little as they must (a warning names each given velocity that changes).
 pub fn assemble(sys: &System) -> Result<Assembled, Error> {
     let all: Vec<usize> = (0..sys.rows.len()).collect();
     let mut ws = Workspace::in_order(sys, all.clone());
     let mut q = sys.q_guess.clone();
     let v0 = sys.v_guess.clone();
     let t = 0.0;
-    if !all.is_empty() {
+    let placing: Vec<&InitialCondition> = sys.initial_conditions.iter().filter(|ic| ic.placed).collect();
+    // Residuals and Jacobian of the joints and drivers, then of the given coordinates.
+    let mut residuals = |q: &[f64]| -> (DVector<f64>, DMatrix<f64>) {
+        constraints(sys, t, q, &v0, &mut ws);
+        let m = ws.c.len();
+        let mut c = ws.c.clone().resize_vertically(m + placing.len(), 0.0);
+        let mut cq = ws.dense_jacobian().resize_vertically(m + placing.len(), 0.0);
+        for (a, ic) in placing.iter().enumerate() {
+            c[m + a] = initial_row(sys, ic, q, &v0, &mut cq, m + a).c;
+        }
+        (c, cq)
+    };
+    let mut fit = residuals(&q);
+    if fit.0.nrows() > 0 {
         let mut converged = false;
         for _ in 0..100 {
-            constraints(sys, t, &q, &v0, &mut ws);
-            let r0 = ws.c.amax();
+            let r0 = fit.0.amax();
             if r0 <= ASSEMBLY_TOL {
                 converged = true;
                 break;
             }
-            let dq = min_norm_solve(&ws.dense_jacobian(), &ws.c);
+            let dq = min_norm_solve(&fit.1, &fit.0);
             // Damped Newton: halve the step while the residual grows.
             let mut step = 1.0;
             let mut trial = q.clone();
+            let mut next = fit.clone();
             for _ in 0..30 {
                 for j in 0..q.len() {
                     trial[j] = q[j] - step * dq[j];
                 }
-                constraints(sys, t, &trial, &v0, &mut ws);
-                if ws.c.amax() < r0 {
+                next = residuals(&trial);
+                if next.0.amax() < r0 {
                     break;
                 }
                 step *= 0.5;
             }
-            if ws.c.amax() >= r0 {
+            if next.0.amax() >= r0 {
                 break; // stalled: the constraints cannot all be met from here
             }
             q.clone_from(&trial);
+            fit = next;
         }
         if !converged {
-            constraints(sys, t, &q, &v0, &mut ws);
+            if !placing.is_empty() {
+                check_initial_conditions(sys, &q, &v0)?; // over-specified: say so
+            }
+            let m = sys.rows.len();
             let mut off: Vec<(usize, f64)> =
-                ws.c.iter().enumerate().filter(|(_, c)| c.abs() > 1e-6).map(|(r, c)| (r, c.abs())).collect();
+                fit.0.iter().enumerate().filter(|(_, c)| c.abs() > 1e-6).map(|(r, c)| (r, c.abs())).collect();
             off.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
             let mut names: Vec<String> = Vec::new();
             for (r, c) in off {
-                let who = element_name(sys, sys.rows[r].owner);
+                let who =
+                    if r < m { element_name(sys, sys.rows[r].owner) } else { placing[r - m].label.clone() };
                 if !names.iter().any(|n| n.starts_with(&who)) {
                     names.push(format!("{who} (off by {c:.3e})"));
                 }
@@ -85,25 +108,109 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
             }
             return Err(Error::Assembly(format!(
                 "cannot assemble the mechanism from the given placement: {} cannot be satisfied; \
-                 check the joint points, the body positions and angles, and the driver's initial value",
+                 check the joint points, the body positions and angles, the driver's initial value \
+                 and the joints' initial coordinates",
                 names.join(", ")
             )));
         }
     }
-    let (active, warnings) = independent_rows(sys, &ws.dense_jacobian())?;
-    // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct.
+    let (active, warnings, given) = check_initial_conditions(sys, &q, &v0)?;
+    // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct and
+    // gives each joint rate that was given.
     let mut ws = Workspace::in_order(sys, active.clone());
     constraints(sys, t, &q, &v0, &mut ws);
+    let rates: Vec<(usize, f64)> =
+        sys.initial_conditions.iter().enumerate().filter_map(|(a, ic)| ic.rate.map(|w| (a, w))).collect();
+    let m = active.len();
+    let mut cq = ws.dense_jacobian().resize_vertically(m + rates.len(), 0.0);
+    let mut target = (-&ws.ct).resize_vertically(m + rates.len(), 0.0);
+    for (b, &(a, rate)) in rates.iter().enumerate() {
+        cq.set_row(m + b, &given.row(a));
+        target[m + b] = rate;
+    }
     let mut v = v0.clone();
-    if !active.is_empty() {
-        let cq = ws.dense_jacobian();
-        let resid = &cq * DVector::from_column_slice(&v0) + &ws.ct;
+    if cq.nrows() > 0 {
+        let resid = &cq * DVector::from_column_slice(&v0) - target;
         let dv = min_norm_solve(&cq, &resid);
         for j in 0..v.len() {
             v[j] -= dv[j];
         }
     }
+    let mut warnings = warnings;
+    warnings.extend(changed_velocities(sys, &v0, &v));
     Ok(Assembled { q, v, active, warnings })
+}
+
+/// The active rows, their warnings, and the Jacobian rows of the given joint coordinates.
+type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
+
+/// The independent rows of the joints and drivers at `q` (and their warnings), and the
+/// Jacobian rows of the given joint coordinates, each of which must move a coordinate the
+/// joints and drivers leave free, and not one another's.
+fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
+    let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
+    constraints(sys, 0.0, q, v, &mut ws);
+    let (active, warnings, mut basis) = independent_rows(sys, &ws.dense_jacobian())?;
+    let mut given = DMatrix::zeros(sys.initial_conditions.len(), q.len());
+    for (a, ic) in sys.initial_conditions.iter().enumerate() {
+        initial_row(sys, ic, q, v, &mut given, a);
+        if !independent(&mut basis, given.row(a).transpose()) {
+            return Err(Error::Assembly(format!(
+                "{}: the joints, drivers and the other initial conditions already fix this \
+                 joint's coordinate; leave its initial value and rate out",
+                ic.label
+            )));
+        }
+    }
+    Ok((active, warnings, given))
+}
+
+/// Evaluates a given joint coordinate's row at `(q, v)` and writes its Jacobian into row
+/// `a` of `cq`.
+fn initial_row(
+    sys: &System,
+    ic: &InitialCondition,
+    q: &[f64],
+    v: &[f64],
+    cq: &mut DMatrix<f64>,
+    a: usize,
+) -> RowEval {
+    let (bi, bj) = (sys.body_state(ic.body_i, q, v), sys.body_state(ic.body_j, q, v));
+    let ev = ic.kind.eval(&bi, &bj, Motion { position: 0.0, speed: 0.0, acceleration: 0.0 });
+    cq.row_mut(a).fill(0.0);
+    for (body, entries) in [(ic.body_i, ev.jac_i), (ic.body_j, ev.jac_j)] {
+        if let Some(k) = body {
+            for d in 0..3 {
+                cq[(a, 3 * k + d)] += entries[d];
+            }
+        }
+    }
+    ev
+}
+
+/// A warning for each body velocity the user gave (non-zero) that assembly changed.
+fn changed_velocities(sys: &System, given: &[f64], used: &[f64]) -> Vec<String> {
+    let mut out = Vec::new();
+    let why = "assembly changed it to satisfy the joints and drivers; give a joint's \
+               initial_rate to set a velocity that assembly keeps";
+    for (k, b) in sys.bodies.iter().enumerate() {
+        let (g, u) = (&given[3 * k..3 * k + 3], &used[3 * k..3 * k + 3]);
+        let moved = |g: f64, u: f64, scale: f64| (g - u).abs() > 1e-9 * scale.max(1e-12);
+        let speed = g[0].hypot(g[1]);
+        if speed > 0.0 && (moved(g[0], u[0], speed) || moved(g[1], u[1], speed)) {
+            out.push(format!(
+                "body '{}': velocity = [{:.6}, {:.6}] m/s was given, [{:.6}, {:.6}] m/s is used: {why}",
+                b.name, g[0], g[1], u[0], u[1]
+            ));
+        }
+        if g[2] != 0.0 && moved(g[2], u[2], g[2].abs()) {
+            out.push(format!(
+                "body '{}': omega = {:.6} rad/s was given, {:.6} rad/s is used: {why}",
+                b.name, g[2], u[2]
+            ));
+        }
+    }
+    out
 }
 
 /// `joint 'name'` or `driver 'name'`.
@@ -117,20 +224,13 @@ pub fn element_name(sys: &System, owner: Owner) -> String {
 /// Gram-Schmidt over the Jacobian rows in model order: a row that depends on earlier
 /// ones is redundant and dropped (a warning names it); a redundant driver is an error,
 /// since it would fight the joints.
-fn independent_rows(sys: &System, cq: &DMatrix<f64>) -> Result<(Vec<usize>, Vec<String>), Error> {
-    let mut basis: Vec<DVector<f64>> = Vec::new();
+/// Returns the active rows, the warnings and the orthonormal basis of the active rows.
+fn independent_rows(sys: &System, cq: &DMatrix<f64>) -> Result<(Vec<usize>, Vec<String>, Basis), Error> {
+    let mut basis: Basis = Vec::new();
     let mut active = Vec::new();
     let mut warnings = Vec::new();
     for r in 0..cq.nrows() {
-        let row: DVector<f64> = cq.row(r).transpose();
-        let norm = row.norm();
-        let mut rest = row.clone();
-        for b in &basis {
-            let p = b.dot(&rest);
-            rest.axpy(-p, b, 1.0);
-        }
-        if rest.norm() > REDUNDANT_TOL * norm.max(1e-300) {
-            basis.push(rest.normalize());
+        if independent(&mut basis, cq.row(r).transpose()) {
             active.push(r);
             continue;
         }
@@ -147,5 +247,23 @@ fn independent_rows(sys: &System, cq: &DMatrix<f64>) -> Result<(Vec<usize>, Vec<
             row_info.label
         ));
     }
-    Ok((active, warnings))
+    Ok((active, warnings, basis))
+}
+
+/// An orthonormal basis of rows taken so far.
+type Basis = Vec<DVector<f64>>;
+
+/// Whether `row` has a part independent of `basis` (then added to it).
+fn independent(basis: &mut Basis, row: DVector<f64>) -> bool {
+    let norm = row.norm();
+    let mut rest = row;
+    for b in basis.iter() {
+        let p = b.dot(&rest);
+        rest.axpy(-p, b, 1.0);
+    }
+    if rest.norm() > REDUNDANT_TOL * norm.max(1e-300) {
+        basis.push(rest.normalize());
+        return true;
+    }
+    false
 }
