@@ -4,10 +4,9 @@
 //! ([outputs](../../../docs/outputs.md)).
 
 use crate::math::{perp, Vec2};
-use crate::model::{self, JointKind};
+use crate::model::JointKind;
 use crate::planar::BodyState;
-use crate::system::{JointInfo, Resolver};
-use crate::Error;
+use crate::system::{JointInfo, MarkerInfo};
 
 /// A body's position, velocity and acceleration (the ground: all zero).
 #[derive(Debug, Clone, Copy, Default)]
@@ -50,39 +49,13 @@ impl BodyMotion {
     }
 }
 
-/// A checked marker.
-#[derive(Debug, Clone)]
-pub struct Marker {
-    /// Name.
-    pub name: String,
-    /// Body carrying the point (`None`: ground).
-    pub body: Option<usize>,
-    /// The point in the body's frame [m].
-    pub s: Vec2,
-    /// Body whose frame the motion is measured in (`None`: ground).
-    pub frame: Option<usize>,
-}
-
-impl Marker {
-    /// Checks a marker; errors name it.
-    pub(crate) fn new(m: &model::Marker, res: &Resolver) -> Result<Self, Error> {
-        let who = format!("marker '{}'", m.name);
-        let body = res.body(&who, "body", &m.body)?;
-        let frame = match &m.frame {
-            Some(name) => res.body(&who, "frame", name)?,
-            None => None,
-        };
-        Ok(Marker { name: m.name.clone(), body, s: res.point(&who, "point", body, &m.point)?, frame })
-    }
-
-    /// Position, velocity and acceleration in the marker's frame, from the motion of its
-    /// body and of its frame's body.
-    pub fn motion(&self, body: &BodyMotion, frame: &BodyMotion) -> [Vec2; 3] {
-        let global = body.point(self.s);
-        match self.frame {
-            None => global,
-            Some(_) => frame.observe(global),
-        }
+/// Position, velocity and acceleration of a marker in its frame, from the motion of its
+/// body and of its frame's body.
+pub fn marker_motion(marker: &MarkerInfo, body: &BodyMotion, frame: &BodyMotion) -> [Vec2; 3] {
+    let global = body.point(marker.s);
+    match marker.frame {
+        None => global,
+        Some(_) => frame.observe(global),
     }
 }
 

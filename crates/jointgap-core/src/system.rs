@@ -7,7 +7,6 @@ use crate::contact::ClearanceRevolute;
 use crate::drivers::MotionProfile;
 use crate::forces::ForceElement;
 use crate::math::Vec2;
-use crate::measures::Marker;
 use crate::model::{JointKind, Model, PointRef, GROUND};
 use crate::planar::{BodyState, RowKind};
 use crate::Error;
@@ -73,6 +72,32 @@ pub struct Row {
     pub label: String,
 }
 
+/// A checked marker: a point whose motion the run reports (`measures::marker_motion`).
+#[derive(Debug, Clone)]
+pub struct MarkerInfo {
+    /// Name.
+    pub name: String,
+    /// Body carrying the point (`None`: ground).
+    pub body: Option<usize>,
+    /// The point in the body's frame [m].
+    pub s: Vec2,
+    /// Body whose frame the motion is measured in (`None`: ground).
+    pub frame: Option<usize>,
+}
+
+impl MarkerInfo {
+    /// Checks a marker; errors name it.
+    fn new(m: &crate::model::Marker, res: &Resolver) -> Result<Self, Error> {
+        let who = format!("marker '{}'", m.name);
+        let body = res.body(&who, "body", &m.body)?;
+        let frame = match &m.frame {
+            Some(name) => res.body(&who, "frame", name)?,
+            None => None,
+        };
+        Ok(MarkerInfo { name: m.name.clone(), body, s: res.point(&who, "point", body, &m.point)?, frame })
+    }
+}
+
 /// A joint after checking.
 #[derive(Debug, Clone)]
 pub struct JointInfo {
@@ -127,7 +152,7 @@ pub struct System {
     /// Clearance joints, in model order.
     pub clearances: Vec<ClearanceRevolute>,
     /// Markers, in model order.
-    pub markers: Vec<Marker>,
+    pub markers: Vec<MarkerInfo>,
     /// Gravity [m/s^2].
     pub gravity: Vec2,
     /// Approximate initial coordinates (user placement).
@@ -138,8 +163,8 @@ pub struct System {
     pub corners: Vec<f64>,
     /// Joint coordinates and rates given at t = 0, for assembly.
     pub initial_conditions: Vec<InitialCondition>,
-    /// Notes for the user: implausible magnitudes (`magnitudes`), redundant constraints
-    /// removed by assembly, ...
+    /// Notes for the user, filled by `solve::prepare`: implausible magnitudes
+    /// (`magnitudes`), redundant constraints removed by assembly, ...
     pub warnings: Vec<String>,
 }
 
@@ -542,7 +567,7 @@ impl System {
         let mut markers = Vec::new();
         for m in &model.markers {
             claim("marker", &m.name)?;
-            markers.push(Marker::new(m, &res)?);
+            markers.push(MarkerInfo::new(m, &res)?);
         }
 
         corners.retain(|t| *t > 0.0);
@@ -556,7 +581,7 @@ impl System {
             v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
         }
         point_mass_inertia(model, &rows, &joints, &mut bodies)?;
-        let mut system = System {
+        Ok(System {
             bodies,
             joints,
             drivers,
@@ -570,9 +595,7 @@ impl System {
             corners,
             initial_conditions,
             warnings: Vec::new(),
-        };
-        system.warnings = crate::magnitudes::warnings(model, &system);
-        Ok(system)
+        })
     }
 
     /// Number of coordinates (3 per moving body).

@@ -40,6 +40,7 @@ pub struct Prepared {
 /// its bearing wall).
 pub fn prepare(model: &Model) -> Result<Prepared, Error> {
     let mut system = System::new(model)?;
+    system.warnings = crate::magnitudes::warnings(model, &system);
     check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
     for (k, c) in system.clearances.iter().enumerate() {

@@ -7,7 +7,7 @@ use super::energy::{Accounts, Amounts, ACCOUNTS};
 use super::ode::DenseStep;
 use crate::contact::ClearanceRevolute;
 use crate::math::{cross, rotate, Vec2};
-use crate::measures::{joint_coordinate, BodyMotion};
+use crate::measures::{joint_coordinate, marker_motion, BodyMotion};
 use crate::model::JointKind;
 use crate::system::System;
 use crate::Error;
@@ -388,7 +388,7 @@ impl Recorder {
             if out.skipped(MARKER_QUANTITIES.len()) {
                 continue;
             }
-            for p in m.motion(&motion(m.body), &motion(m.frame)) {
+            for p in marker_motion(m, &motion(m.body), &motion(m.frame)) {
                 out.put(p.x);
                 out.put(p.y);
             }
