@@ -40,79 +40,34 @@ fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
 /// given as initial conditions hold exactly; the placement and the bodies' velocities
 /// change as little as they must (a warning names each given velocity that changes).
 pub fn assemble(sys: &System) -> Result<Assembled, Error> {
-    let all: Vec<usize> = (0..sys.rows.len()).collect();
-    let mut ws = Workspace::in_order(sys, all.clone());
     let mut q = sys.q_guess.clone();
     let v0 = sys.v_guess.clone();
     let t = 0.0;
     let placing: Vec<&InitialCondition> = sys.initial_conditions.iter().filter(|ic| ic.placed).collect();
-    // Residuals and Jacobian of the joints and drivers, then of the given coordinates.
-    let mut residuals = |q: &[f64]| -> (DVector<f64>, DMatrix<f64>) {
-        constraints(sys, t, q, &v0, &mut ws);
-        let m = ws.c.len();
-        let mut c = ws.c.clone().resize_vertically(m + placing.len(), 0.0);
-        let mut cq = ws.dense_jacobian().resize_vertically(m + placing.len(), 0.0);
-        for (a, ic) in placing.iter().enumerate() {
-            c[m + a] = initial_row(sys, ic, q, &v0, &mut cq, m + a).c;
+    if let Err(fit) = solve_positions(sys, t, &mut q, &v0, &placing) {
+        if !placing.is_empty() {
+            check_initial_conditions(sys, &q, &v0)?; // over-specified: say so
         }
-        (c, cq)
-    };
-    let mut fit = residuals(&q);
-    if fit.0.nrows() > 0 {
-        let mut converged = false;
-        for _ in 0..100 {
-            let r0 = fit.0.amax();
-            if r0 <= ASSEMBLY_TOL {
-                converged = true;
-                break;
+        let m = sys.rows.len();
+        let mut off: Vec<(usize, f64)> =
+            fit.iter().enumerate().filter(|(_, c)| c.abs() > 1e-6).map(|(r, c)| (r, c.abs())).collect();
+        off.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
+        let mut names: Vec<String> = Vec::new();
+        for (r, c) in off {
+            let who = if r < m { element_name(sys, sys.rows[r].owner) } else { placing[r - m].label.clone() };
+            if !names.iter().any(|n| n.starts_with(&who)) {
+                names.push(format!("{who} (off by {c:.3e})"));
             }
-            let dq = min_norm_solve(&fit.1, &fit.0);
-            // Damped Newton: halve the step while the residual grows.
-            let mut step = 1.0;
-            let mut trial = q.clone();
-            let mut next = fit.clone();
-            for _ in 0..30 {
-                for j in 0..q.len() {
-                    trial[j] = q[j] - step * dq[j];
-                }
-                next = residuals(&trial);
-                if next.0.amax() < r0 {
-                    break;
-                }
-                step *= 0.5;
-            }
-            if next.0.amax() >= r0 {
-                break; // stalled: the constraints cannot all be met from here
-            }
-            q.clone_from(&trial);
-            fit = next;
         }
-        if !converged {
-            if !placing.is_empty() {
-                check_initial_conditions(sys, &q, &v0)?; // over-specified: say so
-            }
-            let m = sys.rows.len();
-            let mut off: Vec<(usize, f64)> =
-                fit.0.iter().enumerate().filter(|(_, c)| c.abs() > 1e-6).map(|(r, c)| (r, c.abs())).collect();
-            off.sort_by(|a, b| b.1.partial_cmp(&a.1).unwrap());
-            let mut names: Vec<String> = Vec::new();
-            for (r, c) in off {
-                let who =
-                    if r < m { element_name(sys, sys.rows[r].owner) } else { placing[r - m].label.clone() };
-                if !names.iter().any(|n| n.starts_with(&who)) {
-                    names.push(format!("{who} (off by {c:.3e})"));
-                }
-            }
-            if names.is_empty() {
-                names.push("the constraints as a whole".into());
-            }
-            return Err(Error::Assembly(format!(
-                "cannot assemble the mechanism from the given placement: {} cannot be satisfied; \
-                 check the joint points, the body positions and angles, the driver's initial value \
-                 and the joints' initial coordinates",
-                names.join(", ")
-            )));
+        if names.is_empty() {
+            names.push("the constraints as a whole".into());
         }
+        return Err(Error::Assembly(format!(
+            "cannot assemble the mechanism from the given placement: {} cannot be satisfied; \
+             check the joint points, the body positions and angles, the driver's initial value \
+             and the joints' initial coordinates",
+            names.join(", ")
+        )));
     }
     let (active, warnings, given) = check_initial_conditions(sys, &q, &v0)?;
     // Velocities: the smallest change of the user's values that satisfies Cq v = -Ct and
@@ -141,6 +96,70 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
     Ok(Assembled { q, v, active, warnings })
 }
 
+/// Residuals and Jacobian at `(t, q)` of the joints and drivers, then of the given
+/// joint coordinates `placing`.
+fn residuals(
+    sys: &System,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    placing: &[&InitialCondition],
+    ws: &mut Workspace,
+) -> (DVector<f64>, DMatrix<f64>) {
+    constraints(sys, t, q, v, ws);
+    let m = ws.c.len();
+    let mut c = ws.c.clone().resize_vertically(m + placing.len(), 0.0);
+    let mut cq = ws.dense_jacobian().resize_vertically(m + placing.len(), 0.0);
+    for (a, ic) in placing.iter().enumerate() {
+        c[m + a] = initial_row(sys, ic, q, v, &mut cq, m + a).c;
+    }
+    (c, cq)
+}
+
+/// Damped Newton from `q` on the joints, drivers (at time `t`) and the given joint
+/// coordinates `placing`, each step the minimum-norm one; `Err` with the residuals where
+/// it stalls above [`ASSEMBLY_TOL`].
+fn solve_positions(
+    sys: &System,
+    t: f64,
+    q: &mut [f64],
+    v: &[f64],
+    placing: &[&InitialCondition],
+) -> Result<(), DVector<f64>> {
+    let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
+    let mut fit = residuals(sys, t, q, v, placing, &mut ws);
+    if fit.0.nrows() == 0 {
+        return Ok(());
+    }
+    for _ in 0..100 {
+        let r0 = fit.0.amax();
+        if r0 <= ASSEMBLY_TOL {
+            return Ok(());
+        }
+        let dq = min_norm_solve(&fit.1, &fit.0);
+        // Halve the step while the residual grows.
+        let mut step = 1.0;
+        let mut trial = q.to_vec();
+        let mut next = fit.clone();
+        for _ in 0..30 {
+            for j in 0..q.len() {
+                trial[j] = q[j] - step * dq[j];
+            }
+            next = residuals(sys, t, &trial, v, placing, &mut ws);
+            if next.0.amax() < r0 {
+                break;
+            }
+            step *= 0.5;
+        }
+        if next.0.amax() >= r0 {
+            break; // stalled: the constraints cannot all be met from here
+        }
+        q.copy_from_slice(&trial);
+        fit = next;
+    }
+    Err(fit.0)
+}
+
 /// The active rows, their warnings, and the Jacobian rows of the given joint coordinates.
 type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
 
@@ -148,13 +167,14 @@ type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
 /// Jacobian rows of the given joint coordinates, each of which must move a coordinate the
 /// joints and drivers leave free, and not one another's.
 fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
-    let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
-    constraints(sys, 0.0, q, v, &mut ws);
-    let (active, warnings, mut basis) = independent_rows(sys, &ws.dense_jacobian())?;
+    let at = generic_configuration(sys, q, v);
+    let (active, warnings, mut basis) = independent_rows(sys, &jacobian(sys, 0.0, &at, v))?;
     let mut given = DMatrix::zeros(sys.initial_conditions.len(), q.len());
+    let mut near = DMatrix::zeros(1, q.len());
     for (a, ic) in sys.initial_conditions.iter().enumerate() {
         initial_row(sys, ic, q, v, &mut given, a);
-        if !independent(&mut basis, given.row(a).transpose()) {
+        initial_row(sys, ic, &at, v, &mut near, 0);
+        if !independent(&mut basis, near.row(0).transpose()) {
             return Err(Error::Assembly(format!(
                 "{}: the joints, drivers and the other initial conditions already fix this \
                  joint's coordinate; leave its initial value and rate out",
@@ -163,6 +183,113 @@ fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checke
         }
     }
     Ok((active, warnings, given))
+}
+
+/// The Jacobian of every joint and driver row at `(t, q)`.
+fn jacobian(sys: &System, t: f64, q: &[f64], v: &[f64]) -> DMatrix<f64> {
+    let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
+    constraints(sys, t, q, v, &mut ws);
+    ws.dense_jacobian()
+}
+
+/// The configuration at which the rows' independence is decided: `q` itself where its
+/// rows are independent (nearly always), else the assembled configuration nearby where
+/// the most rows are independent.
+///
+/// At a singular position (a parallelogram with all bars collinear, a change point) rows
+/// that are independent everywhere else depend on one another for that instant; decided
+/// there, they would be dropped for the whole run and the mechanism would leave its
+/// branch after it. The rank of the Jacobian on the constraint manifold drops only at
+/// such points, so it is read a small step away, where the mechanism goes: `q + h v`
+/// assembled with the drivers at time `h`, `h` such that the bodies turn by about
+/// [`NEARBY_STEP`] rad (and move by that fraction of the mechanism's lever arms), and the
+/// same step back. Only where that finds no more independent rows (a mechanism at rest)
+/// is it moved along a generic combination of its free directions, each way: such a
+/// step may land on another branch of the mechanism (with the drivers held, one where a
+/// driver is fixed by the joints: that configuration is not taken). Rows of a truly
+/// redundant mechanism (a third parallel rocker, a joint given twice) depend on the
+/// others there too and are dropped as before.
+fn generic_configuration(sys: &System, q: &[f64], v: &[f64]) -> Vec<f64> {
+    let cq = jacobian(sys, 0.0, q, v);
+    let rank = |cq: &DMatrix<f64>| {
+        let mut basis = Basis::new();
+        (0..cq.nrows()).filter(|&r| independent(&mut basis, cq.row(r).transpose())).count()
+    };
+    let rank_at_q = rank(&cq);
+    if rank_at_q == cq.nrows() {
+        return q.to_vec();
+    }
+    let mut best = (rank_at_q, q.to_vec());
+    let scale = step_scale(&cq);
+    let along = DVector::from_column_slice(v);
+    let free = free_direction(&cq);
+    // Where the mechanism goes first (the drivers moving with it); only where that does not
+    // help (a mechanism at rest), a generic free direction with the drivers held.
+    let mut tries: Vec<Vec<(f64, DVector<f64>)>> = Vec::new();
+    if let Some(h) = scale(&along) {
+        tries.push(vec![(h, along.clone() * h), (-h, along * -h)]);
+    }
+    if let Some(h) = scale(&free) {
+        tries.push(vec![(0.0, free.clone() * h), (0.0, free * -h)]);
+    }
+    for steps in tries {
+        for (t, step) in steps {
+            let mut p: Vec<f64> = q.iter().zip(step.iter()).map(|(q, d)| q + d).collect();
+            if solve_positions(sys, t, &mut p, v, &[]).is_err() {
+                continue;
+            }
+            let cq = jacobian(sys, t, &p, v);
+            let r = rank(&cq);
+            if r > best.0 && independent_rows(sys, &cq).is_ok() {
+                best = (r, p);
+            }
+        }
+        if best.0 > rank_at_q {
+            break;
+        }
+    }
+    best.1
+}
+
+/// Size of the step to the configuration where the rows' independence is decided (see
+/// [`generic_configuration`]): about 1e-3 rad.
+const NEARBY_STEP: f64 = 1e-3;
+
+/// The factor that makes a direction a step of [`NEARBY_STEP`]: the bodies turn by at
+/// most that many radians and move by at most that fraction of the mechanism's largest
+/// lever arm (the largest ratio of a row's angle entry to its position entries); `None`
+/// for a zero direction.
+fn step_scale(cq: &DMatrix<f64>) -> impl Fn(&DVector<f64>) -> Option<f64> {
+    let (mut lever, mut unit) = (0.0f64, 0.0f64);
+    for (j, column) in cq.column_iter().enumerate() {
+        if j % 3 == 2 {
+            lever = lever.max(column.amax());
+        } else {
+            unit = unit.max(column.amax());
+        }
+    }
+    let length = if lever > 0.0 && unit > 0.0 { lever / unit } else { 1.0 };
+    move |d: &DVector<f64>| {
+        let size = d.iter().enumerate().map(|(j, x)| x.abs() / if j % 3 == 2 { 1.0 } else { length });
+        let size = size.fold(0.0, f64::max);
+        (size > 0.0).then(|| NEARBY_STEP / size)
+    }
+}
+
+/// A generic combination of the free directions of `cq` (its null space), with weights
+/// from the golden ratio's multiples: no two alike, none zero.
+fn free_direction(cq: &DMatrix<f64>) -> DVector<f64> {
+    let n = cq.ncols();
+    // A square matrix, so that the SVD gives every right singular vector.
+    let svd = cq.clone().resize_vertically(cq.nrows().max(n), 0.0).svd(false, true);
+    let tol = REDUNDANT_TOL * svd.singular_values.max().max(1e-300);
+    let mut direction = DVector::zeros(n);
+    if let Some(vt) = svd.v_t {
+        for k in (0..n).filter(|&k| svd.singular_values[k] <= tol) {
+            direction += vt.row(k).transpose() * (0.5 + ((k + 1) as f64 * 0.618_033_988_749_895).fract());
+        }
+    }
+    direction
 }
 
 /// Evaluates a given joint coordinate's row at `(q, v)` and writes its Jacobian into row

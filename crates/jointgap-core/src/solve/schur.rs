@@ -17,10 +17,17 @@
 //! are not in band order, its envelope is wide (N = 50: 2.0 ms against 71 us) and the
 //! choice falls to faer.
 
+use std::sync::Arc;
+
 use super::dynamics::Singular;
-use faer::linalg::solvers::Solve;
-use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Conj, Par};
 
 /// Rows up to which the envelope factor is used whatever its size.
 pub const DENSE_LIMIT: usize = 48;
@@ -113,7 +120,10 @@ pub struct Schur {
     regularised: Vec<f64>,
     factorisation: Factorisation,
     pattern: SymbolicSparseColMat<usize>,
-    symbolic: Option<SymbolicLlt<usize>>,
+    /// The sparse path's analysis (ordering and the factor's pattern), done once.
+    symbolic: Option<Arc<SymbolicCholesky<usize>>>,
+    /// Values of the sparse path's factor, laid out by `symbolic`.
+    sparse: Vec<f64>,
     /// Lower factor of the dense path, row by row over the envelope.
     dense: Vec<f64>,
     /// `dense` holds the plain factor of the current values (see [`Schur::solve_again`]).
@@ -272,7 +282,8 @@ impl Envelope {
 enum Factor<'a> {
     /// The envelope factor.
     Dense(&'a Envelope, &'a [f64]),
-    Sparse(Llt<usize, f64>),
+    /// faer's sparse factor.
+    Sparse(LltRef<'a, usize, f64>),
 }
 
 impl Factor<'_> {
@@ -281,8 +292,37 @@ impl Factor<'_> {
             Factor::Dense(envelope, l) => envelope.solve(l, x),
             Factor::Sparse(llt) => {
                 let n = x.len();
-                llt.solve_in_place(faer::MatMut::from_column_major_slice_mut(x, n, 1));
+                let mut stack = MemBuffer::new(llt.symbolic().solve_in_place_scratch::<f64>(1, Par::Seq));
+                llt.solve_in_place_with_conj(
+                    Conj::No,
+                    faer::MatMut::from_column_major_slice_mut(x, n, 1),
+                    Par::Seq,
+                    MemStack::new(&mut stack),
+                );
             }
+        }
+    }
+}
+
+/// The smallest and largest squared diagonal entry of a sparse Cholesky factor (its
+/// pivots, in its fill-reducing order).
+fn sparse_pivots(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> (f64, f64) {
+    let extremes = |(l, h): (f64, f64), d: f64| (l.min(d * d), h.max(d * d));
+    let start = (f64::INFINITY, 0.0);
+    match symbolic.raw() {
+        // Each column's first stored entry is its diagonal.
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            s.col_ptr()[..s.nrows()].iter().map(|&p| values[p]).fold(start, extremes)
+        }
+        // Each supernode's columns start with their dense diagonal block.
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let factor = SupernodalLltRef::new(s, values);
+            (0..s.n_supernodes())
+                .flat_map(|k| {
+                    let block = factor.supernode(k).val();
+                    (0..block.ncols()).map(move |j| block[(j, j)])
+                })
+                .fold(start, extremes)
         }
     }
 }
@@ -342,9 +382,17 @@ impl Schur {
         }
         let pattern = SymbolicSparseColMat::new_checked(m, m, col_ptr, None, row_idx);
         let symbolic = match factorisation {
-            Factorisation::Sparse => SymbolicLlt::try_new(pattern.as_ref(), faer::Side::Lower).ok(),
+            Factorisation::Sparse => factorize_symbolic_cholesky(
+                pattern.as_ref(),
+                faer::Side::Lower,
+                Default::default(),
+                Default::default(),
+            )
+            .ok()
+            .map(Arc::new),
             _ => None,
         };
+        let sparse = vec![0.0; symbolic.as_ref().map_or(0, |s| s.len_val())];
         // Without a symbolic analysis (it failed), the dense path still solves.
         let factorisation = if symbolic.is_some() { Factorisation::Sparse } else { Factorisation::Dense };
         // The dense layout costs O(envelope x bandwidth) to build: only where it is used.
@@ -371,6 +419,7 @@ impl Schur {
             factorisation,
             pattern,
             symbolic,
+            sparse,
             dense: vec![0.0; dense_size],
             plain_factor: false,
             ill_conditioned: false,
@@ -429,6 +478,68 @@ impl Schur {
         self.envelope.factor(&mut self.dense)
     }
 
+    /// Factors `S + shift I` with faer's sparse Cholesky into `sparse` (the values of `S`
+    /// must be current).
+    fn factor_sparse(&mut self, shift: f64) -> Result<(), Singular> {
+        self.regularised.copy_from_slice(&self.values);
+        for &d in &self.diagonal {
+            self.regularised[d] += shift;
+        }
+        let symbolic = self.symbolic.as_deref().ok_or(Singular)?;
+        let matrix = SparseColMatRef::new(self.pattern.as_ref(), &self.regularised);
+        let mut stack =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()));
+        symbolic
+            .factorize_numeric_llt(
+                &mut self.sparse,
+                matrix,
+                faer::Side::Lower,
+                LltRegularization { dynamic_regularization_delta: 0.0, dynamic_regularization_epsilon: 0.0 },
+                Par::Seq,
+                MemStack::new(&mut stack),
+                Default::default(),
+            )
+            .map_err(|_| Singular)?;
+        Ok(())
+    }
+
+    /// Factors `S + shift I` by the chosen factorisation and returns the factor.
+    fn factor(&mut self, shift: f64) -> Result<Factor<'_>, Singular> {
+        match self.factorisation {
+            // `Auto` is resolved when the pattern is built.
+            Factorisation::Dense | Factorisation::Auto => {
+                self.factor_dense(shift)?;
+                Ok(Factor::Dense(&self.envelope, &self.dense))
+            }
+            Factorisation::Sparse => {
+                self.compute_values();
+                self.factor_sparse(shift)?;
+                self.factored()
+            }
+        }
+    }
+
+    /// The factor last computed.
+    fn factored(&self) -> Result<Factor<'_>, Singular> {
+        Ok(match self.factorisation {
+            Factorisation::Dense | Factorisation::Auto => Factor::Dense(&self.envelope, &self.dense),
+            Factorisation::Sparse => {
+                Factor::Sparse(LltRef::new(self.symbolic.as_deref().ok_or(Singular)?, &self.sparse))
+            }
+        })
+    }
+
+    /// The smallest and largest squared pivot of the factor last computed.
+    fn squared_pivots(&self) -> (f64, f64) {
+        match (self.factorisation, self.symbolic.as_deref()) {
+            (Factorisation::Sparse, Some(symbolic)) => sparse_pivots(symbolic, &self.sparse),
+            _ => {
+                let pivots = self.envelope.diagonal.iter().map(|&d| self.dense[d as usize].powi(2));
+                pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)))
+            }
+        }
+    }
+
     /// `y = S x`.
     fn multiply(&self, x: &[f64], y: &mut [f64]) {
         y.fill(0.0);
@@ -456,16 +567,17 @@ impl Schur {
     /// mean there.
     pub fn solve(&mut self, rhs: &mut [f64]) -> Result<(), Singular> {
         // Away from singular positions (nearly always) a plain factor is exact enough and
-        // needs no refinement: its smallest pivot shows the conditioning.
-        let mut rank_deficient = self.factorisation == Factorisation::Dense;
-        if self.factorisation == Factorisation::Dense && self.factor_dense(0.0).is_ok() {
-            let pivots = self.envelope.diagonal.iter().map(|&d| self.dense[d as usize].powi(2));
-            let (low, high) = pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)));
+        // needs no refinement: its smallest pivot shows the conditioning. Both
+        // factorisations read it the same way (the sparse one in its own ordering), so a
+        // large mechanism enters and leaves the rank-loss treatment as a small one does.
+        let mut rank_deficient = true;
+        if self.factor(0.0).is_ok() {
+            let (low, high) = self.squared_pivots();
             if low >= WELL_CONDITIONED * high {
                 self.plain_factor = true;
                 self.ill_conditioned = false;
                 self.rank_deficient = false;
-                Factor::Dense(&self.envelope, &self.dense).solve_mut(rhs);
+                self.factored()?.solve_mut(rhs);
                 return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
             }
             rank_deficient = low < RANK_LOSS * high;
@@ -475,8 +587,8 @@ impl Schur {
         self.compute_values();
         self.target.copy_from_slice(rhs);
         if !self.solve_regularised(rhs, rank_deficient)? && !rank_deficient {
-            // The sparse path has no pivots to show rank loss: its refinement's residual
-            // does.
+            // Pivots above the rank-loss threshold, but the refinement cannot meet the
+            // equations: treat the rank as lost.
             rhs.copy_from_slice(&self.target);
             rank_deficient = true;
             self.solve_regularised(rhs, rank_deficient)?;
@@ -510,27 +622,11 @@ impl Schur {
         let m = rhs.len();
         let scale = self.diagonal.iter().map(|&d| self.values[d]).fold(0.0, f64::max);
         let shift = if rank_deficient { RANK_LOSS_SHIFT } else { REGULARISATION } * scale;
-        let factor = match self.factorisation {
-            // `Auto` is resolved when the pattern is built.
-            Factorisation::Dense | Factorisation::Auto => {
-                self.factor_dense(shift)?;
-                Factor::Dense(&self.envelope, &self.dense)
-            }
-            Factorisation::Sparse => {
-                self.regularised.copy_from_slice(&self.values);
-                for &d in &self.diagonal {
-                    self.regularised[d] += shift;
-                }
-                let symbolic = self.symbolic.clone().ok_or(Singular)?;
-                let matrix = SparseColMatRef::new(self.pattern.as_ref(), &self.regularised);
-                Factor::Sparse(
-                    Llt::try_new_with_symbolic(symbolic, matrix, faer::Side::Lower).map_err(|_| Singular)?,
-                )
-            }
-        };
+        self.factor(shift)?;
+        let mut residual = std::mem::take(&mut self.residual);
+        let factor = self.factored()?;
         factor.solve_mut(rhs);
         let target_max = self.target.iter().fold(0.0, |acc: f64, x| acc.max(x.abs()));
-        let mut residual = std::mem::take(&mut self.residual);
         let mut worst = f64::INFINITY;
         for sweep in 0..=REFINEMENTS {
             self.multiply(rhs, &mut residual);
@@ -559,7 +655,7 @@ impl Schur {
         if !self.plain_factor {
             return self.solve(rhs);
         }
-        Factor::Dense(&self.envelope, &self.dense).solve_mut(rhs);
+        self.factored()?.solve_mut(rhs);
         if rhs.iter().all(|x| x.is_finite()) {
             Ok(())
         } else {
