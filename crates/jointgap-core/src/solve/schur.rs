@@ -126,7 +126,8 @@ pub struct Schur {
     sparse: Vec<f64>,
     /// Lower factor of the dense path, row by row over the envelope.
     dense: Vec<f64>,
-    /// `dense` holds the plain factor of the current values (see [`Schur::solve_again`]).
+    /// `dense` or `sparse` holds the plain factor of the current values (see
+    /// [`Schur::solve_again`]).
     plain_factor: bool,
     /// The last [`Schur::solve`] found `S` ill-conditioned (see [`Schur::ill_conditioned`]).
     ill_conditioned: bool,
@@ -686,7 +687,7 @@ const RANK_LOSS: f64 = 1e-8;
 /// other branch), 4e-10 to 7e-9 rad with 1e-9, up to 3e-5 rad with 1e-8 (the constraint
 /// force is released over too long a stretch).
 const RANK_LOSS_SHIFT: f64 = 1e-9;
-/// Smallest ratio of squared Cholesky pivots at which the plain dense factor is used
+/// Smallest ratio of squared Cholesky pivots at which the plain factor is used
 /// without regularisation and refinement: S's condition number is then of the order of
 /// 1e4 or less, so the plain solve is accurate to about 1e-12, below any tolerance.
 const WELL_CONDITIONED: f64 = 1e-4;
