@@ -443,11 +443,7 @@ pub fn project(
         // Near a singular position a residual left along the rank that is being lost
         // would make the velocity projection and the accelerations follow its level
         // set, which bends away from the mechanism's branch there: take it to rounding.
-        let tol = if ws.schur.ill_conditioned() {
-            NEAR_SINGULAR_POSITION_TOL
-        } else {
-            POSITION_TOL.max(ws.rounding(q, v).0)
-        };
+        let tol = if ws.schur.ill_conditioned() { NEAR_SINGULAR_POSITION_TOL } else { settled(ws, q, v) };
         if ws.c.amax() <= tol {
             break;
         }
@@ -455,11 +451,18 @@ pub fn project(
         ws.subtract_solution(residual.as_slice(), q)?;
     }
     constraints(sys, t, q, v, ws);
-    if ws.c.amax() > 1e3 * POSITION_TOL.max(ws.rounding(q, v).0) {
+    if ws.c.amax() > 1e3 * settled(ws, q, v) {
         return Err(Singular);
     }
     let residual: Vec<f64> = ws.velocity_residual(v).collect();
     ws.subtract_solution(&residual, v)
+}
+
+/// The position residual at which [`project`] stops away from singular positions:
+/// [`POSITION_TOL`], or what the rounding of `(q, v)` leaves if that is more (a crank
+/// angle of 1900 rad rounds at 2.3e-13 rad, and its driver's row with it).
+fn settled(ws: &Workspace, q: &[f64], v: &[f64]) -> f64 {
+    POSITION_TOL.max(ws.rounding(q, v).0)
 }
 
 /// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`:
