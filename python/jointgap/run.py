@@ -5,8 +5,10 @@ from __future__ import annotations
 import json
 import math
 import os
+import threading
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
@@ -24,6 +26,8 @@ __all__ = [
     "OutputSize",
     "OutputTooLarge",
     "check_output_size",
+    "collect_warnings",
+    "collecting_warnings",
     "machine_memory",
     "output_size",
     "run_options",
@@ -398,7 +402,38 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
     note = impacts_between_samples(result)
     if note is not None:
         result.warnings.append(note)
+    collect_warnings(result.warnings)
     return result
+
+
+_collectors: dict[int, list[str]] = {}
+"""The open :func:`collecting_warnings`, by the identity of their lists."""
+_collectors_lock = threading.Lock()
+
+
+@contextmanager
+def collecting_warnings() -> Iterator[list[str]]:
+    """Collects the warnings of every run made in this process while it is open, in any
+    thread (a batch, a study's threads, an identification's trials), in the order they
+    come: what a command that runs many models prints once at its end. Lines repeat as
+    often as runs give them."""
+    lines: list[str] = []
+    with _collectors_lock:
+        _collectors[id(lines)] = lines
+    try:
+        yield lines
+    finally:
+        with _collectors_lock:
+            del _collectors[id(lines)]
+
+
+def collect_warnings(lines: Iterable[str]) -> None:
+    """Hands a run's warnings to every open :func:`collecting_warnings` (every Result
+    made here does; a study passes on those of its cases run elsewhere)."""
+    lines = list(lines)
+    with _collectors_lock:
+        for collector in _collectors.values():
+            collector.extend(lines)
 
 
 def _warned(result: Result) -> Result:
