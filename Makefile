@@ -80,13 +80,14 @@ $(PEER_STAMP):
 		"numpy>=1.26"
 	touch $(PEER_STAMP)
 
-## lint: rustfmt, clippy, ruff
+## lint: rustfmt, clippy, ruff, mypy, and stubtest (the compiled engine against its stub)
 lint: install
 	cargo fmt --all --check
 	cargo clippy --workspace --all-targets -- -D warnings
 	$(VENV)/bin/ruff check python tests benchmarks
 	$(VENV)/bin/ruff format --check python tests benchmarks
 	$(VENV)/bin/mypy --strict python/jointgap
+	$(PY) -m mypy.stubtest jointgap._jointgap
 
 clean:
 	rm -rf $(VENV) target demo-output out

@@ -92,6 +92,35 @@ def test_overflow_at_the_start_is_a_model_error(examples, tmp_path, capsys, engi
     assert "joint 'ground_crank'" in err and "at the initial state (t = 0)" in err, err
 
 
+def test_check_refuses_what_the_run_refuses_at_the_start(
+    examples, tmp_path, capsys, engine
+) -> None:
+    """``check`` evaluates every channel at t = 0 as a run does before its first step: the
+    model above, which ``check`` used to pass, fails ``check`` with the run's own error."""
+    path = founding_with(
+        examples, tmp_path, 'inertia = "0.01201 kg*m^2"', 'inertia = "1e308 kg*m^2"'
+    )
+    assert main(["check", str(path)]) == EXIT_INVALID
+    checked = capsys.readouterr()
+    assert "valid" not in checked.out
+    status = main(["run", str(path), "--t-end", "0.05", "--rate", "1000", "--out", str(tmp_path)])
+    assert status == EXIT_INVALID
+    ran = capsys.readouterr().err
+    line = re.search(r"model.toml:\d+: joint 'ground_crank': fx = (NaN|-?inf) at the initial", ran)
+    assert line, ran
+    assert checked.err == ran  # the same line, word for word
+
+
+def test_every_example_passes_check_without_a_warning(examples, capsys, engine) -> None:
+    for path in sorted(examples.glob("*.toml")):
+        if "[[body]]" not in path.read_text(encoding="utf-8"):
+            continue  # a study or calibration file
+        assert main(["check", str(path)]) == 0, path.name
+        captured = capsys.readouterr()
+        assert "valid" in captured.out and "warning" not in captured.out, captured.out
+        assert captured.err == "", (path.name, captured.err)
+
+
 # ------------------------------------------------------------------ initial penetration
 
 

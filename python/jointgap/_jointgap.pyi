@@ -5,8 +5,11 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
+__all__ = ["channel_names", "check_model", "clearance_data", "simulate", "simulate_batch"]
+
 def check_model(model_json: str) -> list[str]:
-    """Checks a model (JSON, SI units, radians) and returns its warnings.
+    """Checks a model (JSON, SI units, radians) as far as a run goes before its first
+    step (assembled, every channel evaluated at t = 0) and returns its warnings.
 
     Raises ValueError naming the offending element: ``<kind> '<name>': <problem>``.
     """
@@ -53,13 +56,30 @@ def simulate(
     """
 
 def simulate_batch(
-    models_json: list[str], options_json: str, threads: int | None = None
-) -> list[
-    tuple[
-        tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str] | None,
-        str | None,
-    ]
+    models_json: list[str],
+    options_json: str,
+    threads: int | None = None,
+    progress: Callable[[int, int], object] | None = None,
+    interval: float = 0.2,
+) -> tuple[
+    list[
+        tuple[
+            tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str] | None,
+            str | None,
+        ]
+    ],
+    bool,
 ]:
     """Runs many models with the same options on ``threads`` threads (all cores by
-    default), the GIL released. Returns, in order, ``(arrays, None)`` as :func:`simulate`
-    gives them or ``(None, message)`` for a model that could not run."""
+    default), the GIL released while they run.
+
+    The calling thread checks Ctrl-C and calls ``progress(running, ended)`` (runs going,
+    runs ended) every ``interval`` seconds of wall time and once at the end. Ctrl-C (or
+    a KeyboardInterrupt raised by ``progress``) stops the batch: the runs going end with
+    status interrupted and what they computed, the models not started do not run. Any
+    other exception of ``progress`` stops the batch in the same way and is raised again
+    here.
+
+    Returns ``(slots, interrupted)``: in order, ``(arrays, None)`` as :func:`simulate`
+    gives them, ``(None, message)`` for a model that could not run or ``(None, None)``
+    for one not started; and whether the batch was stopped."""

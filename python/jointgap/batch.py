@@ -18,10 +18,33 @@ from typing import Any
 
 from .model import Model
 from .results import Result
-from .run import run_options, simulate_many
+from .run import BatchProgress, run_options, simulate_many
 from .schema import ModelError
 
-__all__ = ["simulate_batch"]
+__all__ = ["BatchInterrupted", "simulate_batch"]
+
+
+class BatchInterrupted(KeyboardInterrupt):
+    """Ctrl-C (or a KeyboardInterrupt raised by ``progress``) stopped a batch.
+
+    It is a KeyboardInterrupt, so a script stops as it would anywhere else; what the
+    batch computed is kept in :attr:`results`.
+
+    Attributes:
+        results: in the order of the models: the :class:`Result` of each run that ended
+            (status ``finished`` or ``failed``) or that Ctrl-C stopped (status
+            ``interrupted``, with what it computed up to there), the :class:`ModelError`
+            of each model refused, and None for each model whose run had not started.
+    """
+
+    def __init__(self, results: list[Result | Exception | None]) -> None:
+        done = [r for r in results if r is not None]
+        stopped = sum(isinstance(r, Result) and r.interrupted for r in done)
+        super().__init__(
+            f"batch interrupted by Ctrl-C: {len(done) - stopped} of {len(results)} runs ended, "
+            f"{stopped} stopped with status interrupted, {len(results) - len(done)} not started"
+        )
+        self.results = results
 
 
 def simulate_batch(
@@ -29,6 +52,7 @@ def simulate_batch(
     t_end: float | str,
     *,
     threads: int | None = None,
+    progress: BatchProgress | None = None,
     **options: Any,
 ) -> list[Result | Exception]:
     """Runs ``models`` with the same options on ``threads`` threads (default: all cores).
@@ -37,12 +61,22 @@ def simulate_batch(
         models: the mechanisms (e.g. from :func:`jointgap.variants.with_parameters`).
         t_end: end time of every run [s].
         threads: engine threads; 1 runs them one after the other.
+        progress: ``progress(running, ended)``, called about every 0.2 s of wall time
+            while the batch goes (runs going, runs ended), e.g. for a display; a
+            KeyboardInterrupt it raises stops the batch as Ctrl-C does, any other
+            exception stops it and propagates.
         options: as :meth:`Model.simulate` (``rate``, ``rtol``, ``method``, ...).
 
     Returns:
         In the order of ``models``: each run's :class:`Result` (a failed run is a Result
         with status ``failed``), or the :class:`ModelError` of a model the engine
         refused. Invalid options raise ValueError before anything runs.
+
+    Raises:
+        BatchInterrupted: Ctrl-C stopped the batch (within one check of the engine, every
+            16 steps of each run): the runs going end with status ``interrupted`` and
+            what they computed, those not started do not start, and the exception's
+            ``results`` holds them all; it is a KeyboardInterrupt.
     """
     settings = run_options(t_end, **options)
     slots: list[Result | Exception | None] = []
@@ -55,7 +89,11 @@ def simulate_batch(
             continue
         ready.append((len(slots), model))
         slots.append(None)
-    outcomes = simulate_many([m.to_dict() for _, m in ready], settings, threads)
+    outcomes, interrupted = simulate_many(
+        [m.to_dict() for _, m in ready], settings, threads, progress
+    )
     for (index, model), outcome in zip(ready, outcomes, strict=True):
         slots[index] = model.engine_error(outcome) if isinstance(outcome, ValueError) else outcome
+    if interrupted:
+        raise BatchInterrupted(slots)
     return [s for s in slots if s is not None]

@@ -10,7 +10,9 @@
 Errors print one line on stderr and set the exit status: 1 invalid model, options or
 file; 2 wrong command line; 3 the run stopped early (its results are still written);
 4 not converged (converge, calibrate); 130 interrupted by Ctrl-C (what was computed up
-to then is still written, the runs with status "interrupted").
+to then is still written, the runs with status "interrupted"). The warnings of the
+model and its runs (implausible magnitudes, impacts between output samples) are listed
+by check and run, and printed on stderr by every other command when it ends, once each.
 """
 
 from __future__ import annotations
@@ -55,6 +57,8 @@ quantities may carry units: --t-end "0.5 s", --rate "10 kHz", --max-step "1 us".
 exit status: 0 success, 1 invalid model, options or file, 2 wrong command line,
 3 the run stopped early (what was computed is still written), 4 not converged,
 130 interrupted by Ctrl-C (what was computed is still written).
+warnings of the model and its runs: listed by check and run, printed on stderr by
+the other commands when they end, once each.
 """
 
 _DESCRIPTION = """\
@@ -417,15 +421,38 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _interrupted("stopped by Ctrl-C")
 
 
+_OWN_WARNINGS = ("run", "check")
+"""The commands that list the model's and the run's warnings in their own output."""
+
+
 def _with_clean_warnings(command: Callable[[argparse.Namespace], int], args: Any) -> int:
     """Runs a command with Python's warnings printed as one line each on stderr,
-    ``jointgap: warning: ...``, without the source path. A run's own notes
-    (:class:`RunWarning`) are the command's to print from its result ('run' lists them
-    in its summary)."""
-    with warnings.catch_warnings():
+    ``jointgap: warning: ...``, without the source path. The warnings of its runs (the
+    model's magnitudes, impacts between samples: :class:`RunWarning` and each Result's
+    ``warnings``) are printed the same way once each when it ends, however many runs gave
+    them, except by the commands that list them in their output (:data:`_OWN_WARNINGS`)
+    and by a command that Ctrl-C stopped (it prints one line)."""
+    from .run import collecting_warnings
+
+    with warnings.catch_warnings(), collecting_warnings() as notes:
         warnings.showwarning = _show_warning
         warnings.simplefilter("ignore", RunWarning)
-        return command(args)
+        if args.command in _OWN_WARNINGS:
+            return command(args)
+        try:
+            status = command(args)
+        except Exception:  # an error line follows them (not after Ctrl-C: one line)
+            _print_warnings(notes)
+            raise
+        if status != EXIT_INTERRUPTED:
+            _print_warnings(notes)
+        return status
+
+
+def _print_warnings(lines: Sequence[str]) -> None:
+    """Prints warnings on stderr as Python's are printed, each distinct line once."""
+    for line in dict.fromkeys(lines):
+        _show_warning(line)
 
 
 def _show_warning(message: Warning | str, *_: Any, **__: Any) -> None:

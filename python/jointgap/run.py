@@ -5,8 +5,10 @@ from __future__ import annotations
 import json
 import math
 import os
+import threading
 import warnings
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
@@ -24,6 +26,8 @@ __all__ = [
     "OutputSize",
     "OutputTooLarge",
     "check_output_size",
+    "collect_warnings",
+    "collecting_warnings",
     "machine_memory",
     "output_size",
     "run_options",
@@ -328,25 +332,42 @@ def simulate(
     return _warned(_result((times, names, data, summary), model, options))
 
 
+BatchProgress = Callable[[int, int], object]
+"""``progress(running, ended)``: runs of a batch going now, runs ended."""
+
+
 def simulate_many(
-    models: Sequence[Mapping[str, Any]], options: Mapping[str, Any], threads: int | None = None
-) -> list[Result | ValueError]:
+    models: Sequence[Mapping[str, Any]],
+    options: Mapping[str, Any],
+    threads: int | None = None,
+    progress: BatchProgress | None = None,
+) -> tuple[list[Result | ValueError | None], bool]:
     """Runs model dictionaries (SI) with the same complete options on ``threads`` threads
-    in the engine (all cores by default, the GIL released): in order, each one's Result
-    (bit for bit the one :func:`simulate` gives) or the ValueError that model raised.
-    The runs' notes (:func:`impacts_between_samples`) go to each Result's ``warnings``
-    only, not to Python's warnings."""
+    in the engine (all cores by default, the GIL released). Returns, in order, each one's
+    Result (bit for bit the one :func:`simulate` gives) or the ValueError that model
+    raised, and whether Ctrl-C stopped the batch: the runs going then end with status
+    ``interrupted`` and what they computed, and the models not started are None.
+    ``progress`` is called, and Ctrl-C checked, about every 0.2 s of wall time (see
+    :data:`PROGRESS_INTERVAL_VARIABLE`); a KeyboardInterrupt it raises stops the batch as
+    Ctrl-C does, any other exception stops it and propagates. The runs' notes
+    (:func:`impacts_between_samples`) go to each Result's ``warnings`` only, not to
+    Python's warnings."""
     from . import _jointgap
 
     if threads is not None and threads < 1:
         raise ValueError(f"threads = {threads}: must be at least 1")
     check_output_size(models, options)
     texts = [json.dumps(m) for m in models]
-    out: list[Result | ValueError] = []
-    batch = _jointgap.simulate_batch(texts, json.dumps(options), threads)
+    out: list[Result | ValueError | None] = []
+    batch, interrupted = _jointgap.simulate_batch(
+        texts, json.dumps(options), threads, progress, **_interval()
+    )
     for model, (arrays, error) in zip(models, batch, strict=True):
-        out.append(ValueError(error) if arrays is None else _result(arrays, model, options))
-    return out
+        if arrays is not None:
+            out.append(_result(arrays, model, options))
+        else:
+            out.append(None if error is None else ValueError(error))
+    return out, interrupted
 
 
 def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -> Result:
@@ -381,7 +402,38 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
     note = impacts_between_samples(result)
     if note is not None:
         result.warnings.append(note)
+    collect_warnings(result.warnings)
     return result
+
+
+_collectors: dict[int, list[str]] = {}
+"""The open :func:`collecting_warnings`, by the identity of their lists."""
+_collectors_lock = threading.Lock()
+
+
+@contextmanager
+def collecting_warnings() -> Iterator[list[str]]:
+    """Collects the warnings of every run made in this process while it is open, in any
+    thread (a batch, a study's threads, an identification's trials), in the order they
+    come: what a command that runs many models prints once at its end. Lines repeat as
+    often as runs give them."""
+    lines: list[str] = []
+    with _collectors_lock:
+        _collectors[id(lines)] = lines
+    try:
+        yield lines
+    finally:
+        with _collectors_lock:
+            del _collectors[id(lines)]
+
+
+def collect_warnings(lines: Iterable[str]) -> None:
+    """Hands a run's warnings to every open :func:`collecting_warnings` (every Result
+    made here does; a study passes on those of its cases run elsewhere)."""
+    lines = list(lines)
+    with _collectors_lock:
+        for collector in _collectors.values():
+            collector.extend(lines)
 
 
 def _warned(result: Result) -> Result:

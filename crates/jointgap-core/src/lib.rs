@@ -21,7 +21,9 @@ pub mod system;
 
 pub use model::Model;
 pub use output::{ClearanceData, Impact, JointImpacts, RunStats, SimResult, Status};
-pub use solve::{simulate, simulate_batch, simulate_with, Method, Monitor, Progress, SimOptions, Stop};
+pub use solve::{
+    simulate, simulate_batch, simulate_with, BatchControl, Method, Monitor, Progress, SimOptions, Stop,
+};
 pub use system::System;
 
 /// Errors that stop a run before it starts. Each message names the offending element.

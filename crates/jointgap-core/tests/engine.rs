@@ -217,3 +217,22 @@ fn interrupted_run_keeps_what_it_computed() {
     assert_eq!(res.time[..], full.time[..n]);
     assert_eq!(res.channel("slider.x").unwrap()[..], full.channel("slider.x").unwrap()[..n]);
 }
+
+/// A batch is the serial runs done on threads; once its control is stopped, no model
+/// starts (a run going then ends as interrupted: tests/test_batch_interrupt.py).
+#[test]
+fn a_batch_gives_the_serial_results_and_starts_nothing_once_stopped() {
+    let models = [slider_crank(9.81), slider_crank_clearance()];
+    let options = opts(0.05, 1000.0, 1e-8, Method::Dopri5);
+    let control = jointgap_core::BatchControl::default();
+    let batch = jointgap_core::simulate_batch(&models, &options, Some(2), &control);
+    for (model, run) in models.iter().zip(batch) {
+        let (alone, run) = (simulate(model, &options).unwrap(), run.unwrap().unwrap());
+        assert_eq!((run.time, run.data, run.status), (alone.time, alone.data, Status::Finished));
+    }
+    assert_eq!((control.running(), control.ended()), (0, 2));
+    control.stop();
+    let batch = jointgap_core::simulate_batch(&models, &options, Some(2), &control);
+    assert!(batch.iter().all(Option::is_none));
+    assert_eq!(control.ended(), 2);
+}

@@ -4,7 +4,7 @@
 
 mod common;
 
-use jointgap_core::solve::prepare;
+use jointgap_core::solve::{check, prepare};
 use jointgap_core::{simulate, Model, SimOptions, Status};
 use serde_json::{json, Value};
 
@@ -81,6 +81,10 @@ fn numbers_that_overflow_at_the_start_are_model_errors() {
     let stiff = founding_with("bodies", "crank", "inertia", json!(1e308));
     let err = error_of(&stiff, &opts);
     assert!(err.starts_with("joint 'ground_crank': fx = NaN at the initial state (t = 0)"), "{err}");
+    // `check` (what `jointgap check` runs) goes as far as the run: the same error.
+    assert!(prepare(&stiff).is_ok());
+    assert_eq!(check(&stiff).map(|_| ()).unwrap_err().to_string(), err);
+    assert!(check(&common::slider_crank_clearance()).is_ok());
 }
 
 const K: f64 = 3.136e10;

@@ -17,13 +17,13 @@ fn parse(
     Ok((model, options))
 }
 
-/// Checks a model (JSON, SI units) and assembles it at t = 0; returns its warnings and
-/// raises ValueError naming the offending element.
+/// Checks a model (JSON, SI units) as far as a run goes before its first step (assembled,
+/// every channel evaluated at t = 0); returns its warnings and raises ValueError naming
+/// the offending element, as a run would.
 #[pyfunction]
 fn check_model(model_json: &str) -> PyResult<Vec<String>> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-    let prepared = jointgap_core::solve::prepare(&model).map_err(to_py_err)?;
-    Ok(prepared.system.warnings)
+    jointgap_core::solve::check(&model).map_err(to_py_err)
 }
 
 /// Each clearance joint's resolved contact data (radii, clearance, stiffness computed
@@ -90,10 +90,6 @@ struct PyMonitor {
     error: Option<PyErr>,
 }
 
-/// Wall-clock seconds between progress reports (and Ctrl-C checks) unless the caller
-/// sets another interval.
-const PROGRESS_INTERVAL: f64 = 0.2;
-
 /// Ctrl-C interrupts the run; any other exception is kept in `first` (the first one
 /// wins) to be raised again when the run has returned.
 fn stop(py: Python<'_>, first: &mut Option<PyErr>, error: PyErr) -> jointgap_core::Stop {
@@ -147,7 +143,10 @@ impl jointgap_core::Monitor for PyMonitor {
 /// the run goes, and the returned arrays hold none of them. Ctrl-C returns what was
 /// computed with status interrupted.
 #[pyfunction]
-#[pyo3(signature = (model_json, options_json, progress=None, sink=None, chunk=8192, interval=PROGRESS_INTERVAL))]
+// `interval`: wall-clock seconds between progress reports (and Ctrl-C checks). Its default
+// is a literal, as in `simulate_batch`, so that the signature Python sees shows it (a
+// named constant reads `...`) and `mypy.stubtest` checks it against the stub.
+#[pyo3(signature = (model_json, options_json, progress=None, sink=None, chunk=8192, interval=0.2))]
 fn simulate<'py>(
     py: Python<'py>,
     model_json: &str,
@@ -161,11 +160,7 @@ fn simulate<'py>(
     if chunk == 0 {
         return Err(PyValueError::new_err("chunk = 0: must be at least 1 sample"));
     }
-    if !(interval >= 0.0 && interval.is_finite()) {
-        return Err(PyValueError::new_err(format!(
-            "interval = {interval}: must be a finite number of seconds >= 0"
-        )));
-    }
+    check_interval(interval)?;
     let mut monitor = PyMonitor { progress, sink, chunk: Some(chunk), interval, error: None };
     let result = py
         .allow_threads(|| jointgap_core::simulate_with(&model, &options, &mut monitor))
@@ -176,34 +171,110 @@ fn simulate<'py>(
     to_python(py, result)
 }
 
+/// One slot of a batch: `(arrays, None)`, `(None, message)` for a model that could not
+/// run, `(None, None)` for one that Ctrl-C kept from starting.
+type Slot<'py> = (Option<Arrays<'py>>, Option<String>);
+
 /// Runs many models with the same options on `threads` threads (all cores by default),
-/// the GIL released throughout. Returns, in order, `(arrays, None)` with each run's
-/// arrays as `simulate` gives them, or `(None, message)` for a model that could not run.
+/// the GIL released while they run. Returns `(slots, interrupted)`: in order, each
+/// model's [`Slot`], and whether Ctrl-C (or a KeyboardInterrupt raised by `progress`)
+/// stopped the batch. The calling thread waits, checking Ctrl-C and calling
+/// `progress(running, ended)` (cases running, cases ended) every `interval` seconds of
+/// wall time; on Ctrl-C the runs going end as interrupted with what they computed and
+/// the cases not started are not run. Any other exception of `progress` stops the batch
+/// in the same way and is raised again when the runs have returned.
 #[pyfunction]
-#[pyo3(signature = (models_json, options_json, threads=None))]
+#[pyo3(signature = (models_json, options_json, threads=None, progress=None, interval=0.2))]
 fn simulate_batch<'py>(
     py: Python<'py>,
     models_json: Vec<String>,
     options_json: &str,
     threads: Option<usize>,
-) -> PyResult<Vec<(Option<Arrays<'py>>, Option<String>)>> {
+    progress: Option<PyObject>,
+    interval: f64,
+) -> PyResult<(Vec<Slot<'py>>, bool)> {
     let options: jointgap_core::SimOptions =
         serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
+    check_interval(interval)?;
     let parsed: Vec<Result<jointgap_core::Model, String>> =
         models_json.iter().map(|m| jointgap_core::Model::from_json(m).map_err(|e| e.to_string())).collect();
     let valid: Vec<jointgap_core::Model> = parsed.iter().filter_map(|m| m.as_ref().ok().cloned()).collect();
-    let mut results =
-        py.allow_threads(|| jointgap_core::simulate_batch(&valid, &options, threads)).into_iter();
-    parsed
+    let control = jointgap_core::BatchControl::default();
+    let (results, error) = py.allow_threads(|| {
+        std::thread::scope(|scope| {
+            let (done, wait) = std::sync::mpsc::channel();
+            let (valid, options, control) = (&valid, &options, &control);
+            let runs = scope.spawn(move || {
+                let results = jointgap_core::simulate_batch(valid, options, threads, control);
+                let _ = done.send(());
+                results
+            });
+            let error = watch_batch(control, &wait, progress.as_ref(), interval);
+            // A panic in the engine is a bug, reported as such by PyO3 in this thread.
+            let results = runs.join().unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (results, error)
+        })
+    });
+    if let Some(error) = error {
+        return Err(error);
+    }
+    let mut results = results.into_iter();
+    let slots = parsed
         .into_iter()
         .map(|m| match m {
             Err(message) => Ok((None, Some(message))),
             Ok(_) => match results.next().expect("one result per valid model") {
-                Ok(result) => Ok((Some(to_python(py, result)?), None)),
-                Err(e) => Ok((None, Some(e.to_string()))),
+                Some(Ok(result)) => Ok((Some(to_python(py, result)?), None)),
+                Some(Err(e)) => Ok((None, Some(e.to_string()))),
+                None => Ok((None, None)),
             },
         })
-        .collect()
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok((slots, control.stopped()))
+}
+
+/// Waits for a batch to end (`ended` receives once the runs have returned), taking the
+/// GIL every `interval` seconds, and once at the end, to check Ctrl-C and call
+/// `progress(running, ended)`. Ctrl-C, or an exception of `progress`, stops the batch (`control`); the exception is
+/// returned unless it is a KeyboardInterrupt.
+fn watch_batch(
+    control: &jointgap_core::BatchControl,
+    ended: &std::sync::mpsc::Receiver<()>,
+    progress: Option<&PyObject>,
+    interval: f64,
+) -> Option<PyErr> {
+    // At least a millisecond between checks: interval 0 must not spin a core the runs need.
+    let period = std::time::Duration::from_secs_f64(interval.max(1e-3));
+    let mut error = None;
+    loop {
+        // Once more after the end: a Ctrl-C of the last moment marks the batch, not the
+        // caller's next line.
+        let over = !matches!(ended.recv_timeout(period), Err(std::sync::mpsc::RecvTimeoutError::Timeout));
+        if !control.stopped() {
+            let outcome = Python::with_gil(|py| {
+                let checked = py.check_signals().and_then(|()| match progress {
+                    Some(callback) => callback.call1(py, (control.running(), control.ended())).map(|_| ()),
+                    None => Ok(()),
+                });
+                checked.map_err(|e| (!e.is_instance_of::<PyKeyboardInterrupt>(py)).then_some(e))
+            });
+            if let Err(raised) = outcome {
+                control.stop();
+                error = raised;
+            }
+        }
+        if over {
+            return error;
+        }
+    }
+}
+
+/// `interval` of `simulate` and `simulate_batch`: finite seconds, at least 0.
+fn check_interval(interval: f64) -> PyResult<()> {
+    if interval >= 0.0 && interval.is_finite() {
+        return Ok(());
+    }
+    Err(PyValueError::new_err(format!("interval = {interval}: must be a finite number of seconds >= 0")))
 }
 
 /// The compiled core of jointgap.

@@ -22,6 +22,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
+from ..run import collect_warnings
 from .execute import Case, run_case, run_dask, run_local
 from .metrics import Metric
 from .progress import Progress
@@ -141,6 +142,7 @@ def _run(
 
     def keep(outcome: Outcome) -> None:
         store.add(outcome)
+        collect_warnings(outcome.warnings)  # of cases run in other processes too
         bar.add(outcome.status == FAILED)
 
     missing: dict[int, str] = {}

@@ -55,35 +55,44 @@ def run_case(case: Case) -> Outcome:
     that stops early) is the case's outcome, with its reason, never an exception."""
     start = time.perf_counter()
     series = None
+    notes: list[str] = []  # the runs' warnings, which travel back with the outcome
     try:
         varied = {p: v for p, v in case.values.items() if p != MODEL}
         model = with_parameters(Model.from_dict(case.model), varied)
         result = model.simulate(**case.run)
+        notes += result.warnings
         if case.time_series:
             chosen = result.channels if isinstance(case.time_series, bool) else case.time_series
             series = {"time": result.time, **{c: result[c] for c in chosen}}
         if not result.ok:
-            return _failed(case, start, result.message, series)
+            return _failed(case, start, result.message, series, notes)
         ideal = None
         if any(m.needs_ideal for m in case.metrics):
             ideal = Model.from_dict(ideal_counterpart(model.to_dict())).simulate(**case.run)
+            notes += ideal.warnings
             if not ideal.ok:
-                return _failed(case, start, f"the ideal run {ideal.message}", series)
+                return _failed(case, start, f"the ideal run {ideal.message}", series, notes)
         metrics = {m.name: m.value(result, ideal) for m in case.metrics}
     except ValueError as exc:  # ModelError too: a variant the model or engine refuses
-        return _failed(case, start, str(exc), series)
+        return _failed(case, start, str(exc), series, notes)
     except Exception as exc:  # one case's surprise must not end the study
-        return _failed(case, start, f"{type(exc).__name__}: {exc}", series)
+        return _failed(case, start, f"{type(exc).__name__}: {exc}", series, notes)
     elapsed = time.perf_counter() - start
-    return Outcome(case.case, dict(case.values), metrics, FINISHED, "", elapsed, series)
+    values = dict(case.values)
+    return Outcome(case.case, values, metrics, FINISHED, "", elapsed, series, tuple(notes))
 
 
 def _failed(
-    case: Case, start: float, reason: str, series: Mapping[str, np.ndarray] | None
+    case: Case,
+    start: float,
+    reason: str,
+    series: Mapping[str, np.ndarray] | None,
+    notes: Sequence[str],
 ) -> Outcome:
     metrics = {m.name: math.nan for m in case.metrics}
     elapsed = time.perf_counter() - start
-    return Outcome(case.case, dict(case.values), metrics, FAILED, reason, elapsed, series)
+    values = dict(case.values)
+    return Outcome(case.case, values, metrics, FAILED, reason, elapsed, series, tuple(notes))
 
 
 def run_local(cases: Sequence[Case], workers: int, store: Callable[[Outcome], None]) -> None:

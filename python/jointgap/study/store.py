@@ -77,6 +77,7 @@ class Outcome:
         reason: why it failed; ``""`` when finished.
         run_time_s: wall time of the case [s] (its runs and metrics).
         series: ``{"time": .., channel: ..}`` when time series are kept, else None.
+        warnings: the warnings of its runs, for the command to print (not logged).
     """
 
     case: int
@@ -86,6 +87,7 @@ class Outcome:
     reason: str
     run_time_s: float
     series: Mapping[str, np.ndarray] | None = None
+    warnings: tuple[str, ...] = ()
 
     def record(self) -> dict[str, Any]:
         """The log line's content: strict JSON, NaN as null."""

@@ -19,7 +19,7 @@ pub mod sdirk4;
 pub mod stepper;
 pub mod switching;
 
-pub use monitor::{Monitor, Progress, Silent, Stop};
+pub use monitor::{BatchControl, Monitor, Progress, Silent, Stop};
 pub use options::{Method, SimOptions};
 
 use crate::contact::ClearanceRevolute;
@@ -48,6 +48,42 @@ pub fn prepare(model: &Model) -> Result<Prepared, Error> {
     }
     system.warnings.extend(initial.warnings.iter().cloned());
     Ok(Prepared { system, initial })
+}
+
+/// Checks a model as far as a run goes before its first step: compiled, assembled, and
+/// every channel a run can record (energy accounts included) evaluated at t = 0, with the
+/// run's own finiteness check, so that a model a run would refuse is refused here with
+/// the same error ([`initial_overflow`]). Returns the model's warnings.
+pub fn check(model: &Model) -> Result<Vec<String>, Error> {
+    let Prepared { system, initial } = prepare(model)?;
+    let mut ws = dynamics::Workspace::new(&system, initial.active.clone());
+    let mut rec = record::Recorder::new(&system, &ws, None, 1, true)?;
+    if !record_initial(&system, &mut ws, &mut rec, &initial.q, &initial.v)? {
+        return Err(Error::Assembly(SINGULAR_AT_START.into()));
+    }
+    Ok(system.warnings)
+}
+
+/// Why a run whose constraint equations are singular in its initial state stops there.
+const SINGULAR_AT_START: &str = "the constraint equations are singular at t = 0";
+
+/// Records the initial state (t = 0), a run's first sample. A non-finite channel there is
+/// a model error ([`initial_overflow`]); `Ok(false)` when the constraint equations are
+/// singular there (a run then fails at t = 0 with what it has).
+fn record_initial(
+    system: &System,
+    ws: &mut dynamics::Workspace,
+    rec: &mut record::Recorder,
+    q: &[f64],
+    v: &[f64],
+) -> Result<bool, Error> {
+    match rec.push(system, ws, 0.0, q, v) {
+        Ok(()) => Ok(true),
+        Err(record::SampleError::Singular) => Ok(false),
+        Err(record::SampleError::NonFinite { channel, value }) => {
+            Err(initial_overflow(system, &channel, value))
+        }
+    }
 }
 
 /// A body whose weight overflows the floating-point range (a mass near 1.8e308 kg) is an
@@ -97,7 +133,9 @@ pub fn recorded_channels(model: &Model, opts: &SimOptions) -> Result<Vec<String>
 /// Simulates many models with the same options on a pool of `threads` threads (all
 /// cores when `None`), in order: result `k` belongs to `models[k]` and is bit for bit the
 /// one `simulate` gives, so a batch is a serial loop done faster. One model's error or
-/// failure leaves the others untouched.
+/// failure leaves the others untouched. Once `control` is stopped (Ctrl-C), the runs
+/// going end as interrupted with what they computed and the models not started are
+/// `None`.
 ///
 /// Each thread takes the next model as it finishes one (rayon's `par_bridge`), because
 /// runs differ in length (a larger clearance, more impacts): halving the list between
@@ -107,18 +145,21 @@ pub fn simulate_batch(
     models: &[Model],
     opts: &SimOptions,
     threads: Option<usize>,
-) -> Vec<Result<SimResult, Error>> {
+    control: &BatchControl,
+) -> Vec<Option<Result<SimResult, Error>>> {
     use rayon::prelude::*;
+    let one =
+        |m: &Model| (!control.stopped()).then(|| control.case(|| simulate_with(m, opts, &mut &*control)));
     let run = || {
-        let mut done: Vec<(usize, Result<SimResult, Error>)> =
-            models.iter().enumerate().par_bridge().map(|(k, m)| (k, simulate(m, opts))).collect();
+        let mut done: Vec<(usize, Option<Result<SimResult, Error>>)> =
+            models.iter().enumerate().par_bridge().map(|(k, m)| (k, one(m))).collect();
         done.sort_unstable_by_key(|(k, _)| *k);
         done.into_iter().map(|(_, result)| result).collect()
     };
     match threads {
         Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build() {
             Ok(pool) => pool.install(run),
-            Err(_) => models.iter().map(|m| simulate(m, opts)).collect(),
+            Err(_) => models.iter().map(one).collect(),
         },
         None => run(),
     }
@@ -151,17 +192,11 @@ pub fn simulate_with(
     if opts.every_step && opts.rate.is_some() {
         rec.mark_samples();
     }
-    let mut status = match rec.push(&system, &mut ode.ws, 0.0, &y[..n], &y[n..]) {
-        Err(record::SampleError::NonFinite { channel, value }) => {
-            return Err(initial_overflow(&system, &channel, value))
-        }
-        Err(record::SampleError::Singular) => {
-            Status::Failed { time: 0.0, reason: "the constraint equations are singular at t = 0".into() }
-        }
-        Ok(()) => {
-            rec.mark_sample();
-            integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
-        }
+    let mut status = if record_initial(&system, &mut ode.ws, &mut rec, &y[..n], &y[n..])? {
+        rec.mark_sample();
+        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
+    } else {
+        Status::Failed { time: 0.0, reason: SINGULAR_AT_START.into() }
     };
     if status == Status::Finished {
         match rec.push_end(&system, &mut ode.ws, opts.t_end, &y[..n], &y[n..]) {

@@ -2,6 +2,8 @@
 //! output samples in chunks, so that a long run can be streamed to disk instead of
 //! being held in memory.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
 use crate::output::Status;
 
 /// Where a run stands.
@@ -70,3 +72,62 @@ pub trait Monitor {
 pub struct Silent;
 
 impl Monitor for Silent {}
+
+/// What the caller of a batch ([`crate::simulate_batch`]) shares with its runs while they
+/// go on other threads: a stop request (Ctrl-C), which each run checks every 16 accepted
+/// steps and a case not yet started sees before it starts, and the counts of cases
+/// running and ended, for a progress display.
+#[derive(Debug, Default)]
+pub struct BatchControl {
+    stop: AtomicBool,
+    running: AtomicUsize,
+    ended: AtomicUsize,
+}
+
+impl BatchControl {
+    /// Asks every run of the batch to stop: those running end with
+    /// [`Status::Interrupted`] and what they computed, those not started do not start.
+    pub fn stop(&self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether [`BatchControl::stop`] was called.
+    pub fn stopped(&self) -> bool {
+        self.stop.load(Ordering::Relaxed)
+    }
+
+    /// Cases running now.
+    pub fn running(&self) -> usize {
+        self.running.load(Ordering::Relaxed)
+    }
+
+    /// Cases ended (finished, failed, refused or interrupted).
+    pub fn ended(&self) -> usize {
+        self.ended.load(Ordering::Relaxed)
+    }
+
+    /// Counts one case from its start to its end around `run`.
+    pub(crate) fn case<T>(&self, run: impl FnOnce() -> T) -> T {
+        self.running.fetch_add(1, Ordering::Relaxed);
+        let out = run();
+        self.running.fetch_sub(1, Ordering::Relaxed);
+        self.ended.fetch_add(1, Ordering::Relaxed);
+        out
+    }
+}
+
+/// The monitor of each run of a batch: checks the stop request at every check (every 16
+/// accepted steps), with no display.
+impl Monitor for &BatchControl {
+    fn progress_interval(&self) -> Option<f64> {
+        Some(0.0)
+    }
+
+    fn progress(&mut self, _progress: &Progress) -> Result<(), Stop> {
+        if self.stopped() {
+            Err(Stop::Interrupted)
+        } else {
+            Ok(())
+        }
+    }
+}
