@@ -345,13 +345,15 @@ def test_long_converge_and_calibrate(long_folder, capsys) -> None:
 @pytest.mark.slow
 def test_long_compare(long_folder, capsys) -> None:
     folder, t_end = long_folder
-    # The lag given (the synthetic record's): the lag search correlates the whole record
-    # at 500 lags, a minute of this test's time over 60 s on a loaded machine.
-    measured = ["--measured", str(folder / "m.csv"), "--signal", "slider.ax", "--lag", "0.01"]
+    # The lag estimated over the whole record (the synthetic record's is 10 ms): the
+    # search correlates it at 500 shifts by FFT.
+    measured = ["--measured", str(folder / "m.csv"), "--signal", "slider.ax"]
     args = ["compare", CLEARANCE, *measured, *LONG_RUN, "--out", str(folder / "cmp")]
     assert main([*args, "--format", "png"]) == 0
     text = capsys.readouterr().out
     assert len(text.splitlines()) < 30 and " turns, difference mean " in text
+    lag = json.loads((folder / "cmp" / "comparison.json").read_text())["lag"]
+    assert lag == pytest.approx(0.01, abs=1 / 5000)  # within a sample of the record
 
 
 @pytest.mark.slow
