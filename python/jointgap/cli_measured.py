@@ -118,6 +118,13 @@ def add_commands(sub: Any) -> None:
         "--scan", type=int, metavar="N", help="scan points per parameter (default 16, or 6 each)"
     )
     identify.add_argument(
+        "--max-evaluations",
+        type=int,
+        metavar="N",
+        help="most trials of the refinement after the scan (default 60); a long record "
+        "costs a run per trial",
+    )
+    identify.add_argument(
         "--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)"
     )
     identify.add_argument(
@@ -305,6 +312,8 @@ def _identify(args: argparse.Namespace) -> int:
     lock = threading.Lock()
     span = _simulated_span(args, measured)
     fit = None  # until it ends: Ctrl-C leaves the trials so far
+    budget = args.max_evaluations
+    refinement = {} if budget is None else {"max_evaluations": budget}
     with progress_line(span, "trials: 0 done; ") as line:
 
         def finished(trial: Trial) -> None:  # from the worker threads too
@@ -324,11 +333,14 @@ def _identify(args: argparse.Namespace) -> int:
                 measure=args.measure,
                 scan=args.scan,
                 workers=args.workers,
+                **refinement,
                 compare_options=_compare_options(args),
                 progress=finished,
                 run_progress=line,
                 **_run_options(args),
             )
+        except KeyError as exc:  # --signal is not an output of the model
+            return _fail(f"--signal {args.signal}: {exc.args[0]}")
         except KeyboardInterrupt:
             pass
     if fit is None:
