@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import tracemalloc
 from pathlib import Path
 
@@ -306,6 +307,19 @@ def test_compare_summarises_many_turns() -> None:
     assert all(line.endswith("60.00 %") for line in lines[3:])
     few = cycle_lines(rows[:CYCLE_LINES], "crank.angle", "m/s^2")
     assert len(few) == CYCLE_LINES + 2
+
+
+def test_converge_names_its_level_on_the_progress_line(engine) -> None:
+    from terminal import in_terminal
+
+    # Every run reports every 16 steps (tests/terminal.py): each level shows, in order,
+    # with its own tolerance, however fast the machine is.
+    args = ["converge", CLEARANCE, "--t-end", "0.1", "--rate", "1000", "--rtol", "1e-5"]
+    session = in_terminal(*args, "--atol", "1e-8", "--levels", "2")
+    assert session.returncode in (0, EXIT_NOT_CONVERGED), session.screen
+    shown = re.findall(r"\rlevel (\d)/3 rtol ([0-9e.+-]+): t = [0-9.e+-]+ / 0.1 s", session.screen)
+    assert list(dict.fromkeys(shown)) == [("1", "1e-05"), ("2", "1e-06"), ("3", "1e-07")]
+    assert session.screen.endswith("\r") and "level" not in session.stdout
 
 
 def test_converge_says_what_helps_when_tightening_does_not() -> None:
