@@ -230,6 +230,54 @@ def test_to_csv_writes_exact_values_in_blocks_with_progress(tmp_path, engine) ->
     assert np.array_equal(back[:, 0], r.time) and np.array_equal(back[:, 1:].T, r.data)
 
 
+def test_writing_shows_its_progress_in_a_terminal(tmp_path, engine) -> None:
+    from terminal import in_terminal
+
+    # Three blocks of rows: a line after each, erased before the summary; the same line
+    # for the simulation that compare writes beside its comparison.
+    rows = 2 * CSV_BLOCK + 1
+    out = tmp_path / "run"
+    args = ["run", CLEARANCE, "--t-end", "0.2", "--rate", str(2 * CSV_BLOCK / 0.2)]
+    session = in_terminal(*args, "--channel", "slider.ax", "--out", str(out))
+    assert session.returncode == 0, session.screen
+    path = re.escape(str(out / "results.csv"))
+    shown = re.findall(rf"\rwriting {path}: +([0-9.]+) % of {rows} rows", session.screen)
+    done = [100 * min(rows, k * CSV_BLOCK) / rows for k in (1, 2, 3)]
+    assert [float(x) for x in shown] == pytest.approx(done, abs=0.05)
+    assert session.screen.endswith("\r") and " rows" not in session.stdout
+    record = tmp_path / "m.csv"
+    assert (
+        main(
+            [
+                "synthesize",
+                CLEARANCE,
+                "--signal",
+                "slider.ax",
+                "--t-end",
+                "0.2",
+                "--out",
+                str(record),
+            ]
+        )
+        == 0
+    )
+    compared = tmp_path / "cmp"
+    args = [
+        "compare",
+        CLEARANCE,
+        "--measured",
+        str(record),
+        "--signal",
+        "slider.ax",
+        "--rate",
+        "1000",
+    ]
+    session = in_terminal(*args, "--max-lag", "0.02", "--out", str(compared), "--format", "svg")
+    assert session.returncode == 0, session.screen
+    path = re.escape(str(compared / "simulation" / "results.csv"))
+    assert re.search(rf"\rwriting {path}: 100.0 % of \d+ rows", session.screen)
+
+
 # --- 5. statistics from uneven samples -------------------------------------------------
 
 

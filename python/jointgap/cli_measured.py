@@ -18,6 +18,7 @@ from .cli import (
     _interrupted,
     _load,
     _run_options,
+    _save,
     _write_partial_table,
     _write_table_and_model,
 )
@@ -250,7 +251,7 @@ def _compare(args: argparse.Namespace) -> int:
         result = model.simulate(span, progress=progress, **_run_options(args))
     out = Path(args.out or "out/compare")
     if result.interrupted:
-        result.save(out / SIMULATION_DIR)
+        _save(result, out / SIMULATION_DIR)
         return _interrupted(
             f"the run {result.message}: nothing compared; the simulation up to there is in "
             f"{out / SIMULATION_DIR}"
@@ -260,9 +261,9 @@ def _compare(args: argparse.Namespace) -> int:
     comparison = compare(result, measured, args.signal, **_compare_options(args))
     out.mkdir(parents=True, exist_ok=True)
     (out / COMPARISON_JSON).write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
-    # The simulation and the signal as read (SI) beside it: 'jointgap report OUT' redraws
-    # the comparison from them.
-    result.save(out / SIMULATION_DIR)
+    # The simulation (a line shows the writing of a long one) and the signal as read (SI)
+    # beside it: 'jointgap report OUT' redraws the comparison from them.
+    _save(result, out / SIMULATION_DIR)
     measured.to_csv(out / MEASURED_CSV)
     paths = save_figures({"comparison": comparison_figure(comparison)}, out, args.formats)
     if args.report:
