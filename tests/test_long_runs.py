@@ -246,32 +246,11 @@ def test_writing_shows_its_progress_in_a_terminal(tmp_path, engine) -> None:
     assert [float(x) for x in shown] == pytest.approx(done, abs=0.05)
     assert session.screen.endswith("\r") and " rows" not in session.stdout
     record = tmp_path / "m.csv"
-    assert (
-        main(
-            [
-                "synthesize",
-                CLEARANCE,
-                "--signal",
-                "slider.ax",
-                "--t-end",
-                "0.2",
-                "--out",
-                str(record),
-            ]
-        )
-        == 0
-    )
+    args = ["synthesize", CLEARANCE, "--signal", "slider.ax", "--t-end", "0.2"]
+    assert main([*args, "--out", str(record)]) == 0
     compared = tmp_path / "cmp"
-    args = [
-        "compare",
-        CLEARANCE,
-        "--measured",
-        str(record),
-        "--signal",
-        "slider.ax",
-        "--rate",
-        "1000",
-    ]
+    args = ["compare", CLEARANCE, "--measured", str(record), "--signal", "slider.ax"]
+    args += ["--rate", "1000"]
     session = in_terminal(*args, "--max-lag", "0.02", "--out", str(compared), "--format", "svg")
     assert session.returncode == 0, session.screen
     path = re.escape(str(compared / "simulation" / "results.csv"))
