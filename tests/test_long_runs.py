@@ -4,15 +4,15 @@ time-weighted statistics, the report and the comparison of long runs.
 
 The tests marked ``slow`` run the founding case over 20 s and 60 s (100 and 300 crank
 turns) through the commands of the CLI (run with --ideal, plot, report, check, converge,
-calibrate, synthesize, compare, study, study-plot; not identify, whose dozen runs and
-comparisons per fit would take minutes); they run in ``make test`` too, at 1 kHz, a loose
-tolerance and few runs per command, so that what only shows on long runs is caught
-there."""
+calibrate, synthesize, compare, identify, study, study-plot); they run in ``make test``
+too, at 1 kHz, a loose tolerance and few runs per command, so that what only shows on
+long runs is caught there."""
 
 from __future__ import annotations
 
 import json
 import math
+import re
 import tracemalloc
 from pathlib import Path
 
@@ -175,6 +175,46 @@ def test_calibrate_and_synthesize_record_only_what_they_use(tmp_path, monkeypatc
     assert recorded == [["slider.ax"]]
 
 
+def test_identify_records_only_what_it_uses(monkeypatch, engine) -> None:
+    import jointgap
+    from jointgap.identify import Parameter, identify
+    from jointgap.measured import synthetic_record
+
+    model = _model()
+    record = synthetic_record(model.simulate(0.1, rate=10_000), "slider.ax", rate=5000, lag=0.0)
+    recorded: list[object] = []
+    simulate = jointgap.Model.simulate
+
+    def spy(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+        result = simulate(self, *args, **kwargs)
+        recorded.append(result.channels)
+        return result
+
+    monkeypatch.setattr(jointgap.Model, "simulate", spy)
+    reported: list[int] = []
+    restitution = [Parameter.parse("rod_slider.restitution=0.3:0.95")]
+    with pytest.raises(KeyError, match="no channel 'slider.acc'; close matches: .*slider.ax"):
+        identify(model, record, "slider.acc", restitution, rate=1000)
+    assert recorded == []  # named before any run
+    fit = identify(
+        model,
+        record,
+        "slider.ax",
+        restitution,
+        rate=1000,
+        scan=2,
+        max_evaluations=3,
+        compare_options={"max_lag": 0.01},
+        progress=lambda t: reported.append(t.trial),
+    )
+    # The bounds of the restitution's C_max read the impact list of runs recording the
+    # contact mode at 10 Hz; every trial records the compared channel alone.
+    assert set(map(tuple, recorded)) == {("rod_slider.mode",), ("slider.ax",)}
+    assert recorded.count(["slider.ax"]) == len(fit.trials) <= 2 + 3 + 8
+    # Each trial is reported once, even where the profile lands on a point run before.
+    assert sorted(reported) == [t.trial for t in fit.trials]
+
+
 # --- 4. writing ------------------------------------------------------------------------
 
 
@@ -188,6 +228,33 @@ def test_to_csv_writes_exact_values_in_blocks_with_progress(tmp_path, engine) ->
     assert header == ",".join(["time", *r.channels])
     back = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)
     assert np.array_equal(back[:, 0], r.time) and np.array_equal(back[:, 1:].T, r.data)
+
+
+def test_writing_shows_its_progress_in_a_terminal(tmp_path, engine) -> None:
+    from terminal import in_terminal
+
+    # Three blocks of rows: a line after each, erased before the summary; the same line
+    # for the simulation that compare writes beside its comparison.
+    rows = 2 * CSV_BLOCK + 1
+    out = tmp_path / "run"
+    args = ["run", CLEARANCE, "--t-end", "0.2", "--rate", str(2 * CSV_BLOCK / 0.2)]
+    session = in_terminal(*args, "--channel", "slider.ax", "--out", str(out))
+    assert session.returncode == 0, session.screen
+    path = re.escape(str(out / "results.csv"))
+    shown = re.findall(rf"\rwriting {path}: +([0-9.]+) % of {rows} rows", session.screen)
+    done = [100 * min(rows, k * CSV_BLOCK) / rows for k in (1, 2, 3)]
+    assert [float(x) for x in shown] == pytest.approx(done, abs=0.05)
+    assert session.screen.endswith("\r") and " rows" not in session.stdout
+    record = tmp_path / "m.csv"
+    args = ["synthesize", CLEARANCE, "--signal", "slider.ax", "--t-end", "0.2"]
+    assert main([*args, "--out", str(record)]) == 0
+    compared = tmp_path / "cmp"
+    args = ["compare", CLEARANCE, "--measured", str(record), "--signal", "slider.ax"]
+    args += ["--rate", "1000"]
+    session = in_terminal(*args, "--max-lag", "0.02", "--out", str(compared), "--format", "svg")
+    assert session.returncode == 0, session.screen
+    path = re.escape(str(compared / "simulation" / "results.csv"))
+    assert re.search(rf"\rwriting {path}: 100.0 % of \d+ rows", session.screen)
 
 
 # --- 5. statistics from uneven samples -------------------------------------------------
@@ -269,6 +336,19 @@ def test_compare_summarises_many_turns() -> None:
     assert len(few) == CYCLE_LINES + 2
 
 
+def test_converge_names_its_level_on_the_progress_line(engine) -> None:
+    from terminal import in_terminal
+
+    # Every run reports every 16 steps (tests/terminal.py): each level shows, in order,
+    # with its own tolerance, however fast the machine is.
+    args = ["converge", CLEARANCE, "--t-end", "0.1", "--rate", "1000", "--rtol", "1e-5"]
+    session = in_terminal(*args, "--atol", "1e-8", "--levels", "2")
+    assert session.returncode in (0, EXIT_NOT_CONVERGED), session.screen
+    shown = re.findall(r"\rlevel (\d)/3 rtol ([0-9e.+-]+): t = [0-9.e+-]+ / 0.1 s", session.screen)
+    assert list(dict.fromkeys(shown)) == [("1", "1e-05"), ("2", "1e-06"), ("3", "1e-07")]
+    assert session.screen.endswith("\r") and "level" not in session.stdout
+
+
 def test_converge_says_what_helps_when_tightening_does_not() -> None:
     from jointgap.convergence import ChannelChange, Convergence
 
@@ -345,13 +425,54 @@ def test_long_converge_and_calibrate(long_folder, capsys) -> None:
 @pytest.mark.slow
 def test_long_compare(long_folder, capsys) -> None:
     folder, t_end = long_folder
-    # The lag given (the synthetic record's): the lag search correlates the whole record
-    # at 500 lags, a minute of this test's time over 60 s on a loaded machine.
-    measured = ["--measured", str(folder / "m.csv"), "--signal", "slider.ax", "--lag", "0.01"]
+    # The lag estimated over the whole record (the synthetic record's is 10 ms): the
+    # search correlates it at 500 shifts by FFT.
+    measured = ["--measured", str(folder / "m.csv"), "--signal", "slider.ax"]
     args = ["compare", CLEARANCE, *measured, *LONG_RUN, "--out", str(folder / "cmp")]
     assert main([*args, "--format", "png"]) == 0
     text = capsys.readouterr().out
     assert len(text.splitlines()) < 30 and " turns, difference mean " in text
+    lag = json.loads((folder / "cmp" / "comparison.json").read_text())["lag"]
+    assert lag == pytest.approx(0.01, abs=1 / 5000)  # within a sample of the record
+
+
+@pytest.mark.slow
+def test_long_identify(long_folder, capsys) -> None:
+    import pandas as pd
+    from jointgap.measured import read_measured
+
+    folder, t_end = long_folder
+    record = folder / "m.csv"
+    if t_end == 20:
+        # The issue's reproducer on the founding case: a restitution, searched through
+        # C_max (5 runs place the bounds), a scan of 3 and a short refinement.
+        param, scan, refine = "rod_slider.restitution=0.3:0.95", "3", "6"
+    else:
+        # C_max itself around the record's 27960 N s/m: no bound runs, a run per trial
+        # (4 s each) is all the time of this test.
+        param, scan, refine = "rod_slider.c_max=20000:36000", "2", "4"
+    table = folder / f"trials{t_end:g}.csv"
+    args = ["identify", CLEARANCE, "--measured", str(record), "--signal", "slider.ax"]
+    args += ["--param", param, "--scan", scan, "--max-evaluations", refine]
+    args += ["--t-end", str(t_end), *LONG_RUN, "--table", str(table)]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    trials = pd.read_csv(table)
+    assert len(trials) <= int(scan) + int(refine) + 8  # and at most 4 profile rounds of 2
+    # The best trial is the lowest of its own table, and it is the one the fit reports.
+    best = trials.loc[trials["nrmse"].idxmin()]
+    assert f"best (trial {best['trial']}), nrmse = " in text
+    # Its values are physical: a restitution in (0, 1], a C_max within its bounds.
+    c_max = best["rod_slider.c_max"]
+    if t_end == 20:
+        assert 0.0 < best["rod_slider.restitution"] <= 1.0 and c_max > 0.0
+    else:
+        assert 20000.0 <= c_max <= 36000.0
+    # No fit beats the record's own noise (5 m/s^2 standard deviation against its range),
+    # and the lag is the record's 10 ms to a sample (5 kHz).
+    values = read_measured(record, "slider.ax").values
+    assert best["nrmse"] >= 0.9 * 5.0 / float(np.ptp(values))
+    assert best["lag"] == pytest.approx(0.01, abs=1 / 5000)
 
 
 @pytest.mark.slow

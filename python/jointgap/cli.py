@@ -796,12 +796,18 @@ def _converge(args: argparse.Namespace) -> int:
     check = None
     try:
         with progress_line(args.t_end) as progress:
+
+            def level(k: int, runs: int, rtol: float, atol: float) -> None:
+                if progress is not None:  # the line names the run: "level 2/3 rtol 1e-09: "
+                    progress.label = f"level {k}/{runs} rtol {rtol:g}: "
+
             check = check_convergence(
                 model,
                 args.t_end,
                 levels=args.levels,
                 peak_tolerance=args.peak_tol,
                 nrmse_tolerance=args.nrmse_tol,
+                level=level,
                 progress=progress,
                 **options,
             )

@@ -18,6 +18,7 @@ from .cli import (
     _interrupted,
     _load,
     _run_options,
+    _save,
     _write_partial_table,
     _write_table_and_model,
 )
@@ -116,6 +117,13 @@ def add_commands(sub: Any) -> None:
     )
     identify.add_argument(
         "--scan", type=int, metavar="N", help="scan points per parameter (default 16, or 6 each)"
+    )
+    identify.add_argument(
+        "--max-evaluations",
+        type=int,
+        metavar="N",
+        help="most trials of the refinement after the scan (default 60); a long record "
+        "costs a run per trial",
     )
     identify.add_argument(
         "--workers", type=int, metavar="N", help="parallel runs (default: the number of cores)"
@@ -243,7 +251,7 @@ def _compare(args: argparse.Namespace) -> int:
         result = model.simulate(span, progress=progress, **_run_options(args))
     out = Path(args.out or "out/compare")
     if result.interrupted:
-        result.save(out / SIMULATION_DIR)
+        _save(result, out / SIMULATION_DIR)
         return _interrupted(
             f"the run {result.message}: nothing compared; the simulation up to there is in "
             f"{out / SIMULATION_DIR}"
@@ -253,9 +261,9 @@ def _compare(args: argparse.Namespace) -> int:
     comparison = compare(result, measured, args.signal, **_compare_options(args))
     out.mkdir(parents=True, exist_ok=True)
     (out / COMPARISON_JSON).write_text(json.dumps(comparison.to_dict(), indent=2) + "\n")
-    # The simulation and the signal as read (SI) beside it: 'jointgap report OUT' redraws
-    # the comparison from them.
-    result.save(out / SIMULATION_DIR)
+    # The simulation (a line shows the writing of a long one) and the signal as read (SI)
+    # beside it: 'jointgap report OUT' redraws the comparison from them.
+    _save(result, out / SIMULATION_DIR)
     measured.to_csv(out / MEASURED_CSV)
     paths = save_figures({"comparison": comparison_figure(comparison)}, out, args.formats)
     if args.report:
@@ -305,6 +313,8 @@ def _identify(args: argparse.Namespace) -> int:
     lock = threading.Lock()
     span = _simulated_span(args, measured)
     fit = None  # until it ends: Ctrl-C leaves the trials so far
+    budget = args.max_evaluations
+    refinement = {} if budget is None else {"max_evaluations": budget}
     with progress_line(span, "trials: 0 done; ") as line:
 
         def finished(trial: Trial) -> None:  # from the worker threads too
@@ -324,11 +334,14 @@ def _identify(args: argparse.Namespace) -> int:
                 measure=args.measure,
                 scan=args.scan,
                 workers=args.workers,
+                **refinement,
                 compare_options=_compare_options(args),
                 progress=finished,
                 run_progress=line,
                 **_run_options(args),
             )
+        except KeyError as exc:  # --signal is not an output of the model
+            return _fail(f"--signal {args.signal}: {exc.args[0]}")
         except KeyboardInterrupt:
             pass
     if fit is None:

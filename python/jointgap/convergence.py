@@ -25,6 +25,7 @@ same test applied to the next tighter run tells the user which tolerance would d
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -186,12 +187,15 @@ def check_convergence(
     levels: int = 2,
     peak_tolerance: float = 0.01,
     nrmse_tolerance: float = 0.01,
+    level: Callable[[int, int, float, float], object] | None = None,
     **run_options: Any,
 ) -> Convergence:
     """Runs ``model`` at ``rtol``/``atol`` and ``levels`` tenfold tighter tolerances, all
     sampled at ``rate``, and tests each against the tightest (see the module docs).
-    ``run_options`` (method, max_step, progress, ...) go to every run; Ctrl-C during a
-    run raises KeyboardInterrupt."""
+    ``level(k, runs, rtol, atol)`` is called as the k-th of the ``levels + 1`` runs
+    starts (k = 1, 2, ...), e.g. to name it on a progress line; ``run_options`` (method,
+    max_step, progress, ...) go to every run; Ctrl-C during a run raises
+    KeyboardInterrupt."""
     if levels < 1:
         raise ValueError(f"levels = {levels}: must be at least 1")
     for name, value in (("peak_tolerance", peak_tolerance), ("nrmse_tolerance", nrmse_tolerance)):
@@ -202,6 +206,8 @@ def check_convergence(
     for k in range(levels + 1):
         # Decimal tolerances: 1e-5 / 10 as a float is not 1e-6, and runs differ by it.
         tight_rtol, tight_atol = (float(f"{x / TIGHTEN**k:.12g}") for x in (rtol, atol))
+        if level is not None:
+            level(k + 1, levels + 1, tight_rtol, tight_atol)
         run = model.simulate(
             t_end,
             rate=rate,
