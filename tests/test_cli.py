@@ -307,6 +307,13 @@ def test_synthesize_then_compare_from_the_command_line(tmp_path, capsys, engine)
     )
     assert status == EXIT_INVALID
     assert "no data column 'accel'" in capsys.readouterr().err
+    # A simulated channel that is not there is named before the run: nothing is written.
+    missing = tmp_path / "missing"
+    args = ["compare", model, "--measured", str(record), "--signal", "slider.acc"]
+    assert main([*args, "--out", str(missing)]) == EXIT_INVALID
+    err = capsys.readouterr().err
+    assert "--signal slider.acc: no channel 'slider.acc'; close matches: " in err
+    assert "slider.ax" in err and "Traceback" not in err and not missing.exists()
 
 
 def test_compare_on_crank_angle(tmp_path, capsys, engine) -> None:

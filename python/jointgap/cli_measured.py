@@ -243,8 +243,13 @@ def _compare(args: argparse.Namespace) -> int:
     from .comparison import compare, comparison_figure
     from .plots import save_figures
     from .report import COMPARISON_JSON, MEASURED_CSV, SIMULATION_DIR
+    from .results import model_channels, require_channel
 
     model = _load(args.model)
+    try:  # before the run, not after it
+        require_channel(model_channels(model.to_dict()), args.signal)
+    except KeyError as exc:
+        return _fail(f"--signal {args.signal}: {exc.args[0]}")
     measured = _measured(args)
     span = _simulated_span(args, measured)
     with progress_line(span) as progress:

@@ -45,7 +45,7 @@ import numpy as np
 
 from .calibration import average_onset_speed, damping_from_restitution, restitution_from_damping
 from .model import Model
-from .results import Result, model_channels
+from .results import model_channels, require_channel
 from .variants import (
     QUANTITIES,
     clearance_joint,
@@ -355,8 +355,7 @@ def identify(
     # Each trial keeps what its score reads: the channel compared (checked here, before
     # any run) and the impact list, which every run has: a trial of the two-clearance
     # model over 20 s at 10 kHz holds 1.6 MB of samples instead of 102 MB.
-    names = model_channels(data)
-    Result(np.zeros(0), names, np.zeros((len(names), 0)))[channel]  # KeyError: close matches
+    require_channel(model_channels(data), channel)
     options = {"rate": 10_000.0, **run_options, "channels": [channel], "progress": watch}
     cmp_options = dict(compare_options or {})
 

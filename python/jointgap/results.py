@@ -15,7 +15,7 @@ import csv
 import difflib
 import json
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
@@ -36,6 +36,7 @@ __all__ = [
     "SUMMARY_JSON",
     "IMPACTS_CSV",
     "model_channels",
+    "require_channel",
 ]
 
 RESULTS_CSV = "results.csv"
@@ -250,20 +251,12 @@ class Result:
         """The samples of one channel (read-only); KeyError lists close matches."""
         k = self._index.get(channel)  # type: ignore[attr-defined]
         if k is None:
-            raise KeyError(self._missing(channel))
+            require_channel(self.channels, channel)
         row: np.ndarray = self.data[k]
         return row
 
     def __contains__(self, channel: object) -> bool:
         return channel in self._index  # type: ignore[attr-defined]
-
-    def _missing(self, channel: str) -> str:
-        close = difflib.get_close_matches(channel, self.channels, n=6, cutoff=0.6)
-        element = channel.split(".", 1)[0]
-        close += [c for c in self.channels if c.split(".", 1)[0] == element and c not in close]
-        if close:
-            return f"no channel '{channel}'; close matches: {', '.join(close[:8])}"
-        return f"no channel '{channel}' ({len(self.channels)} channels, see Result.channels)"
 
     def __repr__(self) -> str:
         span = f"t = 0..{self.time[-1]:g} s" if len(self.time) else "no samples"
@@ -456,6 +449,19 @@ def _frozen(values: Any) -> np.ndarray:
     array = np.array(values, dtype=float)
     array.flags.writeable = False
     return array
+
+
+def require_channel(channels: Sequence[str], channel: str) -> None:
+    """KeyError naming ``channel`` and its close matches when ``channels`` lacks it: for
+    checking a channel before a run as a result's lookup does after it."""
+    if channel in channels:
+        return
+    close = difflib.get_close_matches(channel, channels, n=6, cutoff=0.6)
+    element = channel.split(".", 1)[0]
+    close += [c for c in channels if c.split(".", 1)[0] == element and c not in close]
+    if close:
+        raise KeyError(f"no channel '{channel}'; close matches: {', '.join(close[:8])}")
+    raise KeyError(f"no channel '{channel}' ({len(channels)} channels, see Result.channels)")
 
 
 def model_channels(model: Mapping[str, Any]) -> list[str]:
