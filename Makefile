@@ -8,7 +8,7 @@ JG := $(VENV)/bin/jointgap
 DEMO := demo-output
 DEMO_RUN := --t-end 0.5 --rate 10000
 
-.PHONY: install demo test test-rust test-python browser bench bench-peers lint clean
+.PHONY: install demo test test-rust test-python browser valgrind bench bench-peers lint clean
 
 $(DEPS_STAMP): pyproject.toml
 	test -x $(PY) || python3 -m venv $(VENV)
@@ -57,8 +57,15 @@ browser:
 		apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
 		apt-get install -y -qq --no-install-recommends chromium >/dev/null; }
 
+## valgrind: Debian's valgrind, for counting a run's instructions (when missing)
+valgrind:
+	@command -v valgrind >/dev/null 2>&1 || { echo "installing valgrind (instruction counts)"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+		apt-get install -y -qq --no-install-recommends valgrind >/dev/null; }
+
 ## bench: speed and accuracy figures (benchmarks/output/)
-bench: install
+bench: install valgrind
+	$(PY) benchmarks/instructions.py
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/scaling.py
