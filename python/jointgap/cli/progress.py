@@ -75,7 +75,7 @@ class ProgressLine:
 def _seconds(t_end: float | str | None) -> float | None:
     if t_end is None:
         return None
-    from . import units
+    from .. import units
 
     try:
         value = units.to_si(t_end, units.TIME)
