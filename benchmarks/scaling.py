@@ -62,7 +62,7 @@ from jointgap.benchmark_models import four_bar_chain, n_link_chain
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from run import machine  # noqa: E402  (one description of the machine for every table)
+from recording import machine  # noqa: E402  (one description of the machine for every table)
 
 OUT = ROOT / "benchmarks" / "output"
 RESULTS = ROOT / "benchmarks" / "results"

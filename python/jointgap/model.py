@@ -551,9 +551,9 @@ class Model:
     def save(self, path: str | PathLike[str]) -> None:
         """Writes the model as a TOML model file (SI numbers) that :func:`jointgap.load`
         reads back to the same model."""
-        from .io import save
+        from ._model_writer import save
 
-        save(self, path)
+        save(self.to_dict(), path)
 
     # ------------------------------------------------------------------ checks and runs
 
