@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import jointgap
-from jointgap.benchmark_models import four_bar_chain, n_link_chain
+from benchmark_models import four_bar_chain, n_link_chain
 from recording import write_results
 
 ROOT = Path(__file__).resolve().parents[1]

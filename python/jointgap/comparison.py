@@ -37,6 +37,7 @@ import numpy as np
 from scipy.signal import butter, correlate, sosfiltfilt  # type: ignore[import-untyped]
 
 from . import units
+from .errors import ComparisonWarning
 from .results import Result, channel_unit
 
 __all__ = [
@@ -71,11 +72,6 @@ them and lists the :data:`WORST_CYCLES` that differ most (60 s are 300 turns).""
 WORST_CYCLES = 5
 _UNIFORM_TOLERANCE = 0.05  # largest deviation from a uniform grid, in sample steps
 _TURN = 2.0 * math.pi
-
-
-class ComparisonWarning(UserWarning):
-    """A comparison that runs but may mislead: a unit of the same quantity that differs
-    from the channel's, a record shorter than the lag search window."""
 
 
 class MeasuredSignal(Protocol):

@@ -24,9 +24,10 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from .._schema import JOINT_EQUATIONS
+from ..errors import ModelError, RunWarning
 from ..model import Model
-from ..results import RESULTS_PARQUET, SUMMARY_JSON, Result, RunWarning, channel_unit, main_channels
-from ..schema import JOINT_EQUATIONS, ModelError
+from ..results import RESULTS_PARQUET, SUMMARY_JSON, Result, channel_unit, main_channels
 from .progress import progress_line
 from .shared import (
     _EPILOG,
@@ -340,7 +341,7 @@ def _with_clean_warnings(command: Callable[[argparse.Namespace], int], args: Any
     ``warnings``) are printed the same way once each when it ends, however many runs gave
     them, except by the commands that list them in their output (:data:`_OWN_WARNINGS`)
     and by a command that Ctrl-C stopped (it prints one line)."""
-    from ..run import collecting_warnings
+    from .._engine import collecting_warnings
 
     with warnings.catch_warnings(), collecting_warnings() as notes:
         warnings.showwarning = _show_warning

@@ -10,9 +10,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from .._engine import DEFAULT_OPTIONS, METHODS
 from ..model import Model
 from ..results import IMPACTS_CSV, RESULTS_CSV, RESULTS_PARQUET, SUMMARY_JSON, Result
-from ..run import DEFAULT_OPTIONS, METHODS
 
 __all__ = [
     "EXIT_INTERRUPTED",
@@ -135,7 +135,7 @@ def _interrupted(message: str) -> int:
 
 
 def _load(path: str) -> Model:
-    from ..io import load
+    from .._model_reader import load
 
     return load(path)
 

@@ -16,8 +16,9 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
+from ._schema import convert_element
+from .errors import ModelError
 from .model import Model
-from .schema import ModelError, convert_element
 
 __all__ = ["load", "loads", "SECTIONS"]
 
