@@ -10,12 +10,12 @@ from dataclasses import dataclass
 __all__ = ["CSV_BYTES_PER_VALUE", "OUTPUT_MEMORY_FRACTION", "OutputSize"]
 
 OUTPUT_MEMORY_FRACTION = 0.25
-"""The largest share of the machine's memory (:func:`machine_memory`) that the samples of
-the runs held in memory at once may take, 8 bytes per value. A run holds its samples
-more than once at its peak (the engine's buffers, the NumPy arrays of the Result, the
-CSV writer): ``jointgap run`` of 1,000,001 samples x 48 channels (392 MB) peaked 690 MB
-above the process's own memory, 1.8 times its samples, so a quarter leaves room for the
-copies and the rest of the machine."""
+"""The largest share of the machine's memory (:func:`jointgap._engine.machine_memory`)
+that the samples of the runs held in memory at once may take, 8 bytes per value. A run
+holds its samples more than once at its peak (the engine's buffers, the NumPy arrays of
+the Result, the CSV writer): ``jointgap run`` of 1,000,001 samples x 48 channels (392 MB)
+peaked 690 MB above the process's own memory, 1.8 times its samples, so a quarter leaves
+room for the copies and the rest of the machine."""
 
 CSV_BYTES_PER_VALUE = 20
 """About how many characters one value takes in ``results.csv`` (shortest exact floats
