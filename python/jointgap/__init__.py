@@ -23,6 +23,7 @@ from . import laws, profiles, units, variants
 from ._batch import simulate_batch
 from ._model_reader import load, loads
 from ._schema import GROUND
+from ._version import __version__
 from .calibration import calibrate_damping, damping_from_restitution, restitution_from_damping
 from .convergence import check_convergence
 from .errors import (
@@ -48,8 +49,6 @@ if TYPE_CHECKING:  # loaded on first use (below); type checkers see the real sig
     from .comparison import compare
     from .measured import read_measured, synthetic_record
     from .study import load_results, load_study, run_study
-
-__version__ = "0.1.0"
 
 __all__ = [
     # model building

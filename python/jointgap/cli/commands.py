@@ -300,7 +300,7 @@ def _command_modules() -> list[Any]:
 
 
 def _version() -> str:
-    from .. import __version__
+    from .._version import __version__
 
     return __version__
 

@@ -43,7 +43,7 @@ IDEAL_DIR = "ideal"
 
 
 def _generator() -> str:
-    from .. import __version__
+    from .._version import __version__
 
     return f"jointgap {__version__}"
 
