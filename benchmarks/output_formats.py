@@ -23,8 +23,8 @@ from pathlib import Path
 
 import jointgap
 import numpy as np
+from jointgap._stream import ParquetSink, StoredChannels
 from jointgap.results import CSV_BLOCK, RESULTS_CSV, RESULTS_PARQUET, Result
-from jointgap.stream import ParquetSink, StoredChannels
 
 ROOT = Path(__file__).resolve().parent.parent
 MODEL = ROOT / "examples" / "slider_crank_two_clearances.toml"

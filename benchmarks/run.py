@@ -13,9 +13,7 @@ from __future__ import annotations
 
 import math
 import os
-import platform
 import statistics
-import subprocess
 import sys
 import time
 from dataclasses import dataclass, field
@@ -25,20 +23,10 @@ from typing import Any
 import jointgap
 import numpy as np
 from jointgap.results import Impact
+from recording import machine, write_results
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "benchmarks" / "output"
-RESULTS = ROOT / "benchmarks" / "results"
-
-
-def write_results(name: str, figures: dict[str, Any]) -> Path:
-    """Writes ``benchmarks/results/<name>.json`` with the machine and commit."""
-    import json
-
-    RESULTS.mkdir(parents=True, exist_ok=True)
-    path = RESULTS / f"{name}.json"
-    path.write_text(json.dumps({"machine": machine(), **figures}, indent=1) + "\n")
-    return path
 
 
 MODEL = ROOT / "examples" / "slider_crank_ideal.toml"
@@ -59,24 +47,6 @@ def slider_ax(t: np.ndarray) -> np.ndarray:
     dx = -R * s - R**2 * s * c / root
     d2x = -R * c - R**2 * (c**2 - s**2) / root - R**4 * s**2 * c**2 / root**3
     return d2x * w**2 + dx * al
-
-
-def machine() -> str:
-    cpu = "unknown"
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("model name"):
-            cpu = line.split(":", 1)[1].strip()
-            break
-    nproc = subprocess.run(["nproc"], capture_output=True, text=True).stdout.strip()
-    commit = subprocess.run(
-        ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=ROOT
-    ).stdout.strip()
-    load = ", ".join(f"{x:.1f}" for x in os.getloadavg())
-    return (
-        f"Machine: {cpu}, nproc = {nproc}, load average {load} (1, 5, 15 min) when the "
-        f"Python part ran; Python {platform.python_version()}, jointgap "
-        f"{jointgap.__version__}, commit {commit or 'unknown'}."
-    )
 
 
 def timed(call, budget: float = 1.0) -> tuple[float, float, object]:

@@ -1,6 +1,6 @@
 """Scale with size (issue 6): cost per step against the size of the mechanism.
 
-Two mechanisms from :mod:`jointgap.benchmark_models`, for N in the geometric series
+Two mechanisms from ``benchmarks/benchmark_models.py``, for N in the geometric series
 N = 2 x 10^(k/5) (2, 3, 5, 8, 13, 20, 32, 50, 80, 126, 200):
 
 - ``four_bar_chain(N)``: the chain of N four-bar loops (IFToMM benchmark A02, 2N + 1
@@ -58,11 +58,11 @@ from pathlib import Path
 
 import jointgap
 import numpy as np
-from jointgap.benchmark_models import four_bar_chain, n_link_chain
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
-from run import machine  # noqa: E402  (one description of the machine for every table)
+from benchmark_models import four_bar_chain, n_link_chain  # noqa: E402
+from recording import machine  # noqa: E402  (one description of the machine for every table)
 
 OUT = ROOT / "benchmarks" / "output"
 RESULTS = ROOT / "benchmarks" / "results"

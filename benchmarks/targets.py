@@ -16,7 +16,8 @@ from pathlib import Path
 from typing import Any
 
 import jointgap
-from jointgap.benchmark_models import four_bar_chain, n_link_chain
+from benchmark_models import four_bar_chain, n_link_chain
+from recording import write_results
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "benchmarks" / "results"
@@ -216,8 +217,6 @@ def targets_table() -> str:
         "MB",
     )
     profile = profiles()
-
-    from run import write_results
 
     write_results("targets", {"targets": rows, "memory": memory, "profiles": profile})
     lines = [

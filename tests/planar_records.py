@@ -27,7 +27,7 @@ from typing import Any
 
 import jointgap
 import numpy as np
-from jointgap.benchmark_models import four_bar_chain, n_link_chain
+from benchmark_models import four_bar_chain, n_link_chain
 
 ROOT = Path(__file__).resolve().parents[1]
 RECORDS = Path(__file__).resolve().parent / "records" / "planar.json"

@@ -19,7 +19,7 @@ import sys
 from dataclasses import dataclass
 
 PROGRESS = re.compile(r"t = ([0-9.e+-]+) / [0-9.e+-]+ s")
-"""A progress line of a run (:class:`jointgap.cli_progress.ProgressLine`); group 1 is
+"""A progress line of a run (:class:`jointgap.cli.progress.ProgressLine`); group 1 is
 the simulated time."""
 
 
@@ -37,7 +37,7 @@ def in_terminal(*args: str, interrupt_after: re.Pattern[str] | None = None) -> S
     (SIGINT) is sent once the terminal shows that pattern (e.g. :data:`PROGRESS`)."""
     env = {**os.environ, "JOINTGAP_PROGRESS_INTERVAL": "0"}
     master, slave = pty.openpty()
-    command = [sys.executable, "-m", "jointgap.cli", *args]
+    command = [sys.executable, "-m", "jointgap", *args]
     with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=slave, env=env) as proc:
         os.close(slave)
         screen = b""

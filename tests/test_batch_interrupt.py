@@ -15,7 +15,7 @@ from pathlib import Path
 import jointgap
 import numpy as np
 import pytest
-from jointgap.batch import BatchInterrupted
+from jointgap.errors import BatchInterrupted
 
 FOUNDING = Path(__file__).resolve().parent.parent / "examples" / "slider_crank_clearance.toml"
 T_END = 10_000.0

@@ -1,4 +1,4 @@
-"""The size-scaling benchmark mechanisms (jointgap.benchmark_models) move as they must.
+"""The size-scaling benchmark mechanisms (benchmarks/benchmark_models.py) move as they must.
 
 The chain of N four-bar loops (IFToMM benchmark A02) is a chain of parallelograms: every
 coupler translates and every rocker keeps the same angle phi, so the whole chain is one
@@ -19,7 +19,7 @@ import math
 import jointgap
 import numpy as np
 import pytest
-from jointgap.benchmark_models import G, four_bar_chain, four_bar_chain_energy, n_link_chain
+from benchmark_models import G, four_bar_chain, four_bar_chain_energy, n_link_chain
 from scipy.integrate import solve_ivp
 
 TIGHT = {"method": "dopri5", "rtol": 1e-10, "atol": 1e-12}

@@ -14,7 +14,7 @@ from jointgap.cli import EXIT_INVALID, EXIT_RUN_FAILED, main
 def jointgap_cli(*args: str) -> subprocess.CompletedProcess[str]:
     """Runs the command in a fresh interpreter, as a user would."""
     return subprocess.run(
-        [sys.executable, "-m", "jointgap.cli", *args], capture_output=True, text=True, timeout=120
+        [sys.executable, "-m", "jointgap", *args], capture_output=True, text=True, timeout=120
     )
 
 

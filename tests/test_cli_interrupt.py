@@ -21,11 +21,11 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import jointgap
-import jointgap.cli
+import jointgap.cli.commands
 import pandas as pd
 import pytest
 from jointgap.cli import main
-from jointgap.cli_progress import ProgressLine
+from jointgap.cli.progress import ProgressLine
 from terminal import PROGRESS, Session, in_terminal, last_line
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -135,7 +135,7 @@ def test_calibrate_keeps_the_table_so_far(tmp_path, monkeypatch, capsys, engine)
     table = tmp_path / "calibration.csv"
     args = ["calibrate", CLEARANCE, "--restitution", "0.55", "--c-max", "10"]
     args += ["--t-end", "0.3", "--rate", "1000", "--table", str(table)]
-    with press_ctrl_c_in(monkeypatch, jointgap.cli, lambda line: line.label == "run 2: "):
+    with press_ctrl_c_in(monkeypatch, jointgap.cli.commands, lambda line: line.label == "run 2: "):
         assert main(args) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1
@@ -147,7 +147,7 @@ def test_calibrate_keeps_the_table_so_far(tmp_path, monkeypatch, capsys, engine)
 
 
 def test_identify_keeps_the_trials_so_far(tmp_path, record, monkeypatch, capsys, engine) -> None:
-    import jointgap.cli_progress
+    import jointgap.cli.progress
 
     table = tmp_path / "trials.csv"
     # Ctrl-C once two trials are done: the runs of the other thread stop too.
@@ -155,7 +155,7 @@ def test_identify_keeps_the_trials_so_far(tmp_path, record, monkeypatch, capsys,
     args += ["--param", "rod_slider.c_max=200:5000", "--scan", "12", "--workers", "2"]
     # a lag search well inside the 0.1 s record: no warning line beside the one asserted
     args += ["--rate", "5000", "--max-lag", "0.01", "--table", str(table)]
-    with press_ctrl_c_in(monkeypatch, jointgap.cli_progress, lambda line: "2 done" in line.label):
+    with press_ctrl_c_in(monkeypatch, jointgap.cli.progress, lambda line: "2 done" in line.label):
         assert main(args) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("jointgap: interrupted: the fit stopped after ")

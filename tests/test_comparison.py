@@ -18,7 +18,6 @@ from jointgap.comparison import (
     amplitude_spectrum,
     compare,
     compare_spectra,
-    comparison_figure,
     crank_channel,
     cycle_table,
     error_measures,
@@ -27,6 +26,7 @@ from jointgap.comparison import (
     remove_offset,
     resample,
 )
+from jointgap.plots import comparison_figure
 from jointgap.results import Result
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"

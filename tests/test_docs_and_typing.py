@@ -133,13 +133,24 @@ def test_the_founding_data_match_the_example_file() -> None:
 
 
 def test_lazy_names_are_listed_and_typed() -> None:
-    from jointgap import comparison, measured
+    from jointgap import comparison, measured, study
 
-    for name in ("compare", "read_measured", "synthetic_record"):
+    lazy = (
+        "compare",
+        "read_measured",
+        "synthetic_record",
+        "load_results",
+        "load_study",
+        "run_study",
+    )
+    for name in lazy:
         assert name in dir(jointgap) and name in jointgap.__all__
     assert jointgap.compare is comparison.compare
     assert jointgap.read_measured is measured.read_measured
     assert jointgap.synthetic_record is measured.synthetic_record
+    assert jointgap.load_results is study.load_results
+    assert jointgap.load_study is study.load_study
+    assert jointgap.run_study is study.run_study
     assert set(jointgap.__all__) <= set(dir(jointgap))
     with pytest.raises(AttributeError, match="no attribute 'nothing'"):
         _ = jointgap.nothing  # type: ignore[attr-defined]

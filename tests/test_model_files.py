@@ -361,13 +361,13 @@ def test_model_error_carries_its_parts(write_model) -> None:
 
 
 def test_docs_field_reference_matches_the_schema() -> None:
-    from jointgap.schema import reference_markdown
+    from jointgap._schema import reference_markdown
 
     docs = (Path(__file__).resolve().parent.parent / "docs" / "model-file.md").read_text()
     begin, end = "<!-- reference:begin -->\n", "<!-- reference:end -->"
     section = docs[docs.index(begin) + len(begin) : docs.index(end)]
     assert section.strip() == reference_markdown().strip(), (
-        "docs/model-file.md is out of date: paste jointgap.schema.reference_markdown() "
+        "docs/model-file.md is out of date: paste jointgap._schema.reference_markdown() "
         "between the reference markers"
     )
 

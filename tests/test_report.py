@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from jointgap.cli import EXIT_INVALID, main
-from jointgap.cli_progress import ProgressLine, progress_line
+from jointgap.cli.progress import ProgressLine, progress_line
 from jointgap.report import (
     DEFAULT_MAX_FRAMES,
     ReportError,

@@ -13,9 +13,10 @@ from pathlib import Path
 import jointgap
 import numpy as np
 import pytest
-from jointgap import run as run_module
+from jointgap import _engine as run_module
+from jointgap._output_size import OutputSize
 from jointgap.cli import EXIT_INVALID, EXIT_RUN_FAILED, main
-from jointgap.results import RunWarning
+from jointgap.errors import OutputTooLarge, RunWarning
 
 FOUNDING = "slider_crank_clearance.toml"
 W = 300.0 * 2.0 * np.pi / 60.0
@@ -155,10 +156,10 @@ def test_output_size_is_samples_times_channels(examples, engine) -> None:
     options = run_module.run_options(0.05, rate=1e9)
     size = run_module.output_size(model.to_dict(), options)
     channels = model.simulate(1e-4, rate=1e4).channels
-    assert size == run_module.OutputSize(50_000_001, len(channels))
+    assert size == OutputSize(50_000_001, len(channels))
     assert size.memory == 8 * 50_000_001 * (len(channels) + 1)
     thinned = run_module.run_options(0.05, rate=1e9, decimate=10, channels=["slider.*"])
-    assert run_module.output_size(model.to_dict(), thinned) == run_module.OutputSize(5_000_001, 9)
+    assert run_module.output_size(model.to_dict(), thinned) == OutputSize(5_000_001, 9)
     assert run_module.output_size(model.to_dict(), run_module.run_options(0.05)) is None
 
 
@@ -181,11 +182,11 @@ def test_an_output_too_large_for_memory_is_refused(
     for way_out in ("--stream", "--decimate", "--rate"):
         assert way_out in err
     assert not out.exists()
-    with pytest.raises(run_module.OutputTooLarge, match="stream=PATH"):
+    with pytest.raises(OutputTooLarge, match="stream=PATH"):
         jointgap.load(path).simulate(0.05, rate=1e9)
     # A batch holds all its results at once: two runs of half the size are refused too.
     half = run_module.run_options(0.025, rate=1e9)
-    with pytest.raises(run_module.OutputTooLarge, match="2 runs x 25,000,001 samples"):
+    with pytest.raises(OutputTooLarge, match="2 runs x 25,000,001 samples"):
         run_module.simulate_many([jointgap.load(path).to_dict()] * 2, half)
 
 

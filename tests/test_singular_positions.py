@@ -21,7 +21,7 @@ import math
 
 import jointgap
 import numpy as np
-from jointgap.benchmark_models import G, four_bar_chain
+from benchmark_models import G, four_bar_chain
 from scipy.integrate import solve_ivp
 
 RUN = {"method": "dopri5", "rtol": 1e-10, "atol": 1e-12}

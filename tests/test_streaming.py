@@ -11,9 +11,9 @@ from pathlib import Path
 import jointgap
 import numpy as np
 import pytest
-from jointgap import run as run_module
+from jointgap import _engine as run_module
+from jointgap._stream import StoredChannels, read_column
 from jointgap.results import RESULTS_PARQUET, Result
-from jointgap.stream import StoredChannels, read_column
 
 CLEARANCE = Path(__file__).parent.parent / "examples" / "slider_crank_clearance.toml"
 T_END = 0.12

@@ -25,6 +25,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any
 
+from .errors import CalibrationError
 from .model import Model
 from .results import Impact, Result
 
@@ -42,10 +43,6 @@ __all__ = [
     "iteration_frame",
     "restitution_from_damping",
 ]
-
-
-class CalibrationError(ValueError):
-    """The calibration cannot start or cannot go on (its message says which run)."""
 
 
 def damping_from_restitution(

@@ -15,8 +15,10 @@ The steps, each a public function of its own (formulas in docs/comparison.md):
   or :func:`align_on_angle` (both signals against the crank angle);
 * measures: :func:`error_measures` (max absolute, max percent of the measured peak, RMS,
   NRMSE, correlation), :func:`compare_spectra` (amplitude spectra and a spectral error),
-  :func:`cycle_table` (peak-to-peak per crank turn);
-* :func:`comparison_figure`: signals overlaid, their difference, their spectra.
+  :func:`cycle_table` (peak-to-peak per crank turn).
+
+Its figure (signals overlaid, their difference, their spectra) is drawn with the other
+figures: :func:`jointgap.plots.comparison_figure`.
 
 Lag convention: ``measured(t) = simulated(t - lag)``; a positive lag means the
 measurement is late. The comparison's time base is the simulation's time: the measured
@@ -35,7 +37,7 @@ import numpy as np
 from scipy.signal import butter, correlate, sosfiltfilt  # type: ignore[import-untyped]
 
 from . import units
-from .plots import comparison_figure  # drawn with the other figures, re-exported here
+from .errors import ComparisonWarning
 from .results import Result, channel_unit
 
 __all__ = [
@@ -58,7 +60,6 @@ __all__ = [
     "cycle_table",
     "cycle_lines",
     "compare",
-    "comparison_figure",
 ]
 
 LOWPASS_ORDER = 4
@@ -71,11 +72,6 @@ them and lists the :data:`WORST_CYCLES` that differ most (60 s are 300 turns).""
 WORST_CYCLES = 5
 _UNIFORM_TOLERANCE = 0.05  # largest deviation from a uniform grid, in sample steps
 _TURN = 2.0 * math.pi
-
-
-class ComparisonWarning(UserWarning):
-    """A comparison that runs but may mislead: a unit of the same quantity that differs
-    from the channel's, a record shorter than the lag search window."""
 
 
 class MeasuredSignal(Protocol):

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from .errors import RunStopped
 from .model import Model
 from .results import Result, channel_unit, clearance_joints, main_channels, model_channels
 
@@ -46,14 +47,6 @@ __all__ = [
 
 TIGHTEN = 10.0
 """Factor between successive tolerances."""
-
-
-class RunStopped(ValueError):
-    """A run of the check stopped early: no verdict; ``result`` holds what it computed."""
-
-    def __init__(self, message: str, result: Result) -> None:
-        super().__init__(message)
-        self.result = result
 
 
 @dataclass(frozen=True)

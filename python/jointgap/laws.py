@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any
 
-from .schema import convert_element
+from ._schema import convert_element
 
 __all__ = [
     "Law",

@@ -27,8 +27,9 @@ from pathlib import Path
 import numpy as np
 
 from . import units
+from .errors import MeasuredDataError, UnitError
 from .results import Result, channel_unit
-from .units import Dimension, UnitError
+from .units import Dimension
 
 __all__ = [
     "MeasuredDataError",
@@ -37,10 +38,6 @@ __all__ = [
     "read_measured",
     "synthetic_record",
 ]
-
-
-class MeasuredDataError(ValueError):
-    """A measured record that cannot be used; the message names the file and line."""
 
 
 @dataclass(frozen=True, eq=False)

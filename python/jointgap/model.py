@@ -28,17 +28,17 @@ from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
 
-from .laws import Law
-from .profiles import Profile
-from .schema import (
+from ._schema import (
     DRIVEN_MOTION,
     GROUND,
     JOINT_EQUATIONS,
-    ModelError,
     convert_element,
     params_of,
     types_of,
 )
+from .errors import ModelError
+from .laws import Law
+from .profiles import Profile
 
 if TYPE_CHECKING:
     from .results import Result
@@ -56,7 +56,7 @@ _MOTION_UNITS = {"rotation": "angular units (rad, deg, rpm)", "translation": "li
 
 
 class Locator(Protocol):
-    """Adds a file and line to an error about an element (see :mod:`jointgap.io`)."""
+    """Adds a file and line to an error about an element (see :mod:`jointgap._model_reader`)."""
 
     path: str
 
@@ -551,9 +551,9 @@ class Model:
     def save(self, path: str | PathLike[str]) -> None:
         """Writes the model as a TOML model file (SI numbers) that :func:`jointgap.load`
         reads back to the same model."""
-        from .io import save
+        from ._model_writer import save
 
-        save(self, path)
+        save(self.to_dict(), path)
 
     # ------------------------------------------------------------------ checks and runs
 
@@ -687,7 +687,7 @@ class Model:
         then. Raises :class:`ModelError` for an invalid model and
         ValueError for invalid options.
         """
-        from .run import run_options, simulate
+        from ._engine import run_options, simulate
 
         self._check_drivers()
         options = run_options(

@@ -19,7 +19,7 @@ from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from os import PathLike
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal, TypedDict
 
 import numpy as np
 
@@ -28,7 +28,9 @@ if TYPE_CHECKING:
 
 __all__ = [
     "Result",
-    "RunWarning",
+    "RunStatus",
+    "RunStats",
+    "StageTimes",
     "Impact",
     "channel_unit",
     "RESULTS_CSV",
@@ -51,11 +53,45 @@ WriteProgress = Callable[[int, int], object]
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
 """Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
 
+RunStatus = Literal["finished", "failed", "interrupted"]
+"""How a run ended (:attr:`Result.status`): it reached its end time, it stopped early
+(:attr:`Result.message` says why and when), or Ctrl-C stopped it."""
 
-class RunWarning(UserWarning):
-    """A note about a run that its :attr:`Result.warnings` also holds (e.g. impacts that
-    fell between output samples): raised by :meth:`jointgap.Model.simulate` for the
-    caller to see; the ``jointgap run`` command prints it in its summary."""
+
+class StageTimes(TypedDict):
+    """Where a run's time went, in seconds per stage (``stats["profile"]`` of a run asked
+    for ``profile=True``); each stage excludes the stages it calls, and what they leave
+    of ``total`` is the integrators' own arithmetic."""
+
+    forces: float
+    linear_solves: float
+    jacobians: float
+    output: float
+    events: float
+    projection: float
+    total: float
+
+
+class RunStats(TypedDict, total=False):
+    """The engine's counters of one run (:attr:`Result.stats`), as ``summary.json`` holds
+    them; a result built by hand may leave any of them out."""
+
+    accepted_steps: int
+    rejected_steps: int
+    rhs_evaluations: int
+    """Evaluations of the equations of motion (each one an augmented solve)."""
+    jacobian_evaluations: int
+    projections: int
+    """Position and velocity projections onto the constraints."""
+    events: int
+    """Located contact onsets and separations."""
+    method: str
+    """The integrator that ran: ``dopri5``, ``sdirk4``, ``radau5``, or for ``auto`` the
+    methods it used and when (``auto: dopri5, sdirk4 from t = ...``)."""
+    wall_time: float
+    """Wall-clock time of the run [s]."""
+    profile: StageTimes | None
+    """Time per stage when the run was asked to measure it, else None."""
 
 
 @dataclass(frozen=True)
@@ -162,12 +198,14 @@ class Result:
         time: sample times [s].
         channels: channel names, in model order.
         data: samples, one row per channel (``data[k]`` is ``channels[k]``); for a run
-            streamed to disk, a :class:`~jointgap.stream.StoredChannels` that reads each
+            streamed to disk, a :class:`~jointgap._stream.StoredChannels` that reads each
             row from the file when it is asked for.
-        stats: run counters: accepted_steps, rejected_steps, rhs_evaluations,
-            jacobian_evaluations, projections, method, wall_time [s].
-        status: ``"finished"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C); the data of
-            a failed or interrupted run stop where the run did.
+        stats: run counters (:class:`RunStats`): accepted_steps, rejected_steps,
+            rhs_evaluations, jacobian_evaluations, projections, events, method,
+            wall_time [s], profile.
+        status: ``"finished"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C,
+            :data:`RunStatus`); the data of a failed or interrupted run stop where the
+            run did.
         message: why and when a failed or interrupted run stopped; ``""`` otherwise.
         warnings: the engine's non-fatal notes.
         model: the model that ran (SI dictionary, :meth:`jointgap.Model.to_dict`).
@@ -192,8 +230,8 @@ class Result:
     time: np.ndarray
     channels: list[str]
     data: np.ndarray
-    stats: dict[str, Any] = field(default_factory=dict)
-    status: str = "finished"
+    stats: RunStats = field(default_factory=lambda: RunStats())
+    status: RunStatus = "finished"
     message: str = ""
     warnings: list[str] = field(default_factory=list)
     model: dict[str, Any] = field(default_factory=dict)
@@ -205,7 +243,7 @@ class Result:
     peaks: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        from .stream import StoredChannels
+        from ._stream import StoredChannels
 
         object.__setattr__(self, "impacts", _impacts(self.impacts))
         object.__setattr__(self, "clearances", _clearances(self.clearances))
@@ -287,7 +325,7 @@ class Result:
         import pyarrow as pa
         import pyarrow.csv as pa_csv
 
-        from .stream import arrow_column
+        from ._stream import arrow_column
 
         names = ["time", *self.channels]
         schema = pa.schema([(name, pa.float64()) for name in names])
@@ -342,7 +380,7 @@ class Result:
     @property
     def stored(self) -> Path | None:
         """The Parquet file of a result streamed to disk; ``None`` when held in memory."""
-        from .stream import StoredChannels
+        from ._stream import StoredChannels
 
         return self.data.path if isinstance(self.data, StoredChannels) else None
 
@@ -369,7 +407,7 @@ class Result:
     @classmethod
     def load(cls, directory: str | PathLike[str]) -> Result:
         """Reads a result written by :meth:`save` (a streamed one stays on disk)."""
-        from .stream import StoredChannels, read_time
+        from ._stream import StoredChannels, read_time
 
         folder = Path(directory)
         with open(folder / SUMMARY_JSON) as f:
@@ -416,7 +454,7 @@ def _read_results_csv(path: Path) -> tuple[np.ndarray, list[str], np.ndarray]:
     import pyarrow as pa
     import pyarrow.csv as pa_csv
 
-    from .stream import numpy_column
+    from ._stream import numpy_column
 
     with open(path, newline="") as f:
         header = next(csv.reader(f), [])

@@ -27,6 +27,8 @@ from dataclasses import dataclass
 from fractions import Fraction
 from itertools import product
 
+from .errors import UnitError
+
 __all__ = [
     "Dimension",
     "UnitError",
@@ -56,10 +58,6 @@ __all__ = [
     "ENERGY",
     "HERTZ_STIFFNESS",
 ]
-
-
-class UnitError(ValueError):
-    """A quantity that cannot be read: malformed number, unknown unit or wrong dimension."""
 
 
 @dataclass(frozen=True)

@@ -17,7 +17,7 @@ from typing import Any
 
 import tomlkit
 
-from .io import loads
+from ._model_reader import loads
 from .model import Model
 from .units import written_like
 

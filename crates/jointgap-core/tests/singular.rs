@@ -114,7 +114,7 @@ fn bar(name: &str, pos: [f64; 2], angle: f64, vel: [f64; 2], omega: f64) -> serd
 }
 
 /// The chain of `n` parallelogram loops of benchmark A02 (1 m, 1 kg bars, rockers
-/// upright, the top of the first moving at 1 m/s), as `jointgap.benchmark_models`.
+/// upright, the top of the first moving at 1 m/s), as `benchmarks/benchmark_models.py`.
 fn four_bar_chain(n: usize) -> Model {
     Model::from_json(&chain_at(n, std::f64::consts::FRAC_PI_2, None).to_string()).unwrap()
 }

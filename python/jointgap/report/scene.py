@@ -18,9 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from .._schema import GROUND
+from ..errors import ReportError
 from ..plots import radial_clearance
 from ..results import Result, clearance_joints
-from ..schema import GROUND
 from .encode import rounded
 
 __all__ = [
@@ -36,10 +37,6 @@ DEFAULT_MAX_FRAMES = 6000
 """Most animation frames: a run with more samples is subsampled evenly in time."""
 _MAGNIFY_TARGET = 0.02  # the drawn clearance as a fraction of the drawing's size
 _BAR_FRACTION = 0.02  # width of a shapeless body's bar, as a fraction of the size
-
-
-class ReportError(ValueError):
-    """A result or folder that cannot be drawn; the message names what is missing."""
 
 
 @dataclass(frozen=True)

@@ -15,10 +15,11 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..errors import ReportError
 from ..results import SUMMARY_JSON, Result, clearance_joints
 from .compare import comparison_section
 from .run import DEFAULT_MAX_POINTS, run_section
-from .scene import DEFAULT_MAX_FRAMES, ReportError
+from .scene import DEFAULT_MAX_FRAMES
 from .study import STUDY_JSON, study_section
 
 if TYPE_CHECKING:
@@ -42,7 +43,7 @@ IDEAL_DIR = "ideal"
 
 
 def _generator() -> str:
-    from .. import __version__
+    from .._version import __version__
 
     return f"jointgap {__version__}"
 

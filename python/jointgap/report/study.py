@@ -21,9 +21,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from ..errors import ReportError
 from ..study.store import column_name
 from .encode import rounded
-from .scene import ReportError
 from .tables import Table, key_value_table
 
 __all__ = [

@@ -22,7 +22,7 @@ from os import PathLike
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
-from ..run import collect_warnings
+from .._engine import collect_warnings
 from .execute import Case, run_case, run_dask, run_local
 from .metrics import Metric
 from .progress import Progress

@@ -168,7 +168,7 @@ def run_dask(
 
 def _check_workers(client: Any) -> None:
     """Every worker runs the same jointgap as this client (it imports the engine)."""
-    from .. import __version__
+    from .._version import __version__
 
     versions = client.run(_jointgap_version, on_error="return")
     if not versions:
@@ -183,6 +183,7 @@ def _check_workers(client: Any) -> None:
 
 
 def _jointgap_version() -> str:
-    from .. import __version__, _jointgap  # noqa: F401 - the engine must import too
+    from .. import _jointgap  # noqa: F401 - the engine must import too
+    from .._version import __version__
 
     return __version__

@@ -39,9 +39,10 @@ from typing import Any
 import numpy as np
 
 from .. import units as u
-from ..io import load
+from .._engine import run_options
+from .._model_reader import load
+from ..errors import StudyError
 from ..model import Model
-from ..run import run_options
 from ..variants import parameter_value, with_parameters
 from .metrics import Metric, ideal_counterpart, parse_metric
 from .sampling import DISTRIBUTIONS, MODEL, SAMPLINGS, Parameter, design
@@ -72,10 +73,6 @@ _UNITS = {
     "speed": "rad/s",
 }
 """SI unit of a parameter's values, by quantity (a prismatic driver's speed is m/s)."""
-
-
-class StudyError(ValueError):
-    """An invalid study file: the message names the file, line, key and value."""
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """The measured-data commands of ``jointgap``: ``synthesize`` a record, ``compare`` a
 simulation with it, ``identify`` contact parameters from it. Parsers and handlers; the
-shared options and errors come from :mod:`jointgap.cli`."""
+shared options and errors come from :mod:`jointgap.cli.shared`."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .cli import (
+from .shared import (
     EXIT_RUN_FAILED,
     _add_format_option,
     _add_run_options,
@@ -190,7 +190,7 @@ def _add_measured_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _measured(args: argparse.Namespace, column: str | None = None, unit: str | None = None) -> Any:
-    from .measured import read_measured
+    from ..measured import read_measured
 
     def index_or_name(text: str | None) -> str | int | None:
         return int(text) if text is not None and text.isdigit() else text
@@ -207,7 +207,7 @@ def _measured(args: argparse.Namespace, column: str | None = None, unit: str | N
 
 
 def _compare_options(args: argparse.Namespace) -> dict[str, Any]:
-    from . import units as u
+    from .. import units as u
 
     def hz(text: str | None) -> float | None:
         return None if text is None else u.to_si(text, u.FREQUENCY)
@@ -229,7 +229,7 @@ def _compare_options(args: argparse.Namespace) -> dict[str, Any]:
 def _simulated_span(args: argparse.Namespace, measured: Any) -> float:
     """--t-end, or the end of the measurement (a late measurement, the usual case, needs
     no more simulated time than that)."""
-    from . import units as u
+    from .. import units as u
 
     if args.t_end is not None:
         return u.to_si(args.t_end, u.TIME)
@@ -239,11 +239,11 @@ def _simulated_span(args: argparse.Namespace, measured: Any) -> float:
 def _compare(args: argparse.Namespace) -> int:
     import json
 
-    from .cli_progress import progress_line
-    from .comparison import compare, comparison_figure
-    from .plots import save_figures
-    from .report import COMPARISON_JSON, MEASURED_CSV, SIMULATION_DIR
-    from .results import model_channels, require_channel
+    from ..comparison import compare
+    from ..plots import comparison_figure, save_figures
+    from ..report import COMPARISON_JSON, MEASURED_CSV, SIMULATION_DIR
+    from ..results import model_channels, require_channel
+    from .progress import progress_line
 
     model = _load(args.model)
     try:  # before the run, not after it
@@ -272,8 +272,8 @@ def _compare(args: argparse.Namespace) -> int:
     measured.to_csv(out / MEASURED_CSV)
     paths = save_figures({"comparison": comparison_figure(comparison)}, out, args.formats)
     if args.report:
-        from .cli_report import REPORT_HTML
-        from .report import write_run_report
+        from ..report import write_run_report
+        from .report import REPORT_HTML
 
         paths.append(write_run_report(result, out / REPORT_HTML, comparison=comparison))
     print(comparison.report())
@@ -286,9 +286,9 @@ def _compare(args: argparse.Namespace) -> int:
 
 def _angle_report(args: argparse.Namespace, result: Any, measured: Any) -> str:
     """The error measures with both signals put on the crank angle."""
-    from . import units as u
-    from .comparison import align_on_angle, error_measures
-    from .measured import MeasuredSignal
+    from .. import units as u
+    from ..comparison import align_on_angle, error_measures
+    from ..measured import MeasuredSignal
 
     crank = _measured(args, column=args.crank_column, unit=args.crank_unit)
     # read_measured gave SI values; an angle or a speed, as the unit's dimension says.
@@ -308,8 +308,8 @@ def _identify(args: argparse.Namespace) -> int:
     import math
     import threading
 
-    from .cli_progress import progress_line
-    from .identify import Parameter, Trial, identify, trial_frame
+    from ..identify import Parameter, Trial, identify, trial_frame
+    from .progress import progress_line
 
     model = _load(args.model)
     measured = _measured(args)
@@ -368,8 +368,8 @@ def _identify(args: argparse.Namespace) -> int:
 
 
 def _synthesize(args: argparse.Namespace) -> int:
-    from .cli_progress import progress_line
-    from .measured import synthetic_record
+    from ..measured import synthetic_record
+    from .progress import progress_line
 
     model = _load(args.model)
     # The record needs its signal alone: recording it only keeps a long run small.

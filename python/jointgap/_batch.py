@@ -16,35 +16,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+from ._engine import BatchProgress, run_options, simulate_many
+from .errors import BatchInterrupted, ModelError
 from .model import Model
 from .results import Result
-from .run import BatchProgress, run_options, simulate_many
-from .schema import ModelError
 
 __all__ = ["BatchInterrupted", "simulate_batch"]
-
-
-class BatchInterrupted(KeyboardInterrupt):
-    """Ctrl-C (or a KeyboardInterrupt raised by ``progress``) stopped a batch.
-
-    It is a KeyboardInterrupt, so a script stops as it would anywhere else; what the
-    batch computed is kept in :attr:`results`.
-
-    Attributes:
-        results: in the order of the models: the :class:`Result` of each run that ended
-            (status ``finished`` or ``failed``) or that Ctrl-C stopped (status
-            ``interrupted``, with what it computed up to there), the :class:`ModelError`
-            of each model refused, and None for each model whose run had not started.
-    """
-
-    def __init__(self, results: list[Result | Exception | None]) -> None:
-        done = [r for r in results if r is not None]
-        stopped = sum(isinstance(r, Result) and r.interrupted for r in done)
-        super().__init__(
-            f"batch interrupted by Ctrl-C: {len(done) - stopped} of {len(results)} runs ended, "
-            f"{stopped} stopped with status interrupted, {len(results) - len(done)} not started"
-        )
-        self.results = results
 
 
 def simulate_batch(

@@ -8,11 +8,11 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from .cli import EXIT_RUN_FAILED, _add_run_options, _fail, _interrupted, _load, _run_options
-from .cli_progress import progress_line
+from .progress import progress_line
+from .shared import EXIT_RUN_FAILED, _add_run_options, _fail, _interrupted, _load, _run_options
 
 if TYPE_CHECKING:
-    from .results import Result
+    from ..results import Result
 
 __all__ = ["COMMANDS", "REPORT_HTML", "add_commands", "report_after_run"]
 
@@ -40,7 +40,7 @@ model file. Details: docs/report.md.
 
 
 def _add_report_options(parser: argparse.ArgumentParser) -> None:
-    from .report.scene import DEFAULT_MAX_FRAMES
+    from ..report.scene import DEFAULT_MAX_FRAMES
 
     parser.add_argument(
         "--magnify",
@@ -86,8 +86,8 @@ def _size(path: Path) -> str:
 
 
 def _report(args: argparse.Namespace) -> int:
-    from .report import folder_report_data, run_report_data, write
-    from .results import Result
+    from ..report import folder_report_data, run_report_data, write
+    from ..results import Result
 
     source = Path(args.source)
     options = {"magnify": args.magnify, "max_frames": args.max_frames}
@@ -134,7 +134,7 @@ def report_after_run(
     """``jointgap run --report [FILE]``: writes FILE (default OUT/report.html) and adds
     it to ``written``; returns notes for the summary (a report that cannot be drawn is a
     warning, not a failure: the results are written)."""
-    from .report import ReportError, write_run_report
+    from ..report import ReportError, write_run_report
 
     target = Path(path) if path else out / REPORT_HTML
     try:

@@ -24,42 +24,33 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from .cli_progress import progress_line
-from .model import Model
-from .results import (
-    IMPACTS_CSV,
-    RESULTS_CSV,
-    RESULTS_PARQUET,
-    SUMMARY_JSON,
-    Result,
-    RunWarning,
-    channel_unit,
-    main_channels,
+from .._schema import JOINT_EQUATIONS
+from ..errors import ModelError, RunWarning
+from ..model import Model
+from ..results import RESULTS_PARQUET, SUMMARY_JSON, Result, channel_unit, main_channels
+from .progress import progress_line
+from .shared import (
+    _EPILOG,
+    EXIT_INTERRUPTED,
+    EXIT_NOT_CONVERGED,
+    EXIT_RUN_FAILED,
+    _add_format_option,
+    _add_run_options,
+    _command,
+    _fail,
+    _interrupted,
+    _load,
+    _run_options,
+    _save,
+    _write_partial_table,
+    _write_table_and_model,
 )
-from .run import DEFAULT_OPTIONS, METHODS
-from .schema import JOINT_EQUATIONS, ModelError
 
 __all__ = ["main", "build_parser"]
-
-EXIT_INVALID = 1
-EXIT_USAGE = 2
-EXIT_RUN_FAILED = 3
-EXIT_NOT_CONVERGED = 4
-EXIT_INTERRUPTED = 130
-"""128 + SIGINT, as shells report a command that Ctrl-C ended."""
 
 IDEAL_DIR = "ideal"
 CONTACT_STATISTICS_CSV = "contact_statistics.csv"
 DEVIATION_CSV = "deviation.csv"
-
-_EPILOG = """\
-quantities may carry units: --t-end "0.5 s", --rate "10 kHz", --max-step "1 us".
-exit status: 0 success, 1 invalid model, options or file, 2 wrong command line,
-3 the run stopped early (what was computed is still written), 4 not converged,
-130 interrupted by Ctrl-C (what was computed is still written).
-warnings of the model and its runs: listed by check and run, printed on stderr by
-the other commands when they end, once each.
-"""
 
 _DESCRIPTION = """\
 Planar multibody mechanisms with clearance joints: check, run, plot, calibrate,
@@ -299,7 +290,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # Modules that add subcommands: each has `add_commands(sub)` and a `COMMANDS` table.
-_COMMAND_MODULES = ("cli_measured", "cli_study", "cli_report")
+_COMMAND_MODULES = ("measured", "study", "report")
 
 
 def _command_modules() -> list[Any]:
@@ -308,90 +299,8 @@ def _command_modules() -> list[Any]:
     return [importlib.import_module(f".{name}", __package__) for name in _COMMAND_MODULES]
 
 
-def _command(sub: Any, name: str, help: str, description: str) -> argparse.ArgumentParser:
-    """A subcommand that reads a model file, with the shared epilog."""
-    parser: argparse.ArgumentParser = sub.add_parser(
-        name,
-        help=help,
-        description=description,
-        epilog=_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
-    )
-    parser.add_argument("model", metavar="MODEL.toml", help="model file")
-    return parser
-
-
-def _add_run_options(
-    parser: argparse.ArgumentParser, rate_default: str | None = None, t_end_required: bool = True
-) -> None:
-    """The options every simulating command shares."""
-    parser.add_argument(
-        "--t-end", required=t_end_required, metavar="T", help="end time [s], e.g. 0.5"
-    )
-    parser.add_argument(
-        "--rate",
-        metavar="HZ",
-        default=rate_default,
-        help="output sampling rate [Hz], e.g. 10000; default: "
-        + (rate_default or "every accepted step"),
-    )
-    parser.add_argument(
-        "--rtol",
-        type=float,
-        default=DEFAULT_OPTIONS["rtol"],
-        metavar="R",
-        help="relative tolerance of the local error test (default %(default)g)",
-    )
-    parser.add_argument(
-        "--atol",
-        type=float,
-        default=DEFAULT_OPTIONS["atol"],
-        metavar="A",
-        help="absolute tolerance, in m, rad, m/s, rad/s (default %(default)g)",
-    )
-    parser.add_argument(
-        "--method",
-        choices=METHODS,
-        default=DEFAULT_OPTIONS["method"],
-        help="integrator: auto (explicit dopri5, handing the steps to implicit radau5 while "
-        "sticking friction is stiff and to sdirk4 when the problem turns stiff otherwise), "
-        "dopri5, sdirk4 or radau5 (implicit Radau IIA of order 5) (default %(default)s)",
-    )
-    parser.add_argument("--max-step", metavar="H", help="largest step [s]; default unbounded")
-    parser.add_argument(
-        "--max-steps",
-        type=int,
-        metavar="N",
-        help="step budget; the run fails when spent (default 1e7 steps, or 1e6 per simulated "
-        "second when that is more)",
-    )
-
-
-def _add_format_option(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument(
-        "--format",
-        nargs="+",
-        dest="formats",
-        choices=("png", "svg", "pdf"),
-        default=["png", "svg"],
-        help="figure formats (default: png svg)",
-    )
-
-
-def _run_options(args: argparse.Namespace) -> dict[str, Any]:
-    """The shared options as keyword arguments of Model.simulate."""
-    return {
-        "rate": args.rate,
-        "rtol": args.rtol,
-        "atol": args.atol,
-        "method": args.method,
-        "max_step": args.max_step,
-        "max_steps": args.max_steps,
-    }
-
-
 def _version() -> str:
-    from . import __version__
+    from .._version import __version__
 
     return __version__
 
@@ -432,7 +341,7 @@ def _with_clean_warnings(command: Callable[[argparse.Namespace], int], args: Any
     ``warnings``) are printed the same way once each when it ends, however many runs gave
     them, except by the commands that list them in their output (:data:`_OWN_WARNINGS`)
     and by a command that Ctrl-C stopped (it prints one line)."""
-    from .run import collecting_warnings
+    from .._engine import collecting_warnings
 
     with warnings.catch_warnings(), collecting_warnings() as notes:
         warnings.showwarning = _show_warning
@@ -457,24 +366,6 @@ def _print_warnings(lines: Sequence[str]) -> None:
 
 def _show_warning(message: Warning | str, *_: Any, **__: Any) -> None:
     print(f"jointgap: warning: {message}", file=sys.stderr)
-
-
-def _fail(message: str, status: int = EXIT_INVALID) -> int:
-    print(f"jointgap: error: {message}", file=sys.stderr)
-    return status
-
-
-def _interrupted(message: str) -> int:
-    """The one line of a command that Ctrl-C stopped (what it kept and where); exit
-    status 130."""
-    print(f"jointgap: interrupted: {message}", file=sys.stderr)
-    return EXIT_INTERRUPTED
-
-
-def _load(path: str) -> Model:
-    from .io import load
-
-    return load(path)
 
 
 def _check(args: argparse.Namespace) -> int:
@@ -509,8 +400,8 @@ def _counts(model: Model) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .plots import save_figure_set
-    from .statistics import (
+    from ..plots import save_figure_set
+    from ..statistics import (
         contact_statistics,
         deviation_from_ideal,
         deviation_table,
@@ -569,7 +460,7 @@ def _run(args: argparse.Namespace) -> int:
         except ValueError as exc:
             notes.append(f"warning    no figure: {exc}")
     if args.report is not None:
-        from .cli_report import report_after_run
+        from .report import report_after_run
 
         notes += report_after_run(result, ideal, out, args.model, written, args.report)
     print(_summary(model, args.model, result, written, format_statistics(stats, deviations)))
@@ -580,20 +471,6 @@ def _run(args: argparse.Namespace) -> int:
     if not result.ok:
         return _fail(f"{args.model}: the run {result.message}", EXIT_RUN_FAILED)
     return 0
-
-
-def _save(result: Result, out: Path) -> list[Path]:
-    from .cli_progress import writing_line
-
-    with writing_line(str(out / RESULTS_CSV)) as progress:
-        result.save(out, progress)
-    written = [
-        out / (RESULTS_CSV if result.stored is None else RESULTS_PARQUET),
-        out / SUMMARY_JSON,
-    ]
-    if result.impacts:
-        written.append(out / IMPACTS_CSV)
-    return written
 
 
 def _summary(model: Model, path: str, result: Result, written: list[Path], contact: str) -> str:
@@ -637,7 +514,7 @@ def _sampling(options: dict[str, Any]) -> str:
 
 
 def _plot(args: argparse.Namespace) -> int:
-    from .plots import save_figure_set
+    from ..plots import save_figure_set
 
     folder = Path(args.result)
     result = Result.load(folder)
@@ -652,8 +529,8 @@ def _plot(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from . import units as u
-    from .calibration import (
+    from .. import units as u
+    from ..calibration import (
         ImpactSelection,
         Iteration,
         average_onset_speed,
@@ -683,7 +560,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         if args.v_avg is not None:
             v_avg, source = u.to_si(args.v_avg, u.SPEED), "given"
         else:
-            from .variants import with_parameters
+            from ..variants import with_parameters
 
             with progress_line(args.t_end) as progress:
                 probe = with_parameters(model, {f"{joint}.c_max": c}).simulate(
@@ -742,31 +619,6 @@ def _calibrate(args: argparse.Namespace) -> int:
     return 0 if calibration.converged else EXIT_NOT_CONVERGED
 
 
-def _write_partial_table(args: argparse.Namespace, table: Any) -> str:
-    """The table so far of a command that Ctrl-C stopped, to ``--table``: ``"; table so
-    far in PATH"``, or ``""`` without --table."""
-    if not args.table:
-        return ""
-    Path(args.table).parent.mkdir(parents=True, exist_ok=True)
-    table.to_csv(args.table, index=False)
-    return f"; the table so far is in {args.table}"
-
-
-def _write_table_and_model(args: argparse.Namespace, table: Any, model: Model) -> None:
-    """``--table`` (a DataFrame as CSV) and ``--write`` (the user's model file with the
-    changed values, in the user's units, comments kept), if asked for."""
-    if args.table:
-        Path(args.table).parent.mkdir(parents=True, exist_ok=True)
-        table.to_csv(args.table, index=False)
-        print(f"written    {args.table}")
-    if args.write:
-        from .writeback import write_back
-
-        for change in write_back(args.model, model, args.write):
-            print(f"changed    {change}")
-        print(f"written    {args.write}")
-
-
 def _impact_joint(model: Model) -> str:
     """The model's only clearance joint with the ADAMS IMPACT law."""
     joints = [
@@ -782,7 +634,7 @@ def _impact_joint(model: Model) -> str:
 
 
 def _converge(args: argparse.Namespace) -> int:
-    from .convergence import LARGE_MEMORY, RunStopped, check_convergence, memory_need
+    from ..convergence import LARGE_MEMORY, RunStopped, check_convergence, memory_need
 
     model = _load(args.model)
     options = _run_options(args)
@@ -821,7 +673,3 @@ def _converge(args: argparse.Namespace) -> int:
     print()
     print(check.verdict())
     return 0 if check.ok else EXIT_NOT_CONVERGED
-
-
-if __name__ == "__main__":
-    sys.exit(main())

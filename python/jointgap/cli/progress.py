@@ -7,7 +7,7 @@ terminal (never in a pipe, a file or CI logs)::
 
 The engine calls ``progress(t, steps, impacts)`` about every 0.2 s of wall time
 (:meth:`jointgap.Model.simulate`; ``JOINTGAP_PROGRESS_INTERVAL`` sets another interval,
-:data:`jointgap.run.PROGRESS_INTERVAL_VARIABLE`); the line is erased when the block
+:data:`jointgap._engine.PROGRESS_INTERVAL_VARIABLE`); the line is erased when the block
 ends, so the summary printed after it stands alone. A command of many runs says where
 it stands in :attr:`ProgressLine.label` (``"run 3: "``, ``"trials: 12 done, best nrmse
 0.0412; "``); runs on several threads may report to one line.
@@ -75,7 +75,7 @@ class ProgressLine:
 def _seconds(t_end: float | str | None) -> float | None:
     if t_end is None:
         return None
-    from . import units
+    from .. import units
 
     try:
         value = units.to_si(t_end, units.TIME)

@@ -4,7 +4,7 @@ Both are built with the public :class:`jointgap.Model` builder, so they run thro
 same path as any user model; ``benchmarks/scaling.py`` uses them to measure how the cost
 of a step grows with the size of the mechanism.
 
->>> import jointgap.benchmark_models as bm
+>>> import benchmark_models as bm
 >>> model = bm.four_bar_chain(3)
 >>> len(model.bodies), model.degrees_of_freedom()
 (7, 1)
@@ -47,7 +47,7 @@ from __future__ import annotations
 
 import math
 
-from .model import Model
+from jointgap import Model
 
 __all__ = [
     "G",

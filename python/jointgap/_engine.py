@@ -9,22 +9,20 @@ import threading
 import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import dataclass
 from os import PathLike
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from . import units as u
-from .results import Result, RunWarning
+from ._output_size import OUTPUT_MEMORY_FRACTION, OutputSize
+from .errors import OutputTooLarge, RunWarning
+from .results import Result, RunStats
 
 __all__ = [
     "DEFAULT_OPTIONS",
     "METHODS",
-    "OUTPUT_MEMORY_FRACTION",
-    "OutputSize",
-    "OutputTooLarge",
     "check_output_size",
     "collect_warnings",
     "collecting_warnings",
@@ -124,90 +122,6 @@ def run_options(
         if value is not None and not (math.isfinite(value) and value > 0):
             raise ValueError(f"option {name} = {value:g}: must be positive")
     return options
-
-
-OUTPUT_MEMORY_FRACTION = 0.25
-"""The largest share of the machine's memory (:func:`machine_memory`) that the samples of
-the runs held in memory at once may take, 8 bytes per value. A run holds its samples
-more than once at its peak (the engine's buffers, the NumPy arrays of the Result, the
-CSV writer): ``jointgap run`` of 1,000,001 samples x 48 channels (392 MB) peaked 690 MB
-above the process's own memory, 1.8 times its samples, so a quarter leaves room for the
-copies and the rest of the machine."""
-
-CSV_BYTES_PER_VALUE = 20
-"""About how many characters one value takes in ``results.csv`` (shortest exact floats
-with their comma; 18.4 on the founding case at 2 MHz): the estimate of the file's size."""
-
-
-@dataclass(frozen=True)
-class OutputSize:
-    """The expected size of the output of one run, or of a batch of runs with the same
-    options, known before they run.
-
-    Attributes:
-        samples: output samples of one run (a lower bound when every accepted step is
-            recorded besides the sampled output).
-        channels: recorded channels of one run (the largest of a batch), the time column
-            not counted.
-        runs: runs held in memory together.
-    """
-
-    samples: int
-    channels: int
-    runs: int = 1
-
-    @property
-    def memory(self) -> int:
-        """Bytes of the samples in memory, the time column included: 8 per value."""
-        return 8 * self.runs * self.samples * (self.channels + 1)
-
-    @property
-    def csv(self) -> int:
-        """About the bytes of ``results.csv`` (:data:`CSV_BYTES_PER_VALUE` per value)."""
-        return self.memory // 8 * CSV_BYTES_PER_VALUE
-
-    def describe(self) -> str:
-        """E.g. ``50,000,001 samples x 48 channels = 19.6 GB in memory (...)``."""
-        runs = f"{self.runs} runs x " if self.runs > 1 else ""
-        return (
-            f"{runs}{self.samples:,} samples x {self.channels} channels = "
-            f"{_bytes(self.memory)} in memory (a results.csv of about {_bytes(self.csv)})"
-        )
-
-
-class OutputTooLarge(ValueError):
-    """A run refused before it starts because its samples would not fit in memory: the
-    message gives the figure, the limit and the ways out.
-
-    Attributes:
-        size: the expected output (of all the runs of a batch together).
-        limit: the limit [bytes], :data:`OUTPUT_MEMORY_FRACTION` of the memory.
-
-    The message starts with ``options``, the options it concerns.
-    """
-
-    def __init__(
-        self, size: OutputSize, limit: int, memory: int, options: Mapping[str, Any]
-    ) -> None:
-        self.size = size
-        self.limit = limit
-        given = f"t_end = {options['t_end']:g} s, rate = {options['rate']:g} Hz"
-        super().__init__(
-            f"options {given}: the output would take {size.describe()}, above the limit of "
-            f"{_bytes(limit)} ({OUTPUT_MEMORY_FRACTION:g} of this machine's {_bytes(memory)} "
-            "of memory): "
-            "sample at a lower rate (--rate, rate=), keep every K-th sample (--decimate K, "
-            "decimate=K), record fewer channels (--channel, channels=), or write the samples "
-            "to disk as the run goes (--stream, stream=PATH)"
-        )
-
-
-def _bytes(n: float) -> str:
-    for unit in ("B", "kB", "MB", "GB"):
-        if n < 1000:
-            return f"{n:.3g} {unit}"
-        n /= 1000
-    return f"{n:.3g} TB"
 
 
 def machine_memory() -> int | None:
@@ -317,7 +231,7 @@ def simulate(
         check_output_size([model], options)
         arrays = _jointgap.simulate(json.dumps(model), json.dumps(options), progress, **_interval())
         return _warned(_result(arrays, model, options))
-    from .stream import ParquetSink, StoredChannels, read_time
+    from ._stream import ParquetSink, StoredChannels, read_time
 
     sink = ParquetSink(stream)
     names: list[str] = []
@@ -387,7 +301,7 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         time=time,
         channels=list(names),
         data=data,
-        stats=dict(summary["stats"]),
+        stats=cast(RunStats, dict(summary["stats"])),
         status=status["status"],
         message=message,
         warnings=list(summary.get("warnings", [])),

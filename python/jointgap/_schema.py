@@ -1,7 +1,7 @@
 """The model's fields in one table: dimension, bound, default; and their conversion to SI.
 
 Every field of every model element is declared once here. The file reader
-(:mod:`jointgap.io`), the builder (:mod:`jointgap.model`) and the reference tables of
+(:mod:`jointgap._model_reader`), the builder (:mod:`jointgap.model`) and the reference tables of
 ``docs/model-file.md`` (:func:`reference_markdown`) all read this table, so a unit, a
 bound or a default can change in one place only.
 
@@ -20,10 +20,10 @@ from fractions import Fraction
 from typing import Any
 
 from . import units as u
-from .units import Dimension, UnitError
+from .errors import ModelError, UnitError
+from .units import Dimension
 
 __all__ = [
-    "ModelError",
     "Param",
     "ELEMENTS",
     "convert_element",
@@ -37,80 +37,6 @@ GROUND = "ground"
 """The name of the fixed frame, to which joints and forces may refer."""
 
 _NAME = re.compile(r"^[A-Za-z0-9_\-]+$")
-
-
-class ModelError(ValueError):
-    """An invalid model: names the file and line (when known), the element and the problem.
-
-    ``str(error)`` reads ``file:line: kind 'name': problem``; the parts are also
-    attributes: ``file``, ``line``, ``kind`` (body, joint, driver, force, ground, model),
-    ``name``, ``index`` (position of the element among those of its kind), ``key`` (the
-    field, dotted for nested ones like ``profile.speed``) and ``problem``.
-    """
-
-    def __init__(
-        self,
-        problem: str,
-        *,
-        kind: str | None = None,
-        name: str | None = None,
-        index: int | None = None,
-        key: str | None = None,
-        file: str | None = None,
-        line: int | None = None,
-        related: tuple[str, int] | None = None,
-    ) -> None:
-        self.problem = problem
-        self.kind = kind
-        self.name = name
-        self.index = index
-        self.key = key
-        self.file = file
-        self.line = line
-        self.related = related
-        super().__init__(self._message())
-
-    @property
-    def element(self) -> str:
-        """The element as the message names it, e.g. ``joint 'crank_rod'`` or ``body #2``."""
-        if self.kind is None:
-            return ""
-        if self.name:
-            return f"{self.kind} '{self.name}'"
-        if self.index is not None:
-            return f"{self.kind} #{self.index + 1}"
-        return self.kind
-
-    def _message(self) -> str:
-        where = ""
-        if self.file is not None:
-            where = f"{self.file}:{self.line}: " if self.line is not None else f"{self.file}: "
-        element = self.element
-        return f"{where}{element}: {self.problem}" if element else f"{where}{self.problem}"
-
-    def located(self, file: str, line: int | None, problem: str | None = None) -> ModelError:
-        """The same error with its file and line (and optionally a reworded problem)."""
-        return ModelError(
-            self.problem if problem is None else problem,
-            kind=self.kind,
-            name=self.name,
-            index=self.index,
-            key=self.key,
-            file=file,
-            line=line,
-            related=self.related,
-        )
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (_rebuild, (self.problem, self.__dict__.copy()))
-
-
-ModelError.__module__ = "jointgap"  # shown as jointgap.ModelError in tracebacks
-
-
-def _rebuild(problem: str, attrs: dict[str, Any]) -> ModelError:
-    attrs = {k: v for k, v in attrs.items() if k != "problem"}
-    return ModelError(problem, **attrs)
 
 
 @dataclass(frozen=True)

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from .cli import EXIT_RUN_FAILED, _fail, _interrupted
+from .shared import EXIT_RUN_FAILED, _fail, _interrupted
 
 __all__ = ["COMMANDS", "add_commands"]
 
@@ -88,7 +88,7 @@ def add_commands(sub: Any) -> None:
 def _study(args: argparse.Namespace) -> int:
     import sys
 
-    from .study import load_study, run_study
+    from ..study import load_study, run_study
 
     study = load_study(args.study)
     print(_describe(study, args.study))
@@ -142,7 +142,7 @@ def _describe(study: Any, path: str) -> str:
 
 
 def _study_plot(args: argparse.Namespace) -> int:
-    from .study.plots import save_study_figures
+    from ..study.plots import save_study_figures
 
     paths = save_study_figures(args.dir, x=args.x, lines=args.lines, formats=args.formats)
     print("written    " + ", ".join(str(p) for p in paths))

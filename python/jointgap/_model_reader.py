@@ -1,4 +1,5 @@
-"""Model files: read a TOML model into a :class:`~jointgap.Model`, write one back.
+"""Model files: read a TOML model into a :class:`~jointgap.Model` (written back by
+:mod:`jointgap._model_writer`).
 
 The format is described in ``docs/model-file.md``. Every error names the file, the line
 (of the offending key, else of the element's ``name``), the element and the problem::
@@ -8,7 +9,6 @@ The format is described in ``docs/model-file.md``. Every error names the file, t
 
 from __future__ import annotations
 
-import math
 import re
 import tomllib
 from collections.abc import Mapping
@@ -16,10 +16,11 @@ from os import PathLike
 from pathlib import Path
 from typing import Any
 
+from ._schema import convert_element
+from .errors import ModelError
 from .model import Model
-from .schema import ModelError, convert_element
 
-__all__ = ["load", "loads", "save", "dumps", "SECTIONS"]
+__all__ = ["load", "loads", "SECTIONS"]
 
 SECTIONS = {
     "model": False,
@@ -205,59 +206,3 @@ def _build(data: Mapping[str, Any]) -> Model:
         for element in data.get(kind, []):
             model._add(kind, element)
     return model
-
-
-# ---------------------------------------------------------------------- writing
-
-
-def save(model: Model, path: str | PathLike[str]) -> None:
-    """Writes ``model`` as a TOML model file in SI numbers."""
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    Path(path).write_text(dumps(model), encoding="utf-8")
-
-
-def dumps(model: Model) -> str:
-    """The TOML text of a model file for ``model`` (SI numbers, radians)."""
-    d = model.to_dict()
-    out = ["# jointgap model file; plain numbers are SI (kg, m, s, N, rad)", "", "[model]"]
-    out += [f"name = {_value(d['name'])}", f"gravity = {_value(d['gravity'])}", ""]
-    if d["ground_points"]:
-        out += ["[ground]", f"points = {_value(d['ground_points'])}", ""]
-    for kind, key in (
-        ("body", "bodies"),
-        ("joint", "joints"),
-        ("driver", "drivers"),
-        ("force", "forces"),
-        ("marker", "markers"),
-    ):
-        for element in d[key]:
-            out.append(f"[[{kind}]]")
-            out += [f"{_key(k)} = {_value(v)}" for k, v in element.items() if v is not None]
-            out.append("")
-    return "\n".join(out)
-
-
-def _key(key: str) -> str:
-    return key if re.fullmatch(r"[A-Za-z0-9_\-]+", key) else _value(key)
-
-
-def _value(value: Any) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"') + '"'
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if math.isnan(value):
-            return "nan"
-        if math.isinf(value):
-            return "inf" if value > 0 else "-inf"
-        return repr(value)
-    if isinstance(value, Mapping):
-        if not value:
-            return "{}"
-        return "{ " + ", ".join(f"{_key(str(k))} = {_value(v)}" for k, v in value.items()) + " }"
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(_value(v) for v in value) + "]"
-    raise TypeError(f"cannot write {value!r} to TOML")
