@@ -13,13 +13,12 @@ OUTPUT_MEMORY_FRACTION = 0.25
 """The largest share of the machine's memory (:func:`jointgap._engine.machine_memory`)
 that the samples of the runs held in memory at once may take, 8 bytes per value. A run
 holds its samples more than once at its peak (the engine's buffers, the NumPy arrays of
-the Result, the CSV writer): ``jointgap run`` of 1,000,001 samples x 48 channels (392 MB)
-peaked 690 MB above the process's own memory, 1.8 times its samples, so a quarter leaves
-room for the copies and the rest of the machine."""
+the Result, the CSV writer; benchmarks/README.md gives the measured peak), so a quarter
+leaves room for the copies and the rest of the machine."""
 
 CSV_BYTES_PER_VALUE = 20
 """About how many characters one value takes in ``results.csv`` (shortest exact floats
-with their comma; 18.4 on the founding case at 2 MHz): the estimate of the file's size."""
+with their comma; measured in benchmarks/README.md): the estimate of the file's size."""
 
 
 @dataclass(frozen=True)
