@@ -18,6 +18,7 @@ import numpy as np
 
 from . import units as u
 from .results import Result, RunWarning
+from .schema import ENGINE_DEFAULTS
 
 __all__ = [
     "DEFAULT_OPTIONS",
@@ -39,23 +40,10 @@ METHODS = ("auto", "dopri5", "sdirk4", "radau5")
 """Integration methods: automatic choice, explicit Dormand-Prince 5(4), implicit SDIRK4,
 implicit Radau IIA of order 5."""
 
-DEFAULT_OPTIONS: dict[str, Any] = {
-    "rate": None,
-    "every_step": False,
-    "rtol": 1e-8,
-    "atol": 1e-11,
-    "method": "auto",
-    "max_step": None,
-    "max_steps": None,
-    "channels": None,
-    "decimate": 1,
-    "step_peaks": False,
-    "energy": False,
-    "profile": False,
-}
-"""Defaults of the run options (the engine's own defaults, written out in every result;
-``max_steps`` None is the engine's budget for the run's length: 1e7 steps, or 1e6 per
-simulated second when that is more)."""
+DEFAULT_OPTIONS: dict[str, Any] = dict(ENGINE_DEFAULTS["options"])
+"""Defaults of the run options, the engine's own (:data:`jointgap.schema.ENGINE_DEFAULTS`),
+written out in every result; ``max_steps`` None is the engine's budget for the run's
+length: 1e7 steps, or 1e6 per simulated second when that is more."""
 
 
 def _quantity(name: str, value: Any, dim: u.Dimension) -> float:
@@ -363,10 +351,7 @@ def simulate_many(
         texts, json.dumps(options), threads, progress, **_interval()
     )
     for model, (arrays, error) in zip(models, batch, strict=True):
-        if arrays is not None:
-            out.append(_result(arrays, model, options))
-        else:
-            out.append(None if error is None else ValueError(error))
+        out.append(error if arrays is None else _result(arrays, model, options))
     return out, interrupted
 
 
