@@ -141,3 +141,17 @@ def test_one_load_and_run_compiles_the_model_once(engine, write_model) -> None:
     result = model.simulate("2 ms", rate="10 kHz")  # estimates its output size, runs it
     assert result.ok
     assert compilations() - before == 1
+
+
+def test_a_built_model_run_at_a_rate_compiles_once(engine) -> None:
+    from jointgap._jointgap import compilations
+
+    model = (
+        jointgap.Model("built_once")
+        .add_body("bob", mass=1, inertia=1e-3, position=(1, 0), points={"pivot": (-1, 0)})
+        .add_ground_point("O", (0, 0))
+        .add_revolute("hinge", "ground", "bob", point_i="O", point_j="pivot")
+    )
+    before = compilations()
+    assert model.simulate("10 ms", rate="1 kHz").ok  # its output size estimated, then run
+    assert compilations() - before == 1

@@ -62,8 +62,9 @@ def clearance_data(model_json: str) -> str:
 
 def channel_names(model_json: str, options_json: str | None = None) -> list[str]:
     """The channels a run records, in result order, without running it: with options,
-    those a run with them records; without, every channel of the model (model order).
-    Raises ValueError naming the offending element, or for unknown channels."""
+    those a run with them records (the model prepared and kept for its run, so one that
+    does not assemble raises too); without, every channel of the model (model order).
+    Raises EngineError naming the offending element, or for unknown channels."""
 
 def simulate(
     model_json: str,

@@ -221,7 +221,8 @@ def output_size(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputS
     ``options``: samples at the output rate to ``t_end``, thinned by ``decimate``, times
     the channels the engine records; None without a rate (every accepted step is
     recorded, a number known only after the run). Raises the engine's ValueError for an
-    invalid model or channel selection."""
+    invalid model (one that does not assemble included: the engine prepares the model
+    here and keeps it for its run) or channel selection."""
     rate = options.get("rate")
     if rate is None:
         return None

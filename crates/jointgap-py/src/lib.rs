@@ -124,8 +124,8 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
 }
 
 /// The channel names a run records, in result order, without running: with options, those
-/// a run with them records; without, every channel of the model (in model order). A
-/// model kept prepared is not compiled again.
+/// a run with them records (of the model prepared and kept for its run, so it must
+/// assemble); without, every channel of the model (in model order).
 #[pyfunction]
 #[pyo3(signature = (model_json, options_json=None))]
 fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<String>> {
@@ -135,13 +135,8 @@ fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<S
         return Ok(jointgap_core::solve::record::channel_names(&system, false));
     };
     let (model, options) = parse(model_json, options_json)?;
-    let names = match kept_prepared(model_json) {
-        Some(prepared) => jointgap_core::solve::recorded_channels_of(&prepared.system, &options),
-        None => {
-            compiled(&model).and_then(|system| jointgap_core::solve::recorded_channels_of(&system, &options))
-        }
-    };
-    names.map_err(to_py_err)
+    let prepared = prepared(model_json, &model).map_err(to_py_err)?;
+    jointgap_core::solve::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
 }
 
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
