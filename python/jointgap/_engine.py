@@ -17,6 +17,7 @@ import numpy as np
 
 from . import units as u
 from ._output_size import OUTPUT_MEMORY_FRACTION, OutputSize
+from ._schema import ENGINE_DEFAULTS
 from .errors import OutputTooLarge, RunWarning
 from .results import Result, RunStats
 
@@ -37,23 +38,10 @@ METHODS = ("auto", "dopri5", "sdirk4", "radau5")
 """Integration methods: automatic choice, explicit Dormand-Prince 5(4), implicit SDIRK4,
 implicit Radau IIA of order 5."""
 
-DEFAULT_OPTIONS: dict[str, Any] = {
-    "rate": None,
-    "every_step": False,
-    "rtol": 1e-8,
-    "atol": 1e-11,
-    "method": "auto",
-    "max_step": None,
-    "max_steps": None,
-    "channels": None,
-    "decimate": 1,
-    "step_peaks": False,
-    "energy": False,
-    "profile": False,
-}
-"""Defaults of the run options (the engine's own defaults, written out in every result;
-``max_steps`` None is the engine's budget for the run's length: 1e7 steps, or 1e6 per
-simulated second when that is more)."""
+DEFAULT_OPTIONS: dict[str, Any] = dict(ENGINE_DEFAULTS["options"])
+"""Defaults of the run options, the engine's own (:data:`jointgap._schema.ENGINE_DEFAULTS`),
+written out in every result; ``max_steps`` None is the engine's budget for the run's
+length: 1e7 steps, or 1e6 per simulated second when that is more."""
 
 
 def _quantity(name: str, value: Any, dim: u.Dimension) -> float:
@@ -147,7 +135,8 @@ def output_size(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputS
     ``options``: samples at the output rate to ``t_end``, thinned by ``decimate``, times
     the channels the engine records; None without a rate (every accepted step is
     recorded, a number known only after the run). Raises the engine's ValueError for an
-    invalid model or channel selection."""
+    invalid model (one that does not assemble included: the engine prepares the model
+    here and keeps it for its run) or channel selection."""
     rate = options.get("rate")
     if rate is None:
         return None
@@ -277,10 +266,7 @@ def simulate_many(
         texts, json.dumps(options), threads, progress, **_interval()
     )
     for model, (arrays, error) in zip(models, batch, strict=True):
-        if arrays is not None:
-            out.append(_result(arrays, model, options))
-        else:
-            out.append(None if error is None else ValueError(error))
+        out.append(error if arrays is None else _result(arrays, model, options))
     return out, interrupted
 
 

@@ -5,26 +5,66 @@ from collections.abc import Callable
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["channel_names", "check_model", "clearance_data", "simulate", "simulate_batch"]
+__all__ = [
+    "EngineError",
+    "channel_names",
+    "check_model",
+    "clearance_data",
+    "compilations",
+    "defaults",
+    "simulate",
+    "simulate_batch",
+]
+
+class EngineError(ValueError):
+    """An error of the engine: the message names the offending element, ``<kind>
+    '<element>': <problem>``, and the attributes hold its parts."""
+
+    category: str
+    """``model``, ``assembly`` or ``options``."""
+    kind: str | None
+    """The element's kind (body, joint, driver, force, marker); None for the model as a
+    whole or the options."""
+    element: str | None
+    """The element's name."""
+    key: str | None
+    """The offending key, dotted for a nested one (``normal_law.restitution``), where the
+    engine's check knows it."""
+    problem: str
+    """What is wrong, without the element."""
+
+def defaults() -> str:
+    """The engine's defaults as JSON: ``gravity`` [m/s^2], ``normal_law`` (``exponent``,
+    ``clip``) and ``options`` (every run option but ``t_end``)."""
+
+def compilations() -> int:
+    """How many models this process has compiled. The engine keeps the models it
+    prepared last, keyed by their JSON text: checking a model and then running it (or
+    estimating its output) compiles it once."""
 
 def check_model(model_json: str) -> list[str]:
     """Checks a model (JSON, SI units, radians) as far as a run goes before its first
-    step (assembled, every channel evaluated at t = 0) and returns its warnings.
+    step (assembled, every channel evaluated at t = 0) and returns its warnings; the
+    prepared model is kept for its run.
 
-    Raises ValueError naming the offending element: ``<kind> '<name>': <problem>``.
+    Raises EngineError naming the offending element: ``<kind> '<name>': <problem>``.
     """
 
 def clearance_data(model_json: str) -> str:
-    """Each clearance joint's resolved contact data as a JSON list of ``{"joint",
-    "bearing_radius", "journal_radius", "clearance", "stiffness", "exponent"}`` (SI).
+    """Each clearance joint as the engine resolves it, without a run, as a JSON list of
+    ``{"joint", "bearing_radius", "journal_radius", "clearance", "stiffness",
+    "exponent", "d_max", "normal_law", "friction"}`` (SI): ``d_max`` that of an
+    adams_impact law, given or the bearing material's (null for the other laws), and the
+    two laws in force with every default filled in.
 
-    Raises ValueError naming the offending element.
+    Raises EngineError naming the offending element.
     """
 
 def channel_names(model_json: str, options_json: str | None = None) -> list[str]:
     """The channels a run records, in result order, without running it: with options,
-    those a run with them records; without, every channel of the model (model order).
-    Raises ValueError naming the offending element, or for unknown channels."""
+    those a run with them records (the model prepared and kept for its run, so one that
+    does not assemble raises too); without, every channel of the model (model order).
+    Raises EngineError naming the offending element, or for unknown channels."""
 
 def simulate(
     model_json: str,
@@ -48,11 +88,12 @@ def simulate(
     Returns ``(time, names, data[n_channels, n_samples], summary_json)``; the summary
     holds ``stats``, ``status`` (``{"status": "finished"}``, ``{"status": "failed",
     "time": t, "reason": ...}`` or ``{"status": "interrupted", "time": t}``),
-    ``warnings``, ``impacts`` (per clearance joint), ``clearances`` (as
-    :func:`clearance_data`), ``peaks`` (per channel, the largest absolute value over the
-    samples, and every step with ``step_peaks``) and ``samples`` (for an ``every_step``
-    run with a rate: the indices of the output samples among the records; else null).
-    Raises ValueError for an invalid model or invalid options.
+    ``warnings``, ``impacts`` (per clearance joint), ``clearances`` (per clearance joint,
+    the first six keys of :func:`clearance_data`), ``peaks`` (per channel, the largest
+    absolute value over the samples, and every step with ``step_peaks``) and ``samples``
+    (for an ``every_step`` run with a rate: the indices of the output samples among the
+    records; else null).
+    Raises EngineError for an invalid model or invalid options.
     """
 
 def simulate_batch(
@@ -65,7 +106,7 @@ def simulate_batch(
     list[
         tuple[
             tuple[npt.NDArray[np.float64], list[str], npt.NDArray[np.float64], str] | None,
-            str | None,
+            EngineError | None,
         ]
     ],
     bool,
@@ -81,5 +122,5 @@ def simulate_batch(
     here.
 
     Returns ``(slots, interrupted)``: in order, ``(arrays, None)`` as :func:`simulate`
-    gives them, ``(None, message)`` for a model that could not run or ``(None, None)``
+    gives them, ``(None, error)`` for a model that could not run or ``(None, None)``
     for one not started; and whether the batch was stopped."""

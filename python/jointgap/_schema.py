@@ -13,12 +13,14 @@ the engine checks them (:meth:`jointgap.Model.check`).
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any
 
+from . import _jointgap
 from . import units as u
 from .errors import ModelError, UnitError
 from .units import Dimension
@@ -37,6 +39,12 @@ GROUND = "ground"
 """The name of the fixed frame, to which joints and forces may refer."""
 
 _NAME = re.compile(r"^[A-Za-z0-9_\-]+$")
+
+ENGINE_DEFAULTS: dict[str, Any] = json.loads(_jointgap.defaults())
+"""What the engine takes for a value left out, asked of the core once: ``gravity``
+[m/s^2], ``normal_law`` (``exponent``, ``clip``) and the run ``options`` (without
+``t_end``). The table below and :data:`jointgap._engine.DEFAULT_OPTIONS` read them from here,
+so that Python repeats none of the core's defaults."""
 
 
 @dataclass(frozen=True)
@@ -98,9 +106,18 @@ _RAMP = Param("ramp_time", "scalar", u.TIME, required=True, bound=">0", doc="ram
 _TIMES = Param("time", "list", u.TIME, required=True, doc="strictly increasing times")
 
 _EXPONENT = Param(
-    "exponent", "scalar", u.DIMENSIONLESS, default=1.5, doc="exponent n of the penetration"
+    "exponent",
+    "scalar",
+    u.DIMENSIONLESS,
+    default=ENGINE_DEFAULTS["normal_law"]["exponent"],
+    doc="exponent n of the penetration",
 )
-_CLIP = Param("clip", "bool", default=True, doc="set pulling (negative) forces to zero")
+_CLIP = Param(
+    "clip",
+    "bool",
+    default=ENGINE_DEFAULTS["normal_law"]["clip"],
+    doc="set pulling (negative) forces to zero",
+)
 _RESTITUTION = Param(
     "restitution", "scalar", u.DIMENSIONLESS, required=True, doc="coefficient of restitution"
 )
@@ -154,7 +171,7 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             "gravity",
             "vector",
             u.ACCELERATION,
-            default=(0.0, -9.81),
+            default=tuple(ENGINE_DEFAULTS["gravity"]),
             doc="uniform gravity in the plane; [0, 0] for a horizontal mechanism",
         ),
     ],

@@ -257,8 +257,8 @@ def calibrate_damping(
         raise ValueError(f"max_iterations = {max_iterations}: must be at least 1")
     data = model.to_dict()
     law = _impact_law(data, joint)
-    d_max = float(law.get("d_max", 1e-5))
-    exponent = float(law.get("exponent", 1.5))
+    resolved = model.clearance_data()[joint]  # the engine's d_max and n, defaults included
+    d_max, exponent = resolved["d_max"], resolved["exponent"]
     current = float(law["c_max"] if c_max is None else c_max)
     _check_positive("starting C_max", current, "N*s/m")
 

@@ -34,6 +34,7 @@ import numpy as np
 from .errors import RunStopped
 from .model import Model
 from .results import Result, channel_unit, clearance_joints, main_channels, model_channels
+from ._engine import DEFAULT_OPTIONS
 
 __all__ = [
     "ChannelChange",
@@ -174,8 +175,8 @@ def check_convergence(
     model: Model,
     t_end: float | str,
     *,
-    rtol: float = 1e-8,
-    atol: float = 1e-11,
+    rtol: float | None = None,
+    atol: float | None = None,
     rate: float | str = 10_000.0,
     levels: int = 2,
     peak_tolerance: float = 0.01,
@@ -183,7 +184,8 @@ def check_convergence(
     level: Callable[[int, int, float, float], object] | None = None,
     **run_options: Any,
 ) -> Convergence:
-    """Runs ``model`` at ``rtol``/``atol`` and ``levels`` tenfold tighter tolerances, all
+    """Runs ``model`` at ``rtol``/``atol`` (by default the engine's,
+    :data:`jointgap._engine.DEFAULT_OPTIONS`) and ``levels`` tenfold tighter tolerances, all
     sampled at ``rate``, and tests each against the tightest (see the module docs).
     ``level(k, runs, rtol, atol)`` is called as the k-th of the ``levels + 1`` runs
     starts (k = 1, 2, ...), e.g. to name it on a progress line; ``run_options`` (method,
@@ -194,6 +196,8 @@ def check_convergence(
     for name, value in (("peak_tolerance", peak_tolerance), ("nrmse_tolerance", nrmse_tolerance)):
         if not (math.isfinite(value) and value > 0):
             raise ValueError(f"{name} = {value!r}: must be positive")
+    rtol = DEFAULT_OPTIONS["rtol"] if rtol is None else rtol
+    atol = DEFAULT_OPTIONS["atol"] if atol is None else atol
     channels = _compared_channels(model)
     runs = []
     for k in range(levels + 1):

@@ -213,6 +213,7 @@ class _Objective:
         progress: Callable[[Trial], None] | None = None,
     ) -> None:
         self.base = model.to_dict()
+        self.resolved = model.clearance_data()  # d_max and n of the mapped joints
         self.parameters = list(parameters)
         self.mapped = list(mapped)
         self.score = score
@@ -246,7 +247,8 @@ class _Objective:
             for i, (p, m) in enumerate(zip(self.parameters, self.mapped, strict=True)):
                 if m:
                     derived[f"{p.joint}.c_max"] = key[i]
-                    values[i] = _restitution_of(result, p.joint, key[i], self.base)
+                    resolved = self.resolved[p.joint]
+                    values[i] = _restitution_of(result, p.joint, key[i], resolved)
             if result.ok:
                 error, lag, measures = self.score(result)
         except (ValueError, ArithmeticError):
@@ -263,12 +265,12 @@ class _Objective:
         return trial
 
 
-def _restitution_of(result: Any, joint: str, c_max: float, base: dict[str, Any]) -> float:
-    """Eq. 10-11 inverted at the run's own V_avg (NaN if more than plastic)."""
-    law = clearance_joint(base, joint)["clearance"]["normal_law"]
+def _restitution_of(result: Any, joint: str, c_max: float, resolved: dict[str, Any]) -> float:
+    """Eq. 10-11 inverted at the run's own V_avg (NaN if more than plastic); ``resolved``
+    is the joint's data as the engine resolves them (:meth:`Model.clearance_data`)."""
     v_avg, _ = average_onset_speed(result, joint)
     k = result.clearances[joint]["stiffness"]
-    d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+    d_max, n = resolved["d_max"], resolved["exponent"]
     try:
         return restitution_from_damping(c_max, v_avg, k, d_max, n)
     except ValueError:
@@ -493,8 +495,8 @@ def _search_bounds(model: Model, p: Parameter, t_end: float, options: dict[str, 
     is Eq. 10-11 iterated twice from the model's V_avg (V_avg moves with C_max, by 20 %
     across the founding case's range), then widened by 5 % so that the trials'
     restitutions cover the bounds asked for."""
-    law = model.joints[p.joint]["clearance"]["normal_law"]
-    d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+    resolved = model.clearance_data()[p.joint]
+    d_max, n = resolved["d_max"], resolved["exponent"]
     quiet = {**options, "rate": 10.0, "channels": [f"{p.joint}.mode"]}
 
     def v_avg_and_k(c_max: float | None) -> tuple[float, float]:

@@ -3,7 +3,8 @@
 Each helper returns a :class:`Law` for :meth:`jointgap.Model.add_clearance_revolute`;
 values are SI numbers or strings with units (``"27960 N*s/m"``, ``"0.01 mm"``). Units
 are checked when the law is made; the engine checks the values (a restitution in
-(0, 1], a positive d_max, ...) and names the joint. Formulas and sources:
+(0, 1], a positive d_max, ...) and names the joint. A value left out (``None``) takes the
+engine's default (:data:`jointgap._schema.ENGINE_DEFAULTS`). Formulas and sources:
 ``docs/clearance-joints.md``.
 
 >>> from jointgap import laws
@@ -67,39 +68,46 @@ def _normal(type_: str, **params: Any) -> Law:
     return Law("normal_law", type_, params)
 
 
-def hertz(exponent: float = 1.5) -> Law:
+def hertz(exponent: float | None = None) -> Law:
     """Elastic Hertz law ``K delta^n``."""
     return _normal("hertz", exponent=exponent)
 
 
-def kelvin_voigt(damping: Quantity, exponent: float = 1.5, clip: bool = True) -> Law:
+def kelvin_voigt(damping: Quantity, exponent: float | None = None, clip: bool | None = None) -> Law:
     """``K delta^n + c delta_dot``; ``damping`` c [N s/m]; ``exponent=1`` for the linear
     spring-dashpot."""
     return _normal("kelvin_voigt", exponent=exponent, damping=damping, clip=clip)
 
 
-def hunt_crossley(restitution: float, exponent: float = 1.5, clip: bool = True) -> Law:
+def hunt_crossley(
+    restitution: float, exponent: float | None = None, clip: bool | None = None
+) -> Law:
     """Hunt and Crossley (1975), hysteresis damping from the restitution r in (0, 1]."""
     return _normal("hunt_crossley", exponent=exponent, restitution=restitution, clip=clip)
 
 
-def lankarani_nikravesh(restitution: float, exponent: float = 1.5, clip: bool = True) -> Law:
+def lankarani_nikravesh(
+    restitution: float, exponent: float | None = None, clip: bool | None = None
+) -> Law:
     """Lankarani and Nikravesh (1990), for restitution close to 1."""
     return _normal("lankarani_nikravesh", exponent=exponent, restitution=restitution, clip=clip)
 
 
-def gonthier(restitution: float, exponent: float = 1.5, clip: bool = True) -> Law:
+def gonthier(restitution: float, exponent: float | None = None, clip: bool | None = None) -> Law:
     """Gonthier et al. (2004), valid over the whole range of restitution."""
     return _normal("gonthier", exponent=exponent, restitution=restitution, clip=clip)
 
 
-def flores(restitution: float, exponent: float = 1.5, clip: bool = True) -> Law:
+def flores(restitution: float, exponent: float | None = None, clip: bool | None = None) -> Law:
     """Flores et al. (2011), for soft contacts (low restitution)."""
     return _normal("flores", exponent=exponent, restitution=restitution, clip=clip)
 
 
 def adams_impact(
-    c_max: Quantity, d_max: Quantity | None = None, exponent: float = 1.5, clip: bool = True
+    c_max: Quantity,
+    d_max: Quantity | None = None,
+    exponent: float | None = None,
+    clip: bool | None = None,
 ) -> Law:
     """MSC ADAMS IMPACT: ``K delta^n + STEP(delta, 0, 0, d_max, c_max) delta_dot``;
     ``c_max`` [N s/m], ``d_max`` [m] (by default the bearing material's, from the

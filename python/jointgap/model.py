@@ -23,7 +23,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-import re
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
@@ -51,7 +50,6 @@ PointRef = str | Vector
 
 _KINDS = ("body", "joint", "driver", "force", "marker")
 _RESERVED = (GROUND, "system")
-_CORE_ERROR = re.compile(r"^(body|joint|driver|force|marker) '([^']*)': (.*)$", re.S)
 _MOTION_UNITS = {"rotation": "angular units (rad, deg, rpm)", "translation": "linear units (m)"}
 
 
@@ -568,19 +566,21 @@ class Model:
         except ValueError as exc:
             raise self.engine_error(exc) from None
 
-    def clearance_data(self) -> dict[str, dict[str, float]]:
-        """Each clearance joint's contact data as the engine resolves them, without a
-        run: ``bearing_radius``, ``journal_radius``, ``clearance`` [m], ``stiffness`` K
-        [N/m^n] (from the materials unless given) and ``exponent`` n, keyed by joint."""
-        import json
-
+    def clearance_data(self) -> dict[str, dict[str, Any]]:
+        """Each clearance joint as the engine resolves it, without a run, keyed by joint:
+        ``bearing_radius``, ``journal_radius``, ``clearance`` [m] (from the two given),
+        ``stiffness`` K [N/m^n] (from the materials unless given), ``exponent`` n,
+        ``d_max`` [m] (of an adams_impact law, given or the bearing material's; None for
+        the other laws) and the laws in force, ``normal_law`` and ``friction`` (SI, every
+        default filled in). What Python needs of these it reads here, never guessing the
+        engine's defaults."""
         from ._jointgap import clearance_data
 
         try:
             data = json.loads(clearance_data(self.to_json()))
         except ValueError as exc:
             raise self.engine_error(exc) from None
-        return {d.pop("joint"): {k: float(v) for k, v in d.items()} for d in data}
+        return {d.pop("joint"): d for d in data}
 
     def _check_drivers(self) -> None:
         for index, (driver, motion) in enumerate(
@@ -592,33 +592,24 @@ class Model:
                 raise self._located(exc) from None
 
     def engine_error(self, exc: ValueError) -> Exception:
-        """Turns the engine's ``<kind> '<name>': <problem>`` error into a ModelError
-        naming the element (and its file and line for a loaded model). Errors about run
-        options stay ValueErrors."""
-        message = str(exc)
-        if message.startswith(("option", "options")):
+        """Turns an engine error (the binding's ``EngineError``, which carries the
+        category, element kind and name, key and problem as attributes) into a ModelError
+        naming the element, and its file and line for a loaded model. Errors about run
+        options, and any other ValueError, are returned as they are."""
+        from ._jointgap import EngineError
+
+        if not isinstance(exc, EngineError) or exc.category == "options":
             return exc
-        m = _CORE_ERROR.match(message)
-        if m is None:
-            return self._located(ModelError(message))
-        kind, name, problem = m.groups()
+        kind, name, key, problem = exc.kind, exc.element, exc.key, exc.problem
+        if kind is None or name is None:
+            return self._located(ModelError(problem))
         owner = self._owner.get(name)
         index = owner[1] if owner is not None and owner[0] == kind else None
-        key = None
-        if index is not None:
+        if key is None and index is not None:
+            # A check that does not say its key names it first: "mass = 0 kg ...".
             first = problem.split(" ", 1)[0].strip("':,")
             key = first if first in self._keys_of(kind, index) else None
-            if key is None and kind == "joint":
-                key = self._clearance_key(index, first)
         return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
-
-    def _clearance_key(self, index: int, word: str) -> str | None:
-        """``normal_law.restitution`` for an engine error about a clearance joint's law."""
-        clearance = self._elements["joint"][index].get("clearance") or {}
-        for table in ("normal_law", "friction"):
-            if word in (clearance.get(table) or {}):
-                return f"{table}.{word}"
-        return None
 
     def _keys_of(self, kind: str, index: int) -> list[str]:
         element = self._elements[kind][index]
@@ -632,9 +623,9 @@ class Model:
         self,
         t_end: Quantity,
         rate: Quantity | None = None,
-        rtol: float = 1e-8,
-        atol: float = 1e-11,
-        method: str = "auto",
+        rtol: float | None = None,
+        atol: float | None = None,
+        method: str | None = None,
         every_step: bool = False,
         max_step: Quantity | None = None,
         channels: Sequence[str] | None = None,
@@ -652,8 +643,9 @@ class Model:
             t_end: end time [s] (or e.g. ``"0.5 s"``).
             rate: output sampling rate [Hz] (e.g. ``"10 kHz"``); ``None`` records every
                 accepted step.
-            rtol, atol: tolerances of the local error test (atol in m, rad, m/s, rad/s).
-            method: ``"auto"`` (explicit Dormand-Prince, handing the steps to the
+            rtol, atol: tolerances of the local error test (atol in m, rad, m/s, rad/s);
+                by default the engine's (:data:`jointgap._engine.DEFAULT_OPTIONS`).
+            method: ``"auto"`` (the default; explicit Dormand-Prince, handing the steps to the
                 implicit Radau IIA while sticking friction is stiff and to SDIRK4 when the
                 problem turns stiff otherwise), ``"dopri5"``, ``"sdirk4"`` or ``"radau5"``
                 (implicit Radau IIA of order 5, for stiff contact at tight tolerances).

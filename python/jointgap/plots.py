@@ -62,6 +62,7 @@ __all__ = [
     "MODE_NAMES",
     "clearance_joints",
     "radial_clearance",
+    "resolved_clearance",
     "time_series_figure",
     "slider_figures",
     "torque_figures",
@@ -118,19 +119,23 @@ def _style() -> Iterator[None]:
 
 
 def radial_clearance(result: Result, joint: str) -> float:
-    """The radial clearance c of a clearance joint [m]: as the engine resolved it, or
-    (for a result saved without it) given in the model or bearing less journal radius."""
+    """The radial clearance c of a clearance joint [m], as the engine resolved it
+    (:func:`resolved_clearance`)."""
+    return float(resolved_clearance(result, joint)["clearance"])
+
+
+def resolved_clearance(result: Result, joint: str) -> dict[str, Any]:
+    """A clearance joint's contact data as the engine resolved them (radii, clearance,
+    stiffness, exponent): the run's, or, for a result saved without them, the engine's
+    resolution of the result's model (:meth:`jointgap.Model.clearance_data`)."""
     if joint in result.clearances:
-        return result.clearances[joint]["clearance"]
-    for j in result.model.get("joints", []):
-        if j.get("name") == joint and j.get("type") == "clearance_revolute":
-            spec = j.get("clearance") or j
-            if spec.get("clearance") is not None:
-                return float(spec["clearance"])
-            if spec.get("bearing_radius") is not None and spec.get("journal_radius") is not None:
-                return float(spec["bearing_radius"]) - float(spec["journal_radius"])
-            raise ValueError(f"clearance joint '{joint}': the model gives no radial clearance")
-    raise ValueError(f"no clearance joint '{joint}' in the model of the result")
+        return dict(result.clearances[joint])
+    from .model import Model
+
+    resolved = Model.from_dict(result.model).clearance_data()
+    if joint not in resolved:
+        raise ValueError(f"no clearance joint '{joint}' in the model of the result")
+    return resolved[joint]
 
 
 def _bearing_body(result: Result, joint: str) -> str:

@@ -8,7 +8,9 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod contact;
+pub mod defaults;
 pub mod drivers;
+pub mod error;
 pub mod forces;
 mod magnitudes;
 pub mod math;
@@ -16,6 +18,7 @@ pub mod measures;
 pub mod model;
 pub mod output;
 pub mod planar;
+pub mod resolved;
 pub mod solve;
 pub mod system;
 
@@ -26,9 +29,13 @@ pub use solve::{
 };
 pub use system::System;
 
-/// Errors that stop a run before it starts. Each message names the offending element.
+/// Errors that stop a run before it starts. Each message names the offending element;
+/// [`Error::parts`] gives the element, the key and the problem apart.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
+    /// A value of a model element is invalid, said in parts.
+    #[error("{0}")]
+    Element(error::ElementError),
     /// The model is malformed or physically invalid.
     #[error("{0}")]
     Model(String),

@@ -17,7 +17,8 @@ pub struct Model {
     #[serde(default)]
     pub name: String,
     /// Uniform gravity in the plane [m/s^2]; `[0, 0]` for a horizontal-plane mechanism.
-    #[serde(default)]
+    /// By default [`crate::defaults::GRAVITY`].
+    #[serde(default = "default_gravity")]
     pub gravity: [f64; 2],
     /// Moving rigid bodies. The ground is implicit and named `ground`.
     #[serde(default)]
@@ -206,11 +207,14 @@ pub struct Material {
     pub poisson_ratio: f64,
 }
 
-fn default_exponent() -> f64 {
-    1.5
+fn default_gravity() -> [f64; 2] {
+    crate::defaults::GRAVITY
 }
-fn default_true() -> bool {
-    true
+fn default_exponent() -> f64 {
+    crate::defaults::CONTACT_EXPONENT
+}
+fn default_clip() -> bool {
+    crate::defaults::CONTACT_CLIP
 }
 
 /// Normal contact force laws, `F_N` as a function of penetration `delta > 0` and its
@@ -232,7 +236,7 @@ pub enum NormalLawSpec {
         /// Damping c [N s/m].
         damping: f64,
         /// Set pulling forces to zero.
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
     /// Hunt and Crossley (1975): `K delta^n [1 + 3(1-r)/2 delta_dot/delta_dot(-)]`.
@@ -243,7 +247,7 @@ pub enum NormalLawSpec {
         /// Coefficient of restitution r in (0, 1].
         restitution: f64,
         /// Set pulling forces to zero.
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
     /// Lankarani and Nikravesh (1990): `K delta^n [1 + 3(1-r^2)/4 delta_dot/delta_dot(-)]`.
@@ -254,7 +258,7 @@ pub enum NormalLawSpec {
         /// Coefficient of restitution r in (0, 1].
         restitution: f64,
         /// Set pulling forces to zero.
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
     /// Gonthier et al. (2004): `K delta^n [1 + (1-r^2)/r delta_dot/delta_dot(-)]`.
@@ -265,7 +269,7 @@ pub enum NormalLawSpec {
         /// Coefficient of restitution r in (0, 1].
         restitution: f64,
         /// Set pulling forces to zero.
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
     /// Flores et al. (2011): `K delta^n [1 + 8(1-r)/(5r) delta_dot/delta_dot(-)]`.
@@ -276,7 +280,7 @@ pub enum NormalLawSpec {
         /// Coefficient of restitution r in (0, 1].
         restitution: f64,
         /// Set pulling forces to zero.
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
     /// ADAMS IMPACT: `K delta^n + STEP(delta, 0, 0, d_max, c_max) delta_dot`.
@@ -291,7 +295,7 @@ pub enum NormalLawSpec {
         #[serde(default)]
         d_max: Option<f64>,
         /// Set pulling forces to zero (ADAMS does).
-        #[serde(default = "default_true")]
+        #[serde(default = "default_clip")]
         clip: bool,
     },
 }

@@ -236,3 +236,28 @@ fn a_batch_gives_the_serial_results_and_starts_nothing_once_stopped() {
     assert!(batch.iter().all(Option::is_none));
     assert_eq!(control.ended(), 2);
 }
+
+/// A model prepared once (what a front end checks before it runs) runs any number of
+/// times without being compiled again, and each run is bit for bit the one that compiles
+/// the model itself: the same samples, impacts, statistics and warnings.
+#[test]
+fn a_prepared_model_runs_as_the_model_does() {
+    use jointgap_core::solve::{check_prepared, prepare, simulate_prepared, Silent};
+    let model = slider_crank_clearance();
+    let opts = SimOptions { rate: Some(2000.0), ..SimOptions::new(0.05) };
+    let prepared = prepare(&model).unwrap();
+    assert_eq!(check_prepared(&prepared).unwrap(), jointgap_core::solve::check(&model).unwrap());
+    let direct = simulate(&model, &opts).unwrap();
+    for _ in 0..2 {
+        let again = simulate_prepared(&prepared, &opts, &mut Silent).unwrap();
+        assert_eq!(again.status, Status::Finished);
+        assert_eq!((&again.time, &again.names, &again.data), (&direct.time, &direct.names, &direct.data));
+        assert_eq!(
+            (&again.impacts, &again.clearances, &again.warnings),
+            (&direct.impacts, &direct.clearances, &direct.warnings)
+        );
+        let without_wall_time =
+            |s: &jointgap_core::RunStats| jointgap_core::RunStats { wall_time: 0.0, ..s.clone() };
+        assert_eq!(without_wall_time(&again.stats), without_wall_time(&direct.stats));
+    }
+}

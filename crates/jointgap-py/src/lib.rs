@@ -1,10 +1,44 @@
-//! Thin PyO3 binding: JSON model and options in, NumPy arrays and a JSON summary out.
+//! Thin PyO3 binding: JSON model and options in, NumPy arrays and a JSON summary out;
+//! the engine's defaults and resolved values out as JSON, its errors in parts.
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
+use jointgap_core::solve::Prepared;
+
+pyo3::create_exception!(
+    _jointgap,
+    EngineError,
+    PyValueError,
+    "An error of the engine; its attributes `category`, `kind`, `element`, `key` and \
+     `problem` hold the parts of the message."
+);
+
+/// An engine error as an [`EngineError`] whose attributes are its parts
+/// ([`jointgap_core::Error::parts`]), so that Python reads them instead of the message.
 fn to_py_err(e: jointgap_core::Error) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    let parts = e.parts();
+    let error = EngineError::new_err(e.to_string());
+    Python::with_gil(|py| -> PyResult<()> {
+        let value = error.value(py);
+        value.setattr("category", parts.category)?;
+        value.setattr("kind", parts.kind)?;
+        value.setattr("element", parts.element)?;
+        value.setattr("key", parts.key)?;
+        value.setattr("problem", parts.problem)?;
+        Ok(())
+    })
+    .map_or_else(|failed| failed, |()| error)
+}
+
+/// The engine's defaults ([`jointgap_core::defaults::defaults`]) as JSON: `gravity`,
+/// `normal_law` (`exponent`, `clip`) and `options` (every run option but `t_end`).
+#[pyfunction]
+fn defaults() -> PyResult<String> {
+    serde_json::to_string(&jointgap_core::defaults::defaults())
+        .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 fn parse(
@@ -17,37 +51,92 @@ fn parse(
     Ok((model, options))
 }
 
+/// The models this process prepared last (compiled and assembled), keyed by their JSON
+/// text, the most recent last: loading a model checks it, and its run, the estimate of
+/// its output size and the check itself then share one compilation. Preparing is a pure
+/// function of the text, so a model found here is the one a new compilation would give.
+static PREPARED: Mutex<Vec<(String, Arc<Prepared>)>> = Mutex::new(Vec::new());
+
+/// How many prepared models [`PREPARED`] keeps: a few, for the threads of a study or an
+/// identification that run different models at once.
+const PREPARED_KEPT: usize = 8;
+
+/// Models compiled by this process ([`compilations`]).
+static COMPILATIONS: AtomicUsize = AtomicUsize::new(0);
+
+/// The kept prepared models; a panic while one was held leaves the list valid.
+fn kept() -> MutexGuard<'static, Vec<(String, Arc<Prepared>)>> {
+    PREPARED.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The prepared model of `model_json` (parsed as `model`), kept or prepared now.
+fn prepared(model_json: &str, model: &jointgap_core::Model) -> Result<Arc<Prepared>, jointgap_core::Error> {
+    if let Some(found) = kept_prepared(model_json) {
+        return Ok(found);
+    }
+    COMPILATIONS.fetch_add(1, Ordering::Relaxed);
+    let prepared = Arc::new(jointgap_core::solve::prepare(model)?);
+    let mut kept = kept();
+    kept.push((model_json.to_string(), Arc::clone(&prepared)));
+    if kept.len() > PREPARED_KEPT {
+        kept.remove(0);
+    }
+    Ok(prepared)
+}
+
+/// The kept prepared model of `model_json`, if any.
+fn kept_prepared(model_json: &str) -> Option<Arc<Prepared>> {
+    kept().iter().rev().find(|(text, _)| text == model_json).map(|(_, p)| Arc::clone(p))
+}
+
+/// A model compiled without being assembled (its channels, its clearance joints).
+fn compiled(model: &jointgap_core::Model) -> Result<jointgap_core::System, jointgap_core::Error> {
+    COMPILATIONS.fetch_add(1, Ordering::Relaxed);
+    jointgap_core::System::new(model)
+}
+
+/// How many models this process has compiled (`System::new`), kept ones counted once:
+/// a test reads it to see that loading a model and running it compiles the model once.
+#[pyfunction]
+fn compilations() -> usize {
+    COMPILATIONS.load(Ordering::Relaxed)
+}
+
 /// Checks a model (JSON, SI units) as far as a run goes before its first step (assembled,
-/// every channel evaluated at t = 0); returns its warnings and raises ValueError naming
-/// the offending element, as a run would.
+/// every channel evaluated at t = 0); returns its warnings and raises EngineError naming
+/// the offending element, as a run would. The prepared model is kept for its run.
 #[pyfunction]
 fn check_model(model_json: &str) -> PyResult<Vec<String>> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-    jointgap_core::solve::check(&model).map_err(to_py_err)
+    let prepared = prepared(model_json, &model).map_err(to_py_err)?;
+    jointgap_core::solve::check_prepared(&prepared).map_err(to_py_err)
 }
 
-/// Each clearance joint's resolved contact data (radii, clearance, stiffness computed
-/// from the materials, exponent) as a JSON list, without running the model.
+/// Each clearance joint as the engine resolves it ([`jointgap_core::resolved`]: radii,
+/// clearance, stiffness computed from the materials, exponent, `d_max`, the laws in force)
+/// as a JSON list, without running the model.
 #[pyfunction]
 fn clearance_data(model_json: &str) -> PyResult<String> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-    let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
-    let data: Vec<_> = system.clearances.iter().map(|c| c.data()).collect();
+    let system = compiled(&model).map_err(to_py_err)?;
+    let data = jointgap_core::resolved::clearances(&model, &system);
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// The channel names a run records, in result order, without running: with options, those
-/// a run with them records; without, every channel of the model (in model order).
+/// a run with them records (of the model prepared and kept for its run, so it must
+/// assemble); without, every channel of the model (in model order).
 #[pyfunction]
 #[pyo3(signature = (model_json, options_json=None))]
 fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<String>> {
     let Some(options_json) = options_json else {
         let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-        let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
+        let system = compiled(&model).map_err(to_py_err)?;
         return Ok(jointgap_core::solve::record::channel_names(&system, false));
     };
     let (model, options) = parse(model_json, options_json)?;
-    jointgap_core::solve::recorded_channels(&model, &options).map_err(to_py_err)
+    let prepared = prepared(model_json, &model).map_err(to_py_err)?;
+    jointgap_core::solve::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
 }
 
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
@@ -161,9 +250,13 @@ fn simulate<'py>(
         return Err(PyValueError::new_err("chunk = 0: must be at least 1 sample"));
     }
     check_interval(interval)?;
+    options.check().map_err(to_py_err)?;
     let mut monitor = PyMonitor { progress, sink, chunk: Some(chunk), interval, error: None };
     let result = py
-        .allow_threads(|| jointgap_core::simulate_with(&model, &options, &mut monitor))
+        .allow_threads(|| {
+            let prepared = prepared(model_json, &model)?;
+            jointgap_core::solve::simulate_prepared(&prepared, &options, &mut monitor)
+        })
         .map_err(to_py_err)?;
     if let Some(error) = monitor.error {
         return Err(error);
@@ -171,9 +264,9 @@ fn simulate<'py>(
     to_python(py, result)
 }
 
-/// One slot of a batch: `(arrays, None)`, `(None, message)` for a model that could not
-/// run, `(None, None)` for one that Ctrl-C kept from starting.
-type Slot<'py> = (Option<Arrays<'py>>, Option<String>);
+/// One slot of a batch: `(arrays, None)`, `(None, error)` for a model that could not
+/// run (an [`EngineError`]), `(None, None)` for one that Ctrl-C kept from starting.
+type Slot<'py> = (Option<Arrays<'py>>, Option<PyObject>);
 
 /// Runs many models with the same options on `threads` threads (all cores by default),
 /// the GIL released while they run. Returns `(slots, interrupted)`: in order, each
@@ -196,8 +289,8 @@ fn simulate_batch<'py>(
     let options: jointgap_core::SimOptions =
         serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
     check_interval(interval)?;
-    let parsed: Vec<Result<jointgap_core::Model, String>> =
-        models_json.iter().map(|m| jointgap_core::Model::from_json(m).map_err(|e| e.to_string())).collect();
+    let parsed: Vec<Result<jointgap_core::Model, jointgap_core::Error>> =
+        models_json.iter().map(|m| jointgap_core::Model::from_json(m)).collect();
     let valid: Vec<jointgap_core::Model> = parsed.iter().filter_map(|m| m.as_ref().ok().cloned()).collect();
     let control = jointgap_core::BatchControl::default();
     let (results, error) = py.allow_threads(|| {
@@ -222,10 +315,10 @@ fn simulate_batch<'py>(
     let slots = parsed
         .into_iter()
         .map(|m| match m {
-            Err(message) => Ok((None, Some(message))),
+            Err(e) => Ok((None, Some(to_py_err(e).into_value(py).into_any()))),
             Ok(_) => match results.next().expect("one result per valid model") {
                 Some(Ok(result)) => Ok((Some(to_python(py, result)?), None)),
-                Some(Err(e)) => Ok((None, Some(e.to_string()))),
+                Some(Err(e)) => Ok((None, Some(to_py_err(e).into_value(py).into_any()))),
                 None => Ok((None, None)),
             },
         })
@@ -280,6 +373,9 @@ fn check_interval(interval: f64) -> PyResult<()> {
 /// The compiled core of jointgap.
 #[pymodule]
 fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("EngineError", m.py().get_type::<EngineError>())?;
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(compilations, m)?)?;
     m.add_function(wrap_pyfunction!(check_model, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(clearance_data, m)?)?;

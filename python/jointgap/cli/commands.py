@@ -555,8 +555,8 @@ def _calibrate(args: argparse.Namespace) -> int:
     if args.restitution is None:
         law = model.joints[joint]["clearance"]["normal_law"]
         c = c_max if c_max is not None else float(law["c_max"])
-        k = model.clearance_data()[joint]["stiffness"]
-        d_max, n = float(law.get("d_max", 1e-5)), float(law.get("exponent", 1.5))
+        resolved = model.clearance_data()[joint]
+        k, d_max, n = resolved["stiffness"], resolved["d_max"], resolved["exponent"]
         if args.v_avg is not None:
             v_avg, source = u.to_si(args.v_avg, u.SPEED), "given"
         else:

@@ -20,7 +20,7 @@ import numpy as np
 
 from .._schema import GROUND
 from ..errors import ReportError
-from ..plots import radial_clearance
+from ..plots import radial_clearance, resolved_clearance
 from ..results import Result, clearance_joints
 from .encode import rounded
 
@@ -278,15 +278,14 @@ def _pin_radius(bodies: Sequence[_Body], extent: float) -> float:
 def _drawn_clearance(result: Result, joint: str, factor: float) -> dict[str, float]:
     """True and drawn radii: the drawn clearance is ``factor * c``; the bearing keeps its
     radius unless the magnified clearance needs a larger one."""
-    c = radial_clearance(result, joint)
-    data = result.clearances.get(joint, {})
-    bearing = float(data.get("bearing_radius", 0.0)) or 5.0 * c
+    data = resolved_clearance(result, joint)
+    c, bearing = float(data["clearance"]), float(data["bearing_radius"])
     drawn_c = factor * c
     drawn_bearing = max(bearing, 1.5 * drawn_c)
     return {
         "clearance": c,
         "bearing_radius": bearing,
-        "journal_radius": float(data.get("journal_radius", bearing - c)),
+        "journal_radius": float(data["journal_radius"]),
         "drawn_bearing_radius": drawn_bearing,
         "drawn_journal_radius": drawn_bearing - drawn_c,
     }

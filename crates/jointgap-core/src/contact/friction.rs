@@ -3,23 +3,26 @@
 //! its values and evaluates it.
 
 use super::normal::{step, step_slope};
+use crate::error::ElementError;
 use crate::model::FrictionSpec;
 use crate::Error;
 
-/// Checks a friction law's values; `who` names the joint.
-pub fn check(who: &str, spec: &FrictionSpec) -> Result<(), Error> {
+/// Checks a friction law's values of clearance joint `joint`; its errors name the key
+/// `friction`.
+pub fn check(joint: &str, spec: &FrictionSpec) -> Result<(), Error> {
+    let error = |problem: String| ElementError::joint(joint, Some("friction"), problem);
     let coef = |name: &str, v: f64| {
         if v.is_finite() && v >= 0.0 {
             Ok(v)
         } else {
-            Err(Error::Model(format!("{who}: friction {name} = {v} must be zero or positive")))
+            Err(error(format!("friction {name} = {v} must be zero or positive")))
         }
     };
     let speed = |name: &str, v: f64| {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(Error::Model(format!("{who}: friction {name} = {v} m/s must be positive")))
+            Err(error(format!("friction {name} = {v} m/s must be positive")))
         }
     };
     match *spec {
@@ -29,18 +32,14 @@ pub fn check(who: &str, spec: &FrictionSpec) -> Result<(), Error> {
             coef("mu_d", mu_d)?;
             let (v_s, v_d) = (speed("v_s", v_s)?, speed("v_d", v_d)?);
             if v_s >= v_d {
-                return Err(Error::Model(format!(
-                    "{who}: friction v_s = {v_s} m/s must be below v_d = {v_d} m/s"
-                )));
+                return Err(error(format!("friction v_s = {v_s} m/s must be below v_d = {v_d} m/s")));
             }
         }
         FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
             coef("mu", mu)?;
             let (v_0, v_1) = (coef("v_0", v_0)?, speed("v_1", v_1)?);
             if v_0 >= v_1 {
-                return Err(Error::Model(format!(
-                    "{who}: friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s"
-                )));
+                return Err(error(format!("friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s")));
             }
         }
         FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {
@@ -173,7 +172,7 @@ mod tests {
     #[test]
     fn bad_values_name_the_joint() {
         let bad = FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 0.02, v_d: 0.01 };
-        let e = check("joint 'gap'", &bad).unwrap_err().to_string();
+        let e = check("gap", &bad).unwrap_err().to_string();
         assert!(e.contains("joint 'gap': friction v_s = 0.02 m/s must be below v_d = 0.01 m/s"), "{e}");
     }
 }

@@ -172,9 +172,9 @@ impl ClearanceRevolute {
             r_bearing,
             r_journal,
             clearance: r_bearing - r_journal,
-            normal: NormalForce::new(&who, &c.normal_law, stiffness, d_max_default)?,
+            normal: NormalForce::new(&j.name, &c.normal_law, stiffness, d_max_default)?,
             friction: {
-                friction::check(&who, &c.friction)?;
+                friction::check(&j.name, &c.friction)?;
                 c.friction.clone()
             },
         })

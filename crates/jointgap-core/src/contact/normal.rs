@@ -1,5 +1,6 @@
 //! Normal contact force laws (docs/physics.md section 3).
 
+use crate::error::ElementError;
 use crate::model::NormalLawSpec;
 use crate::Error;
 
@@ -62,9 +63,10 @@ pub fn step_slope(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
 }
 
 impl NormalForce {
-    /// Checks a law; `who` names the joint. `d_max_default` comes from the material.
+    /// Checks a law of clearance joint `joint`, whose errors name the law's key.
+    /// `d_max_default` comes from the material.
     pub fn new(
-        who: &str,
+        joint: &str,
         spec: &NormalLawSpec,
         stiffness: f64,
         d_max_default: Option<f64>,
@@ -73,16 +75,22 @@ impl NormalForce {
             if r > 0.0 && r <= 1.0 {
                 Ok(r)
             } else {
-                Err(Error::Model(format!("{who}: restitution = {r} must lie in (0, 1]")))
+                Err(ElementError::joint(
+                    joint,
+                    Some("normal_law.restitution"),
+                    format!("restitution = {r} must lie in (0, 1]"),
+                ))
             }
         };
         let (law, exponent, clip) = match *spec {
             NormalLawSpec::Hertz { exponent } => (NormalLaw::Hertz, exponent, true),
             NormalLawSpec::KelvinVoigt { exponent, damping, clip } => {
                 if !(damping.is_finite() && damping >= 0.0) {
-                    return Err(Error::Model(format!(
-                        "{who}: damping = {damping} N s/m must be zero or positive"
-                    )));
+                    return Err(ElementError::joint(
+                        joint,
+                        Some("normal_law.damping"),
+                        format!("damping = {damping} N s/m must be zero or positive"),
+                    ));
                 }
                 (NormalLaw::KelvinVoigt { damping }, exponent, clip)
             }
@@ -104,23 +112,35 @@ impl NormalForce {
             }
             NormalLawSpec::AdamsImpact { exponent, c_max, d_max, clip } => {
                 let d_max = d_max.or(d_max_default).ok_or_else(|| {
-                    Error::Model(format!(
-                        "{who}: adams_impact needs d_max (or a bearing material from the library)"
-                    ))
+                    ElementError::joint(
+                        joint,
+                        None,
+                        "adams_impact needs d_max (or a bearing material from the library)".into(),
+                    )
                 })?;
                 if !(d_max.is_finite() && d_max > 0.0) {
-                    return Err(Error::Model(format!("{who}: d_max = {d_max} m must be positive")));
+                    return Err(ElementError::joint(
+                        joint,
+                        Some("normal_law.d_max"),
+                        format!("d_max = {d_max} m must be positive"),
+                    ));
                 }
                 if !(c_max.is_finite() && c_max >= 0.0) {
-                    return Err(Error::Model(format!(
-                        "{who}: c_max = {c_max} N s/m must be zero or positive"
-                    )));
+                    return Err(ElementError::joint(
+                        joint,
+                        Some("normal_law.c_max"),
+                        format!("c_max = {c_max} N s/m must be zero or positive"),
+                    ));
                 }
                 (NormalLaw::AdamsImpact { c_max, d_max }, exponent, clip)
             }
         };
         if !(exponent.is_finite() && exponent >= 1.0) {
-            return Err(Error::Model(format!("{who}: exponent = {exponent} must be at least 1")));
+            return Err(ElementError::joint(
+                joint,
+                Some("normal_law.exponent"),
+                format!("exponent = {exponent} must be at least 1"),
+            ));
         }
         Ok(NormalForce { law, stiffness, exponent, clip })
     }

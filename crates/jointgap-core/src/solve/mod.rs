@@ -55,13 +55,17 @@ pub fn prepare(model: &Model) -> Result<Prepared, Error> {
 /// run's own finiteness check, so that a model a run would refuse is refused here with
 /// the same error ([`initial_overflow`]). Returns the model's warnings.
 pub fn check(model: &Model) -> Result<Vec<String>, Error> {
-    let Prepared { system, initial } = prepare(model)?;
-    let mut ws = dynamics::Workspace::new(&system, initial.active.clone());
-    let mut rec = record::Recorder::new(&system, &ws, None, 1, true)?;
-    if !record_initial(&system, &mut ws, &mut rec, &initial.q, &initial.v)? {
+    check_prepared(&prepare(model)?)
+}
+
+/// [`check`] of a model already prepared.
+pub fn check_prepared(Prepared { system, initial }: &Prepared) -> Result<Vec<String>, Error> {
+    let mut ws = dynamics::Workspace::new(system, initial.active.clone());
+    let mut rec = record::Recorder::new(system, &ws, None, 1, true)?;
+    if !record_initial(system, &mut ws, &mut rec, &initial.q, &initial.v)? {
         return Err(Error::Assembly(SINGULAR_AT_START.into()));
     }
-    Ok(system.warnings)
+    Ok(system.warnings.clone())
 }
 
 /// Why a run whose constraint equations are singular in its initial state stops there.
@@ -125,9 +129,13 @@ fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
 /// the order of its result, without assembling or running it: what the output's size is
 /// estimated from before a run.
 pub fn recorded_channels(model: &Model, opts: &SimOptions) -> Result<Vec<String>, Error> {
-    let system = System::new(model)?;
-    let ws = dynamics::Workspace::new(&system, Vec::new());
-    Ok(record::Recorder::new(&system, &ws, opts.channels.as_deref(), opts.decimate, opts.energy)?.names())
+    recorded_channels_of(&System::new(model)?, opts)
+}
+
+/// [`recorded_channels`] of a model already compiled.
+pub fn recorded_channels_of(system: &System, opts: &SimOptions) -> Result<Vec<String>, Error> {
+    let ws = dynamics::Workspace::new(system, Vec::new());
+    Ok(record::Recorder::new(system, &ws, opts.channels.as_deref(), opts.decimate, opts.energy)?.names())
 }
 
 /// Simulates many models with the same options on a pool of `threads` threads (all
@@ -180,26 +188,47 @@ pub fn simulate_with(
 ) -> Result<SimResult, Error> {
     opts.check()?;
     let started = std::time::Instant::now();
-    let Prepared { system, initial } = prepare(model)?;
-    let mut ode = ode::Ode::new(&system, initial.active.clone(), opts.rtol, opts.atol);
+    run_prepared(&prepare(model)?, opts, monitor, started)
+}
+
+/// [`simulate_with`] of a model already prepared, which a front end that checked it
+/// first ([`check_prepared`]) runs without compiling it again; the result is bit for bit
+/// the same.
+pub fn simulate_prepared(
+    prepared: &Prepared,
+    opts: &SimOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<SimResult, Error> {
+    opts.check()?;
+    run_prepared(prepared, opts, monitor, std::time::Instant::now())
+}
+
+/// One run of a prepared model; `started` is when the run's wall time starts.
+fn run_prepared(
+    Prepared { system, initial }: &Prepared,
+    opts: &SimOptions,
+    monitor: &mut dyn Monitor,
+    started: std::time::Instant,
+) -> Result<SimResult, Error> {
+    let mut ode = ode::Ode::new(system, initial.active.clone(), opts.rtol, opts.atol);
     let mut rec =
-        record::Recorder::new(&system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
+        record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(profile::Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
-    let mut log = contacts::ImpactLog::new(&system);
+    let mut log = contacts::ImpactLog::new(system);
     if opts.every_step && opts.rate.is_some() {
         rec.mark_samples();
     }
-    let mut status = if record_initial(&system, &mut ode.ws, &mut rec, &y[..n], &y[n..])? {
+    let mut status = if record_initial(system, &mut ode.ws, &mut rec, &y[..n], &y[n..])? {
         rec.mark_sample();
         integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
     } else {
         Status::Failed { time: 0.0, reason: SINGULAR_AT_START.into() }
     };
     if status == Status::Finished {
-        match rec.push_end(&system, &mut ode.ws, opts.t_end, &y[..n], &y[n..]) {
+        match rec.push_end(system, &mut ode.ws, opts.t_end, &y[..n], &y[n..]) {
             Ok(()) => {}
             Err(record::SampleError::Singular) => {
                 status = Status::Failed {

@@ -1,0 +1,46 @@
+//! Each clearance joint as the engine resolves it: the radii and clearance from the two
+//! given, the stiffness from the materials, and the laws in force with every default
+//! filled in (the exponent, ADAMS IMPACT's `d_max` from the bearing material). The front
+//! ends read these values here instead of resolving them again.
+
+use serde::Serialize;
+
+use crate::contact::normal::NormalLaw;
+use crate::model::{FrictionSpec, Model, NormalLawSpec};
+use crate::output::ClearanceData;
+use crate::system::System;
+
+/// One clearance joint's resolved data.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ResolvedClearance {
+    /// Name, radii, clearance, stiffness and exponent, as a run reports them.
+    #[serde(flatten)]
+    pub data: ClearanceData,
+    /// Penetration of full damping of an ADAMS IMPACT law [m], given or the bearing
+    /// material's; `None` for the other laws.
+    pub d_max: Option<f64>,
+    /// The normal law in force: the model's, every default filled in.
+    pub normal_law: NormalLawSpec,
+    /// The friction law in force.
+    pub friction: FrictionSpec,
+}
+
+/// Every clearance joint of `model`, compiled as `system`, in model order.
+pub fn clearances(model: &Model, system: &System) -> Vec<ResolvedClearance> {
+    system
+        .clearances
+        .iter()
+        .filter_map(|c| {
+            let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
+            let d_max = match c.normal.law {
+                NormalLaw::AdamsImpact { d_max, .. } => Some(d_max),
+                _ => None,
+            };
+            let mut normal_law = spec.normal_law.clone();
+            if let NormalLawSpec::AdamsImpact { d_max: given, .. } = &mut normal_law {
+                *given = d_max;
+            }
+            Some(ResolvedClearance { data: c.data(), d_max, normal_law, friction: c.friction.clone() })
+        })
+        .collect()
+}
