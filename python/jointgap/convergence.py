@@ -31,10 +31,10 @@ from typing import Any
 
 import numpy as np
 
+from ._engine import DEFAULT_OPTIONS
 from .errors import RunStopped
 from .model import Model
 from .results import Result, channel_unit, clearance_joints, main_channels, model_channels
-from ._engine import DEFAULT_OPTIONS
 
 __all__ = [
     "ChannelChange",
