@@ -2,26 +2,46 @@
 //! multipliers, for mechanisms with ideal and (later) clearance joints.
 //!
 //! Pipeline: [`model::Model`] (plain data) -> [`system::System`] (checked, indexed) ->
-//! [`solve::simulate`] (assembly, integration, output) -> [`output::SimResult`].
+//! [`simulate::simulate`] (assembly, integration, output) -> [`output::SimResult`].
+//!
+//! The modules are layers, each importing only the ones listed before it, so that a
+//! change of one stage (a new contact geometry, a new integration method) cannot reach
+//! back into the stages it builds on:
+//! [`model`] (the model's plain data) -> [`mechanics`] (the element kinds: bodies, joint
+//! rows, drivers, force elements, clearance joints; each built from its model entry and
+//! evaluated as a pure function of the state) -> [`system`] (the mechanism compiled from
+//! the model: its elements checked, indexed and laid out) -> [`dynamics`] (the equations
+//! of motion and their solve) -> [`integrators`] (generic ODE methods, knowing nothing of
+//! mechanics) -> [`simulate`] (the run: the equations of motion handed to a method,
+//! events, switching, output). [`math`], [`profile`] and [`output`] are plain
+//! vocabulary below all of them.
 #![warn(missing_docs)]
 // Index loops mirror the formulas of the methods (stages, rows, coordinates).
 #![allow(clippy::needless_range_loop)]
 
-pub mod contact;
-pub mod drivers;
-pub mod forces;
-mod magnitudes;
-pub mod math;
-pub mod measures;
 pub mod model;
+
+pub mod math;
 pub mod output;
-pub mod planar;
-pub mod solve;
+pub mod profile;
+
+pub mod mechanics;
+
 pub mod system;
+
+pub mod dynamics;
+
+pub mod integrators;
+
+pub mod simulate;
 
 pub use model::Model;
 pub use output::{ClearanceData, Impact, JointImpacts, RunStats, SimResult, Status};
-pub use solve::{
+/// The simulation loop's module under its name before the core was laid out in stages
+/// (`solve::check`, `solve::recorded_channels`, `solve::record`), for callers written
+/// against it.
+pub use simulate as solve;
+pub use simulate::{
     simulate, simulate_batch, simulate_with, BatchControl, Method, Monitor, Progress, SimOptions, Stop,
 };
 pub use system::System;

@@ -1,14 +1,17 @@
 //! Model -> System: checks every element (errors name it), resolves points, and lays
 //! out coordinates (3 per moving body: x, y, phi) and scalar constraint rows.
 
-use std::collections::{BTreeMap, HashMap};
+pub(crate) mod magnitudes;
 
-use crate::contact::ClearanceRevolute;
-use crate::drivers::MotionProfile;
-use crate::forces::ForceElement;
+use std::collections::HashMap;
+
 use crate::math::Vec2;
-use crate::model::{JointKind, Model, PointRef, GROUND};
-use crate::planar::{BodyState, RowKind};
+use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
+use crate::mechanics::drivers::MotionProfile;
+use crate::mechanics::forces::ForceElement;
+use crate::mechanics::planar::{BodyState, RowKind};
+use crate::mechanics::resolve::Resolver;
+use crate::model::{JointKind, Model, GROUND};
 use crate::Error;
 
 /// A moving body's inertia; its coordinates sit at `3 * index`.
@@ -168,67 +171,18 @@ pub struct System {
     pub warnings: Vec<String>,
 }
 
-/// Looks up bodies by name and resolves points on them, naming the element in errors.
-pub(crate) struct Resolver<'a> {
-    model: &'a Model,
-    index: HashMap<&'a str, usize>,
-}
-
-impl<'a> Resolver<'a> {
-    pub(crate) fn body(&self, who: &str, field: &str, name: &str) -> Result<Option<usize>, Error> {
-        if name == GROUND {
-            return Ok(None);
-        }
-        self.index.get(name).copied().map(Some).ok_or_else(|| {
-            let mut known: Vec<&str> = vec![GROUND];
-            known.extend(self.model.bodies.iter().map(|b| b.name.as_str()));
-            Error::Model(format!(
-                "{who}: {field} '{name}' is not a body of the model (bodies: {})",
-                known.join(", ")
-            ))
-        })
-    }
-
-    pub(crate) fn point(
-        &self,
-        who: &str,
-        field: &str,
-        body: Option<usize>,
-        p: &PointRef,
-    ) -> Result<Vec2, Error> {
-        let (points, body_name): (&BTreeMap<String, [f64; 2]>, &str) = match body {
-            None => (&self.model.ground_points, GROUND),
-            Some(k) => (&self.model.bodies[k].points, &self.model.bodies[k].name),
-        };
-        let v = match p {
-            PointRef::Local(v) => *v,
-            PointRef::Named(n) => *points.get(n).ok_or_else(|| {
-                let known: Vec<&str> = points.keys().map(|s| s.as_str()).collect();
-                Error::Model(format!(
-                    "{who}: {field} '{n}' is not a point of body '{body_name}' (points: {})",
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
-                ))
-            })?,
-        };
-        if !(v[0].is_finite() && v[1].is_finite()) {
-            return Err(Error::Model(format!("{who}: {field} {v:?} is not finite")));
-        }
-        Ok(Vec2::new(v[0], v[1]))
-    }
-
-    /// Global position, angle and velocity of a body at its user placement.
-    pub(crate) fn placement(&self, body: Option<usize>) -> BodyState {
-        match body {
-            None => BodyState::default(),
-            Some(k) => {
-                let b = &self.model.bodies[k];
-                BodyState::new(
-                    Vec2::new(b.position[0], b.position[1]),
-                    b.angle,
-                    Vec2::new(b.velocity[0], b.velocity[1]),
-                    b.omega,
-                )
-            }
+/// Global position, angle and velocity of a body at its user placement.
+fn placement(model: &Model, body: Option<usize>) -> BodyState {
+    match body {
+        None => BodyState::default(),
+        Some(k) => {
+            let b = &model.bodies[k];
+            BodyState::new(
+                Vec2::new(b.position[0], b.position[1]),
+                b.angle,
+                Vec2::new(b.velocity[0], b.velocity[1]),
+                b.omega,
+            )
         }
     }
 }
@@ -245,13 +199,12 @@ fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<(), Error> {
 /// placement; and whether it is a rotation. `None` for fixed and clearance joints.
 fn coordinate_row(
     model: &Model,
-    res: &Resolver,
     joints: &[JointInfo],
     k: usize,
     initial: Option<f64>,
 ) -> Option<(RowKind, bool)> {
     let joint = &joints[k];
-    let (pi, pj) = (res.placement(joint.body_i), res.placement(joint.body_j));
+    let (pi, pj) = (placement(model, joint.body_i), placement(model, joint.body_j));
     match joint.kind {
         JointKind::Revolute => {
             Some((RowKind::Angle { offset: initial.unwrap_or(pj.phi() - pi.phi()) }, true))
@@ -389,7 +342,7 @@ impl System {
             index.insert(b.name.as_str(), k);
             bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
         }
-        let res = Resolver { model, index };
+        let res = Resolver::new(model, index);
 
         let mut rows = Vec::new();
         let mut joints = Vec::new();
@@ -404,7 +357,7 @@ impl System {
             }
             let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
             let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
-            let (pi, pj) = (res.placement(bi), res.placement(bj));
+            let (pi, pj) = (placement(model, bi), placement(model, bj));
             let rel_angle = pj.phi() - pi.phi();
             let first = rows.len();
             let mut push = |kind: RowKind, tag: &str| {
@@ -502,7 +455,7 @@ impl System {
                     d.joint, d.name
                 )));
             }
-            let Some((kind, rotation)) = coordinate_row(model, &res, &joints, jk, d.initial) else {
+            let Some((kind, rotation)) = coordinate_row(model, &joints, jk, d.initial) else {
                 return Err(Error::Model(format!(
                     "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
                     d.joint,
@@ -536,7 +489,7 @@ impl System {
             let who = format!("joint '{}'", j.name);
             check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
             check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
-            let Some((kind, rotation)) = coordinate_row(model, &res, &joints, k, j.initial) else {
+            let Some((kind, rotation)) = coordinate_row(model, &joints, k, j.initial) else {
                 return Err(Error::Model(format!(
                     "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
                 )));
@@ -601,6 +554,12 @@ impl System {
     /// Number of coordinates (3 per moving body).
     pub fn n_coords(&self) -> usize {
         3 * self.bodies.len()
+    }
+
+    /// Kinematics of clearance joint `k` at state `(q, v)`.
+    pub fn contact_kinematics(&self, k: usize, q: &[f64], v: &[f64]) -> ContactKinematics {
+        let c = &self.clearances[k];
+        c.kinematics(&self.body_state(c.bearing, q, v), &self.body_state(c.journal, q, v))
     }
 
     /// State of body `b` (ground: zero) from coordinate and velocity vectors.

@@ -2,19 +2,20 @@
 //! control, switching to the implicit method when the problem turns stiff, projection
 //! onto the constraints, and output at sample times by quintic Hermite interpolation.
 
-use super::contacts::{self, ImpactLog};
-use super::dopri5::Dopri5;
-use super::dynamics::{friction_rate, project, violation};
+use super::equations::Ode;
+use super::events::{self, ImpactLog};
 use super::monitor::{Monitor, Progress};
-use super::ode::{DenseStep, Ode};
-use super::profile;
-use super::radau5::Radau5;
+use super::options::{Method, SimOptions};
 use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
-use super::sdirk4::Sdirk4;
-use super::stepper::{StepFailure, Stepper};
 use super::switching::AutoSwitch;
-use super::{Method, SimOptions};
+use crate::dynamics::{friction_rate, project, violation};
+use crate::integrators::dopri5::Dopri5;
+use crate::integrators::ode::DenseStep;
+use crate::integrators::radau5::Radau5;
+use crate::integrators::sdirk4::Sdirk4;
+use crate::integrators::stepper::{StepFailure, Stepper};
 use crate::output::{RunStats, Status};
+use crate::profile;
 
 /// Integrates from `(0, y)` to `t_end`, recording into `rec` and reporting to `monitor`.
 /// Returns the final status.
@@ -35,7 +36,7 @@ pub fn integrate(
     let n = n_state / 2;
     let sys = ode.sys;
     let mut method = if opts.method == Method::Auto { Method::Dopri5 } else { opts.method };
-    let mut stepper: Box<dyn Stepper> = match method {
+    let mut stepper: Box<dyn Stepper<Ode>> = match method {
         Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
         Method::Radau5 => Box::new(Radau5::new(n_state)),
         _ => Box::new(Dopri5::new(n_state)),
@@ -116,7 +117,8 @@ pub fn integrate(
                     );
                 }
                 ode.ws.t_piece = t + 0.5 * h;
-                match stepper.attempt(ode, t, y, &f, h, &mut y_new, &mut f_new) {
+                let tol = ode.tolerances;
+                match stepper.attempt(ode, tol, t, y, &f, h, &mut y_new, &mut f_new) {
                     Err(StepFailure::Singular) => break 'run singular(t),
                     Err(StepFailure::Convergence) => {
                         stats.rejected_steps += 1;
@@ -146,7 +148,7 @@ pub fn integrate(
                         // A contact onset or separation inside the step ends the step there.
                         let lap = profile::start(&ode.ws.profile);
                         let step = DenseStep { h, y0: y, f0: &f, y1: &y_new, f1: &f_new };
-                        let event = contacts::locate(sys, &ode.ws.contacts, log, &step, &mut sample);
+                        let event = events::locate(sys, &ode.ws.contacts, log, &step, &mut sample);
                         profile::stop(&mut ode.ws.profile, lap, |p| &mut p.events);
                         let (t_new, last) = match event {
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
@@ -208,7 +210,7 @@ pub fn integrate(
                             let (q, v) = y.split_at(n);
                             (violation(sys, t, q, v, &mut ode.ws), ode.ws.rounding(q, v))
                         };
-                        let (pos_limit, vel_limit) = drift_limits(ode.atol, rounding);
+                        let (pos_limit, vel_limit) = drift_limits(ode.tolerances.atol, rounding);
                         if pos > pos_limit || vel > vel_limit {
                             let (q, v) = y.split_at_mut(n);
                             if project(sys, t, q, v, &mut ode.ws).is_err() {
@@ -313,7 +315,7 @@ pub fn integrate(
 
 /// Position and velocity residuals above which a step's end is projected onto the
 /// constraints: a hundredth of `atol`, but no less than what the rounding of the state
-/// leaves in them ([`Workspace::rounding`](super::dynamics::Workspace::rounding)), which
+/// leaves in them ([`Workspace::rounding`](crate::dynamics::Workspace::rounding)), which
 /// grows with the angle of a crank that turns on. Below that floor a projection removes
 /// nothing that the next step's rounding does not bring back, and a fixed threshold
 /// projected more of the steps the longer the run (17 % at 5 s, 29 % at 60 s in the
@@ -325,8 +327,8 @@ pub fn drift_limits(atol: f64, (position_rounding, velocity_rounding): (f64, f64
 /// Starting step (Hairer, Norsett, Wanner I, II.4, algorithm of `hinit`).
 fn initial_step(ode: &mut Ode, y: &[f64], f: &[f64], exponent: f64, horizon: f64) -> f64 {
     let zeros = vec![0.0; y.len()];
-    let d0 = ode.error_norm(y, &zeros, y);
-    let d1 = ode.error_norm(f, &zeros, y);
+    let d0 = ode.tolerances.error_norm(y, &zeros, y);
+    let d1 = ode.tolerances.error_norm(f, &zeros, y);
     let mut h0 = if d0 < 1e-5 || d1 < 1e-5 { 1e-6 } else { 0.01 * d0 / d1 };
     h0 = h0.min(horizon);
     let y1: Vec<f64> = y.iter().zip(f).map(|(a, b)| a + h0 * b).collect();
@@ -335,7 +337,7 @@ fn initial_step(ode: &mut Ode, y: &[f64], f: &[f64], exponent: f64, horizon: f64
         return h0;
     }
     let diff: Vec<f64> = f1.iter().zip(f).map(|(a, b)| a - b).collect();
-    let d2 = ode.error_norm(&diff, &zeros, y) / h0;
+    let d2 = ode.tolerances.error_norm(&diff, &zeros, y) / h0;
     let h1 = if d1.max(d2) <= 1e-15 { (h0 * 1e-3).max(1e-6) } else { (0.01 / d1.max(d2)).powf(exponent) };
     (100.0 * h0).min(h1).min(horizon)
 }
