@@ -14,7 +14,7 @@
 //! of motion and their solve) -> [`integrators`] (generic ODE methods, knowing nothing of
 //! mechanics) -> [`simulate`] (the run: the equations of motion handed to a method,
 //! events, switching, output). [`math`], [`profile`] and [`output`] are plain
-//! vocabulary below all of them.
+//! vocabulary that every stage may use.
 #![warn(missing_docs)]
 // Index loops mirror the formulas of the methods (stages, rows, coordinates).
 #![allow(clippy::needless_range_loop)]

@@ -5,12 +5,11 @@
 mod common;
 
 use jointgap_core::dynamics::{violation, Workspace};
-use jointgap_core::integrators::dopri5::Dopri5;
-use jointgap_core::integrators::radau5::Radau5;
-use jointgap_core::integrators::sdirk4::Sdirk4;
 use jointgap_core::integrators::stepper::Stepper;
 use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::integrate::stepper;
 use jointgap_core::simulate::prepare;
+use jointgap_core::Method;
 
 /// Over 30 accepted steps of the clearance slider-crank from rest, each method's drift
 /// from its last evaluation equals a fresh evaluation at the step's end, bit for bit.
@@ -20,7 +19,7 @@ fn accepted_attempt_evaluates_last_at_its_end() {
     let sys = &prepared.system;
     let n = 2 * sys.n_coords();
     let steppers: Vec<Box<dyn Stepper<Ode>>> =
-        vec![Box::new(Dopri5::new(n)), Box::new(Radau5::new(n)), Box::new(Sdirk4::new(n))];
+        [Method::Dopri5, Method::Radau5, Method::Sdirk4].into_iter().map(|m| stepper(m, n)).collect();
     for mut stepper in steppers {
         let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
         let mut fresh = Workspace::new(sys, prepared.initial.active.clone());

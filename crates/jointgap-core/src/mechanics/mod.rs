@@ -1,5 +1,5 @@
 //! The mechanism's element kinds, each built from its model entry (points resolved by
-//! [`resolve::Resolver`]) and evaluated as a pure function of the bodies' states: the
+//! `resolve::Resolver`) and evaluated as a pure function of the bodies' states: the
 //! vocabulary the compiled system is written in. Nothing here knows how elements are
 //! indexed in a mechanism or how its equations are solved.
 

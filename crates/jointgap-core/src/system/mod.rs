@@ -166,7 +166,7 @@ pub struct System {
     pub corners: Vec<f64>,
     /// Joint coordinates and rates given at t = 0, for assembly.
     pub initial_conditions: Vec<InitialCondition>,
-    /// Notes for the user, filled by `solve::prepare`: implausible magnitudes
+    /// Notes for the user, filled by `simulate::prepare`: implausible magnitudes
     /// (`magnitudes`), redundant constraints removed by assembly, ...
     pub warnings: Vec<String>,
 }
@@ -298,9 +298,299 @@ fn point_mass_inertia(
     Ok(())
 }
 
+/// The names of the model's elements seen so far: every body, joint, driver, force and
+/// marker needs a name of its own, since outputs and messages address elements by name.
+#[derive(Default)]
+struct Names<'m> {
+    /// Name -> kind of the element that took it.
+    seen: HashMap<&'m str, &'static str>,
+}
+
+impl<'m> Names<'m> {
+    /// Takes `name` for an element of `kind`, or an error naming it when it is empty,
+    /// reserved, or taken.
+    fn claim(&mut self, kind: &'static str, name: &'m str) -> Result<(), Error> {
+        if name.is_empty() {
+            return Err(Error::Model(format!("a {kind} has an empty name")));
+        }
+        if name == GROUND || name == "system" {
+            return Err(Error::Model(format!("{kind} '{name}': the name '{name}' is reserved")));
+        }
+        if let Some(other) = self.seen.insert(name, kind) {
+            return Err(Error::Model(format!("{kind} '{name}': the name is already used by a {other}")));
+        }
+        Ok(())
+    }
+}
+
+/// Checks each body's mass, inertia and placement; returns the bodies and their index
+/// by name.
+fn check_bodies<'m>(
+    model: &'m Model,
+    names: &mut Names<'m>,
+) -> Result<(Vec<BodyInfo>, HashMap<&'m str, usize>), Error> {
+    let mut bodies = Vec::new();
+    let mut index = HashMap::new();
+    for (k, b) in model.bodies.iter().enumerate() {
+        names.claim("body", &b.name)?;
+        let who = format!("body '{}'", b.name);
+        if !(b.mass.is_finite() && b.mass > 0.0) {
+            return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
+        }
+        if !(b.inertia.is_finite() && b.inertia >= 0.0) {
+            return Err(Error::Model(format!("{who}: inertia = {} kg m^2 must not be negative", b.inertia)));
+        }
+        check_finite(&who, "position", &b.position)?;
+        check_finite(&who, "angle", &[b.angle])?;
+        check_finite(&who, "velocity", &b.velocity)?;
+        check_finite(&who, "omega", &[b.omega])?;
+        index.insert(b.name.as_str(), k);
+        bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
+    }
+    Ok((bodies, index))
+}
+
+/// The joints compiled: each ideal joint's constraint rows (appended to `rows`), each
+/// clearance joint's contact element, and every joint's points and axis.
+fn compile_joints<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+    rows: &mut Vec<Row>,
+) -> Result<(Vec<JointInfo>, Vec<ClearanceRevolute>), Error> {
+    let mut joints = Vec::new();
+    let mut clearances = Vec::new();
+    for (k, j) in model.joints.iter().enumerate() {
+        names.claim("joint", &j.name)?;
+        let who = format!("joint '{}'", j.name);
+        let bi = res.body(&who, "body_i", &j.body_i)?;
+        let bj = res.body(&who, "body_j", &j.body_j)?;
+        if bi == bj {
+            return Err(Error::Model(format!("{who}: connects body '{}' to itself", j.body_i)));
+        }
+        let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
+        let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
+        let (pi, pj) = (placement(model, bi), placement(model, bj));
+        let rel_angle = pj.phi() - pi.phi();
+        let first = rows.len();
+        let mut push = |kind: RowKind, tag: &str| {
+            rows.push(Row {
+                body_i: bi,
+                body_j: bj,
+                kind,
+                owner: Owner::Joint(k),
+                driver: None,
+                active: true,
+                label: format!("{who} ({tag})"),
+            })
+        };
+        let mut clearance = None;
+        let mut sliding = None;
+        if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
+            return Err(Error::Model(format!(
+                "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
+            )));
+        }
+        match (j.kind, j.axis) {
+            (JointKind::ClearanceRevolute, None) => {
+                let data = j.clearance.as_ref().expect("checked above");
+                clearances.push(ClearanceRevolute::new(j, data, bi, bj, res)?);
+                clearance = Some(clearances.len() - 1);
+            }
+            (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
+                return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
+            }
+            (JointKind::Prismatic, None) => {
+                return Err(Error::Model(format!("{who}: a prismatic joint needs an 'axis'")));
+            }
+            (JointKind::Revolute, None) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+            }
+            (JointKind::Fixed, None) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+                push(RowKind::Angle { offset: rel_angle }, "angle");
+            }
+            (JointKind::Prismatic, Some(axis)) => {
+                let u = Vec2::new(axis[0], axis[1]);
+                if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
+                    return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
+                }
+                let u = u.normalize();
+                sliding = Some(u);
+                push(RowKind::Angle { offset: rel_angle }, "angle");
+                push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
+            }
+        }
+        joints.push(JointInfo {
+            name: j.name.clone(),
+            kind: j.kind,
+            body_i: bi,
+            body_j: bj,
+            s_i,
+            s_j,
+            axis: sliding,
+            rows: first..rows.len(),
+            clearance,
+        });
+    }
+    Ok((joints, clearances))
+}
+
+/// The drivers compiled: each one's motion row on its joint's coordinate (appended to
+/// `rows`) and profile, whose corners go to `corners`.
+fn compile_drivers<'m>(
+    model: &'m Model,
+    names: &mut Names<'m>,
+    joints: &[JointInfo],
+    rows: &mut Vec<Row>,
+    corners: &mut Vec<f64>,
+) -> Result<Vec<DriverInfo>, Error> {
+    let mut drivers = Vec::new();
+    for (k, d) in model.drivers.iter().enumerate() {
+        names.claim("driver", &d.name)?;
+        let who = format!("driver '{}'", d.name);
+        let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
+            let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+            Error::Model(format!(
+                "{who}: joint '{}' is not a joint of the model (joints: {})",
+                d.joint,
+                names.join(", ")
+            ))
+        })?;
+        if let Some(other) = drivers.iter().find(|o: &&DriverInfo| o.joint == jk) {
+            return Err(Error::Model(format!(
+                "{who}: joint '{}' is already driven by driver '{}'",
+                d.joint, other.name
+            )));
+        }
+        let joint = &joints[jk];
+        let profile = MotionProfile::new(&d.profile, &d.name)?;
+        if let Some(v) = d.initial {
+            check_finite(&who, "initial", &[v])?;
+        }
+        if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
+            return Err(Error::Model(format!(
+                "joint '{}': initial and initial_rate cannot be given for a driven joint \
+                 (driver '{}' sets its motion): give its coordinate at t = 0 as the \
+                 driver's initial",
+                d.joint, d.name
+            )));
+        }
+        let Some((kind, rotation)) = coordinate_row(model, joints, jk, d.initial) else {
+            return Err(Error::Model(format!(
+                "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                d.joint,
+                if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+            )));
+        };
+        corners.extend(profile.corners());
+        rows.push(Row {
+            body_i: joint.body_i,
+            body_j: joint.body_j,
+            kind,
+            owner: Owner::Driver(k),
+            driver: Some(k),
+            active: true,
+            label: format!("{who} (motion)"),
+        });
+        drivers.push(DriverInfo { name: d.name.clone(), joint: jk, rotation, profile, row: rows.len() - 1 });
+    }
+    Ok(drivers)
+}
+
+/// The joint coordinates and rates given at t = 0 (`initial`, `initial_rate`), as rows
+/// for assembly.
+fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<InitialCondition>, Error> {
+    let mut initial_conditions = Vec::new();
+    for (k, j) in model.joints.iter().enumerate() {
+        if j.initial.is_none() && j.initial_rate.is_none() {
+            continue;
+        }
+        let who = format!("joint '{}'", j.name);
+        check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
+        check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
+        let Some((kind, rotation)) = coordinate_row(model, joints, k, j.initial) else {
+            return Err(Error::Model(format!(
+                "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
+            )));
+        };
+        let what = match (j.initial.is_some(), rotation) {
+            (true, true) => "initial angle",
+            (true, false) => "initial travel",
+            (false, _) => "initial rate",
+        };
+        initial_conditions.push(InitialCondition {
+            body_i: joints[k].body_i,
+            body_j: joints[k].body_j,
+            kind,
+            placed: j.initial.is_some(),
+            rate: j.initial_rate,
+            label: format!("{who} ({what})"),
+        });
+    }
+    Ok(initial_conditions)
+}
+
+/// The force elements compiled, their profiles' corners added to `corners`.
+fn compile_forces<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+    corners: &mut Vec<f64>,
+) -> Result<Vec<ForceElement>, Error> {
+    let mut forces = Vec::new();
+    for f in &model.forces {
+        names.claim("force", f.name())?;
+        let element = ForceElement::new(f, res)?;
+        corners.extend(element.corners());
+        forces.push(element);
+    }
+    Ok(forces)
+}
+
+/// The markers checked.
+fn compile_markers<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+) -> Result<Vec<MarkerInfo>, Error> {
+    let mut markers = Vec::new();
+    for m in &model.markers {
+        names.claim("marker", &m.name)?;
+        markers.push(MarkerInfo::new(m, res)?);
+    }
+    Ok(markers)
+}
+
+/// The times inside the run where an input has a corner, in order, each once: the
+/// steps stop there.
+fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
+    corners.retain(|t| *t > 0.0);
+    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    corners.dedup();
+    corners
+}
+
+/// The bodies' coordinates and velocities at their user placement: the starting guess
+/// of assembly.
+fn placement_guess(model: &Model) -> (Vec<f64>, Vec<f64>) {
+    let mut q_guess = Vec::with_capacity(3 * model.bodies.len());
+    let mut v_guess = Vec::with_capacity(3 * model.bodies.len());
+    for b in &model.bodies {
+        q_guess.extend([b.position[0], b.position[1], b.angle]);
+        v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
+    }
+    (q_guess, v_guess)
+}
+
 impl System {
-    /// Checks and compiles a model.
-    pub fn new<'m>(model: &'m Model) -> Result<System, Error> {
+    /// Checks and compiles a model: bodies, joints, drivers, the joint coordinates
+    /// given at t = 0, force elements and markers, in this order (so that an error
+    /// names the first offending element in the model's order), then the point
+    /// masses' stand-in inertia.
+    pub fn new(model: &Model) -> Result<System, Error> {
         if model.bodies.is_empty() {
             return Err(Error::Model(
                 "the model has no bodies: a mechanism needs at least one [[body]] (is the file empty?)"
@@ -308,231 +598,18 @@ impl System {
             ));
         }
         check_finite("model", "gravity", &model.gravity)?;
-        let mut seen: HashMap<&str, &str> = HashMap::new();
-        let mut claim = |kind: &'static str, name: &'m str| -> Result<(), Error> {
-            if name.is_empty() {
-                return Err(Error::Model(format!("a {kind} has an empty name")));
-            }
-            if name == GROUND || name == "system" {
-                return Err(Error::Model(format!("{kind} '{name}': the name '{name}' is reserved")));
-            }
-            if let Some(other) = seen.insert(name, kind) {
-                return Err(Error::Model(format!("{kind} '{name}': the name is already used by a {other}")));
-            }
-            Ok(())
-        };
-        let mut bodies = Vec::new();
-        let mut index = HashMap::new();
-        for (k, b) in model.bodies.iter().enumerate() {
-            claim("body", &b.name)?;
-            let who = format!("body '{}'", b.name);
-            if !(b.mass.is_finite() && b.mass > 0.0) {
-                return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
-            }
-            if !(b.inertia.is_finite() && b.inertia >= 0.0) {
-                return Err(Error::Model(format!(
-                    "{who}: inertia = {} kg m^2 must not be negative",
-                    b.inertia
-                )));
-            }
-            check_finite(&who, "position", &b.position)?;
-            check_finite(&who, "angle", &[b.angle])?;
-            check_finite(&who, "velocity", &b.velocity)?;
-            check_finite(&who, "omega", &[b.omega])?;
-            index.insert(b.name.as_str(), k);
-            bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
-        }
+        let mut names = Names::default();
+        let (mut bodies, index) = check_bodies(model, &mut names)?;
         let res = Resolver::new(model, index);
-
         let mut rows = Vec::new();
-        let mut joints = Vec::new();
-        let mut clearances = Vec::new();
-        for (k, j) in model.joints.iter().enumerate() {
-            claim("joint", &j.name)?;
-            let who = format!("joint '{}'", j.name);
-            let bi = res.body(&who, "body_i", &j.body_i)?;
-            let bj = res.body(&who, "body_j", &j.body_j)?;
-            if bi == bj {
-                return Err(Error::Model(format!("{who}: connects body '{}' to itself", j.body_i)));
-            }
-            let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
-            let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
-            let (pi, pj) = (placement(model, bi), placement(model, bj));
-            let rel_angle = pj.phi() - pi.phi();
-            let first = rows.len();
-            let mut push = |kind: RowKind, tag: &str| {
-                rows.push(Row {
-                    body_i: bi,
-                    body_j: bj,
-                    kind,
-                    owner: Owner::Joint(k),
-                    driver: None,
-                    active: true,
-                    label: format!("{who} ({tag})"),
-                })
-            };
-            let mut clearance = None;
-            let mut sliding = None;
-            if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
-                return Err(Error::Model(format!(
-                    "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
-                )));
-            }
-            match (j.kind, j.axis) {
-                (JointKind::ClearanceRevolute, None) => {
-                    let data = j.clearance.as_ref().expect("checked above");
-                    clearances.push(ClearanceRevolute::new(j, data, bi, bj, &res)?);
-                    clearance = Some(clearances.len() - 1);
-                }
-                (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
-                    return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
-                }
-                (JointKind::Prismatic, None) => {
-                    return Err(Error::Model(format!("{who}: a prismatic joint needs an 'axis'")));
-                }
-                (JointKind::Revolute, None) => {
-                    push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
-                    push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
-                }
-                (JointKind::Fixed, None) => {
-                    push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
-                    push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
-                    push(RowKind::Angle { offset: rel_angle }, "angle");
-                }
-                (JointKind::Prismatic, Some(axis)) => {
-                    let u = Vec2::new(axis[0], axis[1]);
-                    if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
-                        return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
-                    }
-                    let u = u.normalize();
-                    sliding = Some(u);
-                    push(RowKind::Angle { offset: rel_angle }, "angle");
-                    push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
-                }
-            }
-            joints.push(JointInfo {
-                name: j.name.clone(),
-                kind: j.kind,
-                body_i: bi,
-                body_j: bj,
-                s_i,
-                s_j,
-                axis: sliding,
-                rows: first..rows.len(),
-                clearance,
-            });
-        }
-
-        let mut drivers = Vec::new();
+        let (joints, clearances) = compile_joints(model, &res, &mut names, &mut rows)?;
         let mut corners = Vec::new();
-        for (k, d) in model.drivers.iter().enumerate() {
-            claim("driver", &d.name)?;
-            let who = format!("driver '{}'", d.name);
-            let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
-                let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
-                Error::Model(format!(
-                    "{who}: joint '{}' is not a joint of the model (joints: {})",
-                    d.joint,
-                    names.join(", ")
-                ))
-            })?;
-            if let Some(other) = drivers.iter().find(|o: &&DriverInfo| o.joint == jk) {
-                return Err(Error::Model(format!(
-                    "{who}: joint '{}' is already driven by driver '{}'",
-                    d.joint, other.name
-                )));
-            }
-            let joint = &joints[jk];
-            let profile = MotionProfile::new(&d.profile, &d.name)?;
-            if let Some(v) = d.initial {
-                check_finite(&who, "initial", &[v])?;
-            }
-            if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
-                return Err(Error::Model(format!(
-                    "joint '{}': initial and initial_rate cannot be given for a driven joint \
-                     (driver '{}' sets its motion): give its coordinate at t = 0 as the \
-                     driver's initial",
-                    d.joint, d.name
-                )));
-            }
-            let Some((kind, rotation)) = coordinate_row(model, &joints, jk, d.initial) else {
-                return Err(Error::Model(format!(
-                    "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
-                    d.joint,
-                    if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
-                )));
-            };
-            corners.extend(profile.corners());
-            rows.push(Row {
-                body_i: joint.body_i,
-                body_j: joint.body_j,
-                kind,
-                owner: Owner::Driver(k),
-                driver: Some(k),
-                active: true,
-                label: format!("{who} (motion)"),
-            });
-            drivers.push(DriverInfo {
-                name: d.name.clone(),
-                joint: jk,
-                rotation,
-                profile,
-                row: rows.len() - 1,
-            });
-        }
-
-        let mut initial_conditions = Vec::new();
-        for (k, j) in model.joints.iter().enumerate() {
-            if j.initial.is_none() && j.initial_rate.is_none() {
-                continue;
-            }
-            let who = format!("joint '{}'", j.name);
-            check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
-            check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
-            let Some((kind, rotation)) = coordinate_row(model, &joints, k, j.initial) else {
-                return Err(Error::Model(format!(
-                    "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
-                )));
-            };
-            let what = match (j.initial.is_some(), rotation) {
-                (true, true) => "initial angle",
-                (true, false) => "initial travel",
-                (false, _) => "initial rate",
-            };
-            initial_conditions.push(InitialCondition {
-                body_i: joints[k].body_i,
-                body_j: joints[k].body_j,
-                kind,
-                placed: j.initial.is_some(),
-                rate: j.initial_rate,
-                label: format!("{who} ({what})"),
-            });
-        }
-
-        let mut forces = Vec::new();
-        for f in &model.forces {
-            claim("force", f.name())?;
-            let element = ForceElement::new(f, &res)?;
-            corners.extend(element.corners());
-            forces.push(element);
-        }
-
-        let mut markers = Vec::new();
-        for m in &model.markers {
-            claim("marker", &m.name)?;
-            markers.push(MarkerInfo::new(m, &res)?);
-        }
-
-        corners.retain(|t| *t > 0.0);
-        corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
-        corners.dedup();
-
-        let mut q_guess = Vec::with_capacity(3 * bodies.len());
-        let mut v_guess = Vec::with_capacity(3 * bodies.len());
-        for b in &model.bodies {
-            q_guess.extend([b.position[0], b.position[1], b.angle]);
-            v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
-        }
+        let drivers = compile_drivers(model, &mut names, &joints, &mut rows, &mut corners)?;
+        let initial_conditions = initial_conditions(model, &joints)?;
+        let forces = compile_forces(model, &res, &mut names, &mut corners)?;
+        let markers = compile_markers(model, &res, &mut names)?;
+        let corners = step_corners(corners);
+        let (q_guess, v_guess) = placement_guess(model);
         point_mass_inertia(model, &rows, &joints, &mut bodies)?;
         Ok(System {
             bodies,
