@@ -147,7 +147,7 @@ def contact_python(case: Case):  # noqa: ANN201  (an Exudyn user function)
     Marker 0 is the bearing centre (slider), marker 1 the journal centre (rod); Exudyn
     gives their relative position, velocity and angular velocity in marker 0's frame (the
     slider's, which the guide keeps from rotating) and applies the returned force-torque
-    +f on marker 0 and -f on marker 1. jointgap (contact/mod.rs): n = e / |e|, penetration
+    +f on marker 0 and -f on marker 1. jointgap (mechanics/contact/mod.rs): n = e / |e|, penetration
     |e| - c, contact points on both circles along n, relative velocity of the journal's
     contact point against the bearing's: normal rate v.n, slip v.t with t = (-n_y, n_x);
     F_n = K delta^n + STEP(delta, 0, 0, d_max, c_max) delta' (clipped at 0), F_t = -mu(slip)

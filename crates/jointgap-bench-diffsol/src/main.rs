@@ -3,8 +3,8 @@
 //! TR-BDF2, ESDIRK34 and Tsit45 on jointgap's own right-hand side, against jointgap's
 //! sdirk4 and dopri5 at the same tolerances. Writes benchmarks/output/diffsol.md.
 //!
-//! The ODE is `y = (q, v)`, `f = jointgap_core::solve::ode::Ode::rhs`, set up as
-//! `solve::simulate` does. The Jacobian is dense, built by diffsol column by column from
+//! The ODE is `y = (q, v)`, `f = jointgap_core::simulate::equations::Ode::rhs`, set up as
+//! `simulate::simulate` does. The Jacobian is dense, built by diffsol column by column from
 //! a forward-difference Jacobian-vector product. diffsol knows nothing of the ramp's
 //! corner at 0.2 s: each run is two solves, [0, 0.2] and [0.2, 1], the second started
 //! afresh from the first's end state (jointgap's integrator does the same at corners).
@@ -22,9 +22,9 @@ use std::time::Instant;
 use diffsol::{
     NalgebraLU, NalgebraMat, OdeBuilder, OdeEquations, OdeSolverMethod, OdeSolverStopReason, Vector,
 };
-use jointgap_core::solve::dynamics::{accelerations, constraints, project, violation, Workspace};
-use jointgap_core::solve::ode::Ode;
-use jointgap_core::{simulate, solve, Method, Model, SimOptions, SimResult};
+use jointgap_core::dynamics::{accelerations, constraints, project, violation, Workspace};
+use jointgap_core::simulate::equations::Ode;
+use jointgap_core::{simulate, Method, Model, SimOptions, SimResult};
 
 const T_END: f64 = 1.0;
 const RATE: f64 = 10_000.0;
@@ -155,7 +155,7 @@ fn run(
     projecting: bool,
 ) -> Result<Outcome, Box<dyn Error>> {
     let started = Instant::now();
-    let prepared = solve::prepare(model).expect("model assembles");
+    let prepared = jointgap_core::simulate::prepare(model).expect("model assembles");
     let sys = &prepared.system;
     let n = sys.n_coords();
     let slider = sys.bodies.iter().position(|b| b.name == "slider").unwrap();
@@ -182,7 +182,7 @@ fn run(
             out.drift_end = ws.c.amax();
         }
     };
-    // jointgap's rule (solve::integrate): project when the drift exceeds 1e-2 atol.
+    // jointgap's rule (simulate::integrate): project when the drift exceeds 1e-2 atol.
     let mut projections = 0;
     let mut fix = |t: f64, y: &mut [f64], dy: &mut [f64]| {
         let mut e = cell.borrow_mut();

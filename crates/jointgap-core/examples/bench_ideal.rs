@@ -9,14 +9,11 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 use std::time::Instant;
 
-use jointgap_core::solve::dopri5::Dopri5;
-use jointgap_core::solve::dynamics::{
-    accelerations, applied_forces, constraints, project, violation, Workspace,
-};
-use jointgap_core::solve::ode::{hermite5, Ode};
-use jointgap_core::solve::record::Recorder;
-use jointgap_core::solve::sdirk4::Sdirk4;
-use jointgap_core::solve::stepper::Stepper;
+use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
+use jointgap_core::integrators::ode::hermite5;
+use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::integrate::stepper;
+use jointgap_core::simulate::record::Recorder;
 use jointgap_core::{simulate, Method, Model, SimOptions, SimResult, Status};
 
 const T_END: f64 = 1.0;
@@ -145,7 +142,7 @@ type Run = (Method, f64, &'static str, f64, SimResult);
 /// Microbenchmarks of the pipeline stages at the state of t = 0.5 s, then the share of
 /// whole runs they explain (count x cost).
 fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
-    let prepared = jointgap_core::solve::prepare(model).unwrap();
+    let prepared = jointgap_core::simulate::prepare(model).unwrap();
     let sys = &prepared.system;
     let n = sys.n_coords();
     // State at t = 0.5 s from an accurate run.
@@ -180,7 +177,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let c_cholesky = ns_per_call(|| {
         black_box(nalgebra::Cholesky::new(black_box(schur.clone())).unwrap().solve(&rhs));
     });
-    let c_prepare = ns_per_call(|| drop(black_box(jointgap_core::solve::prepare(model).unwrap())));
+    let c_prepare = ns_per_call(|| drop(black_box(jointgap_core::simulate::prepare(model).unwrap())));
     let c_violation = ns_per_call(|| {
         black_box(violation(sys, black_box(t), q, v, &mut ode.ws));
     });
@@ -215,32 +212,33 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         T_END / r.4.stats.accepted_steps as f64
     };
     let (mut y_new, mut f_new) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
-    let mut dp = Dopri5::new(2 * n);
+    let tol = ode.tolerances;
+    let mut dp = stepper::<Ode>(Method::Dopri5, 2 * n);
     let h = mean_h(Method::Dopri5);
     let c_dopri = ns_per_call(|| {
-        let _ = black_box(dp.attempt(&mut ode, t, &y, &f0, h, &mut y_new, &mut f_new));
+        let _ = black_box(dp.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
     let h = mean_h(Method::Sdirk4);
-    let mut sd = Sdirk4::new(2 * n);
+    let mut sd = stepper::<Ode>(Method::Sdirk4, 2 * n);
     let c_sdirk_same_h = ns_per_call(|| {
-        let _ = black_box(sd.attempt(&mut ode, t, &y, &f0, h, &mut y_new, &mut f_new));
+        let _ = black_box(sd.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
     let mut flip = false;
     let c_sdirk_new_h = ns_per_call(|| {
         flip = !flip;
         let hh = if flip { h } else { h * (1.0 + 1e-9) };
-        let _ = black_box(sd.attempt(&mut ode, t, &y, &f0, hh, &mut y_new, &mut f_new));
+        let _ = black_box(sd.attempt(&mut ode, tol, t, &y, &f0, hh, &mut y_new, &mut f_new));
     });
     let c_sdirk_fresh = ns_per_call(|| {
-        let mut s = Sdirk4::new(2 * n);
-        let _ = black_box(s.attempt(&mut ode, t, &y, &f0, h, &mut y_new, &mut f_new));
+        let mut s = stepper::<Ode>(Method::Sdirk4, 2 * n);
+        let _ = black_box(s.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
     ode.evaluations = 0;
-    let mut s = Sdirk4::new(2 * n);
-    let _ = s.attempt(&mut ode, t, &y, &f0, h, &mut y_new, &mut f_new);
+    let mut s = stepper::<Ode>(Method::Sdirk4, 2 * n);
+    let _ = s.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new);
     let rhs_fresh = ode.evaluations;
     ode.evaluations = 0;
-    let _ = s.attempt(&mut ode, t, &y, &f0, h, &mut y_new, &mut f_new);
+    let _ = s.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new);
     let rhs_steady = ode.evaluations;
 
     writeln!(md, "\n## Where the time goes (Rust microbenchmarks, state at t = 0.5 s)\n").unwrap();
@@ -265,7 +263,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         ("`Sdirk4::attempt`, h changed (LU refactored)".into(), c_sdirk_new_h),
         (format!("`Sdirk4::attempt`, fresh stepper ({rhs_fresh} RHS, Jacobian + LU)"), c_sdirk_fresh),
         ("`Sdirk4` Jacobian + LU (fresh minus same h)".into(), c_sdirk_fresh - c_sdirk_same_h),
-        ("`solve::prepare` (compile + assembly, once per run)".into(), c_prepare),
+        ("`simulate::prepare` (compile + assembly, once per run)".into(), c_prepare),
     ];
     for (name, ns) in &rows {
         writeln!(md, "| {name} | {ns:.0} |").unwrap();

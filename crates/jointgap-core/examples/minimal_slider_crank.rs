@@ -5,7 +5,7 @@
 //! The crank angle is prescribed, so the unknowns are the rod angle `phi` and the slider
 //! position `x`; the equations of motion are derived by hand (those of
 //! `benchmarks/peers/scipy_slider_crank.py`, written here in Rust), and jointgap's Radau
-//! IIA step (`solve::radau5`) integrates the four states with a forward-difference
+//! IIA step (`integrators::radau5`) integrates the four states with a forward-difference
 //! Jacobian (four evaluations, kept across steps as the method decides). No contact
 //! events: the ADAMS IMPACT law needs no onset speed, and the error control finds the
 //! contacts. The solve is split at the end of the crank's ramp, where its acceleration
@@ -22,11 +22,11 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use jointgap_core::solve::dynamics::Singular;
-use jointgap_core::solve::ode::{hermite5, Rhs};
-use jointgap_core::solve::profile::Profile;
-use jointgap_core::solve::radau5::Radau5;
-use jointgap_core::solve::stepper::Stepper;
+use jointgap_core::integrators::ode::Singular;
+use jointgap_core::integrators::ode::{hermite5, Rhs, Tolerances};
+use jointgap_core::integrators::radau5::Radau5;
+use jointgap_core::integrators::stepper::Stepper;
+use jointgap_core::profile::Profile;
 use jointgap_core::{simulate, Method, Model, SimOptions};
 use serde_json::json;
 
@@ -181,8 +181,8 @@ fn solve(rtol: f64) -> Run {
             if last {
                 h = end - t;
             }
-            let attempt = radau.step(&mut ode, (rtol, atol), t, &y, &f, h, &mut y1, &mut f1);
-            let factor = radau.step_factor().unwrap_or(0.5);
+            let attempt = radau.step(&mut ode, Tolerances { rtol, atol }, t, &y, &f, h, &mut y1, &mut f1);
+            let factor = Stepper::<SliderCrank>::step_factor(&radau).unwrap_or(0.5);
             match attempt {
                 Ok(a) if a.error <= 1.0 => {
                     steps += 1;
@@ -200,7 +200,7 @@ fn solve(rtol: f64) -> Run {
                 }
                 Ok(_) | Err(_) => {
                     rejected += 1;
-                    radau.rejected();
+                    Stepper::<SliderCrank>::rejected(&mut radau);
                     h *= factor.clamp(0.1, 0.9);
                     last_rejected = true;
                 }

@@ -31,14 +31,14 @@ pub struct Defaults {
     pub gravity: [f64; 2],
     /// The normal laws' `exponent` and `clip`.
     pub normal_law: NormalLawDefaults,
-    /// Every run option but `t_end`, which has none, as [`crate::SimOptions::new`] fills
+    /// Every run option but `t_end`, which has none, as [`crate::simulate::options::SimOptions::new`] fills
     /// them in (`null` where the engine decides per run, as the step budget).
     pub options: serde_json::Map<String, serde_json::Value>,
 }
 
 /// The engine's defaults, for the binding.
 pub fn defaults() -> Defaults {
-    let mut options = match serde_json::to_value(crate::SimOptions::new(1.0)) {
+    let mut options = match serde_json::to_value(crate::simulate::options::SimOptions::new(1.0)) {
         Ok(serde_json::Value::Object(fields)) => fields,
         // A struct of numbers, flags and names always serialises to an object.
         _ => unreachable!("SimOptions serialises to a JSON object"),
@@ -77,9 +77,9 @@ mod tests {
         assert!(!d.options.contains_key("t_end"));
         let mut given = d.options.clone();
         given.insert("t_end".into(), 2.0.into());
-        let parsed: crate::SimOptions =
+        let parsed: crate::simulate::options::SimOptions =
             serde_json::from_value(serde_json::Value::Object(given)).expect("options parse");
-        assert_eq!(parsed, crate::SimOptions::new(2.0));
+        assert_eq!(parsed, crate::simulate::options::SimOptions::new(2.0));
         assert_eq!(d.options["rtol"], serde_json::json!(parsed.rtol));
     }
 }

@@ -5,7 +5,23 @@
 
 use serde::Serialize;
 
-use crate::Error;
+/// Errors that stop a run before it starts. Each message names the offending element;
+/// [`Error::parts`] gives the element, the key and the problem apart.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A value of a model element is invalid, said in parts.
+    #[error("{0}")]
+    Element(ElementError),
+    /// The model is malformed or physically invalid.
+    #[error("{0}")]
+    Model(String),
+    /// The initial configuration cannot satisfy the constraints.
+    #[error("{0}")]
+    Assembly(String),
+    /// The run options are invalid.
+    #[error("{0}")]
+    Options(String),
+}
 
 /// The kinds of model element an error can name, as the messages name them.
 pub const ELEMENT_KINDS: [&str; 5] = ["body", "joint", "driver", "force", "marker"];

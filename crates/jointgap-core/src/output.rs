@@ -42,7 +42,7 @@ pub struct RunStats {
     /// Wall-clock time of the run [s].
     pub wall_time: f64,
     /// Time per stage, when the run was asked to measure it.
-    pub profile: Option<crate::solve::profile::Profile>,
+    pub profile: Option<crate::profile::Profile>,
 }
 
 /// One impact of a clearance joint: from the located contact onset to separation.

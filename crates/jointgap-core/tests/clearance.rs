@@ -186,7 +186,7 @@ fn failed_run_reports_its_counters() {
 /// `cross(P - A, t)^2 / I_A` (P the contact point, t the tangent, I_A the inertia about A).
 #[test]
 fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
-    use jointgap_core::solve::dynamics::{accelerations, friction_rate, Workspace};
+    use jointgap_core::dynamics::{accelerations, friction_rate, Workspace};
     let (length, mass, inertia) = (0.3, 0.72, 0.0069);
     let (clearance, depth, angle) = (CLEARANCE, 2e-6, 30f64.to_radians());
     let n = [angle.cos(), angle.sin()];
@@ -211,7 +211,7 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
         .to_string(),
     )
     .unwrap();
-    let prepared = jointgap_core::solve::prepare(&model).unwrap();
+    let prepared = jointgap_core::simulate::prepare(&model).unwrap();
     let sys = &prepared.system;
     let q = prepared.initial.q.clone();
     let i_a = inertia + mass * (length / 2.0).powi(2);

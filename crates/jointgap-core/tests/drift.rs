@@ -13,9 +13,9 @@ mod common;
 
 use std::f64::consts::TAU;
 
-use jointgap_core::solve::dynamics::{violation, Workspace};
-use jointgap_core::solve::integrate::drift_limits;
-use jointgap_core::solve::prepare;
+use jointgap_core::dynamics::{violation, Workspace};
+use jointgap_core::simulate::integrate::drift_limits;
+use jointgap_core::simulate::prepare;
 use jointgap_core::{simulate, Model, SimOptions, SimResult, Status};
 
 const T_END: f64 = 1.0;

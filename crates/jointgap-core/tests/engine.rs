@@ -242,11 +242,11 @@ fn a_batch_gives_the_serial_results_and_starts_nothing_once_stopped() {
 /// the model itself: the same samples, impacts, statistics and warnings.
 #[test]
 fn a_prepared_model_runs_as_the_model_does() {
-    use jointgap_core::solve::{check_prepared, prepare, simulate_prepared, Silent};
+    use jointgap_core::simulate::{check_prepared, prepare, simulate_prepared, Silent};
     let model = slider_crank_clearance();
     let opts = SimOptions { rate: Some(2000.0), ..SimOptions::new(0.05) };
     let prepared = prepare(&model).unwrap();
-    assert_eq!(check_prepared(&prepared).unwrap(), jointgap_core::solve::check(&model).unwrap());
+    assert_eq!(check_prepared(&prepared).unwrap(), jointgap_core::simulate::check(&model).unwrap());
     let direct = simulate(&model, &opts).unwrap();
     for _ in 0..2 {
         let again = simulate_prepared(&prepared, &opts, &mut Silent).unwrap();

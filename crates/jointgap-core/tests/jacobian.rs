@@ -3,10 +3,10 @@
 //! constraints, and within the geometric terms it leaves out on the founding
 //! slider-crank in contact, where the contact's stiffness dominates.
 
-use jointgap_core::solve::dynamics::force_jacobian;
-use jointgap_core::solve::jacobian::forward_difference;
-use jointgap_core::solve::ode::Ode;
-use jointgap_core::solve::prepare;
+use jointgap_core::dynamics::force_jacobian;
+use jointgap_core::integrators::jacobian::forward_difference;
+use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::prepare;
 use jointgap_core::{simulate, Model, SimOptions, SimResult, Status};
 use nalgebra::DMatrix;
 use serde_json::json;

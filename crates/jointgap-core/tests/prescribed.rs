@@ -1,15 +1,13 @@
 //! Bodies that their own joints and drivers fix leave the Schur complement
-//! (`solve::prescribed`): their accelerations come from their rows and their rows'
+//! (`dynamics::prescribed`): their accelerations come from their rows and their rows'
 //! multipliers from their Newton-Euler equations. Checked against the whole augmented
 //! system `[M Cq^T; Cq 0][qdd; lambda] = [Qe; gamma]` assembled densely and solved by LU,
 //! at states that need not satisfy the constraints (the equations hold at any state).
 
 mod common;
 
-use jointgap_core::solve::dynamics::{
-    accelerations, applied_forces, constraints, project, violation, Workspace,
-};
-use jointgap_core::solve::prepare;
+use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
+use jointgap_core::simulate::prepare;
 use jointgap_core::{simulate, Model, SimOptions, Status};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;

@@ -4,7 +4,7 @@
 
 mod common;
 
-use jointgap_core::solve::{check, prepare};
+use jointgap_core::simulate::{check, prepare};
 use jointgap_core::{simulate, Model, SimOptions, Status};
 use serde_json::{json, Value};
 

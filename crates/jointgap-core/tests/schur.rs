@@ -2,8 +2,8 @@
 //! accelerations and multipliers on a long chain, where the engine picks the envelope
 //! factor (a band); a pattern whose rows do not follow the topology gets the sparse one.
 
-use jointgap_core::solve::dynamics::{accelerations, Workspace};
-use jointgap_core::solve::schur::{Factorisation, RowJacobian, Schur, DENSE_LIMIT};
+use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur, DENSE_LIMIT};
+use jointgap_core::dynamics::{accelerations, Workspace};
 use jointgap_core::{Model, SimOptions};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;
@@ -37,7 +37,7 @@ fn chain(n: usize) -> Model {
 #[test]
 fn sparse_and_dense_factorisations_agree_on_a_long_chain() {
     let n = 40;
-    let prepared = jointgap_core::solve::prepare(&chain(n)).unwrap();
+    let prepared = jointgap_core::simulate::prepare(&chain(n)).unwrap();
     let sys = &prepared.system;
     let active = prepared.initial.active.clone();
     assert!(active.len() > DENSE_LIMIT, "the chain must be longer than the dense limit");

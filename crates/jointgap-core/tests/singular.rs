@@ -4,8 +4,8 @@
 //! the assembly's choice of independent rows at a singular position; and the sparse
 //! factor of a long chain near its singular position, against the envelope factor.
 
-use jointgap_core::solve::dynamics::{accelerations, Workspace};
-use jointgap_core::solve::schur::{Factorisation, RowJacobian, Schur};
+use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur};
+use jointgap_core::dynamics::{accelerations, Workspace};
 use jointgap_core::{Model, SimOptions, Status};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;
@@ -181,7 +181,7 @@ fn two_loop_chain_passes_its_singular_positions_at_tight_tolerance() {
 
 /// The rows the assembly keeps and the warnings it gives for a model file.
 fn assembled_rows(model: &serde_json::Value) -> (usize, usize, Vec<String>) {
-    let prepared = jointgap_core::solve::prepare(&Model::from_json(&model.to_string()).unwrap()).unwrap();
+    let prepared = jointgap_core::simulate::prepare(&Model::from_json(&model.to_string()).unwrap()).unwrap();
     let redundant = prepared.system.warnings.iter().filter(|w| w.contains("redundant")).cloned().collect();
     (prepared.initial.active.len(), prepared.system.rows.len(), redundant)
 }
@@ -242,7 +242,7 @@ fn sparse_and_envelope_factors_agree_at_a_singular_position() {
     let n = 40;
     for (phi, rank_deficient) in [(0.0, true), (1e-5, true), (0.3, false)] {
         let model = Model::from_json(&chain_at(n, phi, Some("motor")).to_string()).unwrap();
-        let prepared = jointgap_core::solve::prepare(&model).unwrap();
+        let prepared = jointgap_core::simulate::prepare(&model).unwrap();
         let (sys, initial) = (&prepared.system, &prepared.initial);
         assert_eq!(initial.active.len(), sys.rows.len());
         assert_eq!(Workspace::new(sys, initial.active.clone()).schur.factorisation(), Factorisation::Sparse);

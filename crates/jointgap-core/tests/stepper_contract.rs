@@ -4,13 +4,12 @@
 
 mod common;
 
-use jointgap_core::solve::dopri5::Dopri5;
-use jointgap_core::solve::dynamics::{violation, Workspace};
-use jointgap_core::solve::ode::Ode;
-use jointgap_core::solve::prepare;
-use jointgap_core::solve::radau5::Radau5;
-use jointgap_core::solve::sdirk4::Sdirk4;
-use jointgap_core::solve::stepper::Stepper;
+use jointgap_core::dynamics::{violation, Workspace};
+use jointgap_core::integrators::stepper::Stepper;
+use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::integrate::stepper;
+use jointgap_core::simulate::prepare;
+use jointgap_core::Method;
 
 /// Over 30 accepted steps of the clearance slider-crank from rest, each method's drift
 /// from its last evaluation equals a fresh evaluation at the step's end, bit for bit.
@@ -19,8 +18,8 @@ fn accepted_attempt_evaluates_last_at_its_end() {
     let prepared = prepare(&common::slider_crank_clearance()).unwrap();
     let sys = &prepared.system;
     let n = 2 * sys.n_coords();
-    let steppers: Vec<Box<dyn Stepper>> =
-        vec![Box::new(Dopri5::new(n)), Box::new(Radau5::new(n)), Box::new(Sdirk4::new(n))];
+    let steppers: Vec<Box<dyn Stepper<Ode>>> =
+        [Method::Dopri5, Method::Radau5, Method::Sdirk4].into_iter().map(|m| stepper(m, n)).collect();
     for mut stepper in steppers {
         let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
         let mut fresh = Workspace::new(sys, prepared.initial.active.clone());
@@ -32,7 +31,8 @@ fn accepted_attempt_evaluates_last_at_its_end() {
         while accepted < 30 {
             ode.ws.t_piece = t + 0.5 * h;
             ode.rhs(t, &y, &mut f).unwrap();
-            let attempt = stepper.attempt(&mut ode, t, &y, &f, h, &mut y_new, &mut f_new);
+            let tol = ode.tolerances;
+            let attempt = stepper.attempt(&mut ode, tol, t, &y, &f, h, &mut y_new, &mut f_new);
             match attempt {
                 Ok(a) if a.error <= 1.0 => {
                     let (q, v) = y_new.split_at(n / 2);

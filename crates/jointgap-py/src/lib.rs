@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
-use jointgap_core::solve::Prepared;
+use jointgap_core::simulate::Prepared;
 
 pyo3::create_exception!(
     _jointgap,
@@ -75,7 +75,7 @@ fn prepared(model_json: &str, model: &jointgap_core::Model) -> Result<Arc<Prepar
         return Ok(found);
     }
     COMPILATIONS.fetch_add(1, Ordering::Relaxed);
-    let prepared = Arc::new(jointgap_core::solve::prepare(model)?);
+    let prepared = Arc::new(jointgap_core::simulate::prepare(model)?);
     let mut kept = kept();
     kept.push((model_json.to_string(), Arc::clone(&prepared)));
     if kept.len() > PREPARED_KEPT {
@@ -109,17 +109,17 @@ fn compilations() -> usize {
 fn check_model(model_json: &str) -> PyResult<Vec<String>> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
     let prepared = prepared(model_json, &model).map_err(to_py_err)?;
-    jointgap_core::solve::check_prepared(&prepared).map_err(to_py_err)
+    jointgap_core::simulate::check_prepared(&prepared).map_err(to_py_err)
 }
 
-/// Each clearance joint as the engine resolves it ([`jointgap_core::resolved`]: radii,
+/// Each clearance joint as the engine resolves it ([`jointgap_core::system::resolved`]: radii,
 /// clearance, stiffness computed from the materials, exponent, `d_max`, the laws in force)
 /// as a JSON list, without running the model.
 #[pyfunction]
 fn clearance_data(model_json: &str) -> PyResult<String> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
     let system = compiled(&model).map_err(to_py_err)?;
-    let data = jointgap_core::resolved::clearances(&model, &system);
+    let data = jointgap_core::system::resolved::clearances(&model, &system);
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -132,11 +132,11 @@ fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<S
     let Some(options_json) = options_json else {
         let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
         let system = compiled(&model).map_err(to_py_err)?;
-        return Ok(jointgap_core::solve::record::channel_names(&system, false));
+        return Ok(jointgap_core::simulate::record::channel_names(&system, false));
     };
     let (model, options) = parse(model_json, options_json)?;
     let prepared = prepared(model_json, &model).map_err(to_py_err)?;
-    jointgap_core::solve::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
+    jointgap_core::simulate::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
 }
 
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
@@ -255,7 +255,7 @@ fn simulate<'py>(
     let result = py
         .allow_threads(|| {
             let prepared = prepared(model_json, &model)?;
-            jointgap_core::solve::simulate_prepared(&prepared, &options, &mut monitor)
+            jointgap_core::simulate::simulate_prepared(&prepared, &options, &mut monitor)
         })
         .map_err(to_py_err)?;
     if let Some(error) = monitor.error {

@@ -2,9 +2,9 @@
 //! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
 
 use crate::math::{cross, perp, Vec2};
+use crate::mechanics::planar::BodyState;
+use crate::mechanics::resolve::Resolver;
 use crate::model::{Force, Signal};
-use crate::planar::BodyState;
-use crate::system::Resolver;
 use crate::Error;
 
 /// A value against time: constant, or linear between table points and held outside.

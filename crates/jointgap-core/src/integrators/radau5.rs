@@ -39,11 +39,10 @@
 
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
-use super::dynamics::Singular;
 use super::jacobian;
-use super::ode::{Ode, Rhs};
-use super::profile;
+use super::ode::{Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
+use crate::profile;
 
 /// Nodes: `c1 = (4 - sqrt 6)/10`, `c2 = (4 + sqrt 6)/10`, `c3 = 1`.
 const C: [f64; 3] = [0.1550510257216822, 0.6449489742783178, 1.0];
@@ -459,14 +458,14 @@ impl Radau5 {
         Ok(error_of(wrms(&self.rr, &self.scal)))
     }
 
-    /// One step of size `h` from `(t, y)` of `rhs` (`f0 = f(t, y)`, tolerances
-    /// `(rtol, atol)`): [`Stepper::attempt`] for any right-hand side of the form
-    /// `y = (q, v)`, `f = (v, a(t, q, v))`.
+    /// One step of size `h` from `(t, y)` of `rhs` (`f0 = f(t, y)`, tolerances `tol`):
+    /// [`Stepper::attempt`] for any right-hand side of the form `y = (q, v)`,
+    /// `f = (v, a(t, q, v))`.
     #[allow(clippy::too_many_arguments)]
     pub fn step<R: Rhs + ?Sized>(
         &mut self,
         rhs: &mut R,
-        (rtol, atol): (f64, f64),
+        Tolerances { rtol, atol }: Tolerances,
         t: f64,
         y: &[f64],
         f0: &[f64],
@@ -526,7 +525,7 @@ impl Radau5 {
     }
 }
 
-impl Stepper for Radau5 {
+impl<R: Rhs + ?Sized> Stepper<R> for Radau5 {
     fn name(&self) -> &'static str {
         "radau5"
     }
@@ -545,7 +544,8 @@ impl Stepper for Radau5 {
 
     fn attempt(
         &mut self,
-        ode: &mut Ode,
+        ode: &mut R,
+        tol: Tolerances,
         t: f64,
         y: &[f64],
         f0: &[f64],
@@ -553,7 +553,6 @@ impl Stepper for Radau5 {
         y_new: &mut [f64],
         f_new: &mut [f64],
     ) -> Result<Attempt, StepFailure> {
-        let tol = (ode.rtol, ode.atol);
         self.step(ode, tol, t, y, f0, h, y_new, f_new)
     }
 }
@@ -561,7 +560,7 @@ impl Stepper for Radau5 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::solve::profile::Profile;
+    use crate::profile::Profile;
 
     /// A model problem `y = (q, v)`, `y' = (v, a(t, q, v))`.
     struct Problem<F: FnMut(f64, &[f64], &[f64], &mut [f64])> {
@@ -600,7 +599,9 @@ mod tests {
         let h = t_end / steps as f64;
         for k in 0..steps {
             let t = k as f64 * h;
-            radau.step(rhs, (tol, tol), t, &y, &f, h, &mut y1, &mut f1).expect("Newton converges");
+            radau
+                .step(rhs, Tolerances { rtol: tol, atol: tol }, t, &y, &f, h, &mut y1, &mut f1)
+                .expect("Newton converges");
             std::mem::swap(&mut y, &mut y1);
             std::mem::swap(&mut f, &mut f1);
         }

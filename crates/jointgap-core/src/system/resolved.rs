@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use crate::contact::normal::NormalLaw;
+use crate::mechanics::contact::normal::NormalLaw;
 use crate::model::{FrictionSpec, Model, NormalLawSpec};
 use crate::output::ClearanceData;
 use crate::system::System;

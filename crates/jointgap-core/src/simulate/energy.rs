@@ -14,9 +14,9 @@
 //! for them. The evaluations use their own workspace, so that a run with accounts
 //! steps exactly as one without.
 
-use super::contacts::{self, ContactState};
-use super::dynamics::{accelerations, Singular, Workspace};
-use super::ode::{hermite5, DenseStep};
+use crate::dynamics::{accelerations, Singular, Workspace};
+use crate::integrators::ode::{hermite5, DenseStep};
+use crate::mechanics::contact::ContactState;
 use crate::system::System;
 
 /// The accounts, in channel order (`system.<name>`) [J].
@@ -146,7 +146,7 @@ impl Accounts {
             p[2] += loss;
         }
         for (k, c) in sys.clearances.iter().enumerate() {
-            let (normal, friction) = c.losses(&contacts::kinematics(sys, k, q, v), &self.ws.contacts[k]);
+            let (normal, friction) = c.losses(&sys.contact_kinematics(k, q, v), &self.ws.contacts[k]);
             p[3] += normal;
             p[4] += friction;
         }

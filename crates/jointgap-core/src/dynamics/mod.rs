@@ -4,25 +4,26 @@
 //! kept row by row (each row touches at most two bodies), so every product here costs
 //! in proportion to the number of rows. Bodies that their own rows fix (a driven crank)
 //! are solved ahead of the Schur complement and their multipliers after it
-//! ([`super::prescribed`]).
+//! ([`prescribed`]).
 
 use nalgebra::{DMatrix, DVector};
 
-use super::contacts::ContactState;
-use super::prescribed::{self, PrescribedBody};
-use super::profile::{self, Profile};
-use super::schur::{Factorisation, RowJacobian, Schur};
-use crate::drivers::Motion;
+pub mod assembly;
+pub mod prescribed;
+pub mod schur;
+
+pub use schur::Singular;
+
 use crate::math::{cross, perp, Vec2};
-use crate::planar::BodyState;
+use crate::mechanics::contact::ContactState;
+use crate::mechanics::drivers::Motion;
+use crate::mechanics::planar::BodyState;
+use crate::profile::{self, Profile};
 use crate::system::System;
+use prescribed::PrescribedBody;
+use schur::{Factorisation, RowJacobian, Schur};
 
 const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
-
-/// The augmented system is singular: the mechanism locks up or passes a singular
-/// configuration (e.g. a four-bar at a change point).
-#[derive(Debug, Clone, Copy)]
-pub struct Singular;
 
 /// Scratch space of one run, filled by the functions of this module.
 #[derive(Debug, Clone)]
@@ -371,7 +372,7 @@ fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
 /// (n_coords x 2 n_coords), taken through the applied forces alone: column `j` is
 /// `P dQe/dy_j` with `P = M^-1 - M^-1 Cq^T S^-1 Cq M^-1`, the constrained inverse mass
 /// at `(t, q, v)`, and `dQe/dy_j` a forward difference of the forces only (increment as
-/// [`super::jacobian::forward_difference`]). What it leaves out is the derivative of
+/// the methods' own forward-difference Jacobian). What it leaves out is the derivative of
 /// `P` and of `gamma`: the geometric stiffness of the constraint forces and the
 /// velocity terms, which scale with the mechanism's speeds and loads, not with a
 /// contact's or a spring's stiffness, so the Newton iteration keeps the stiff part it
@@ -477,7 +478,7 @@ pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> 
         let contact = ws.contacts[k];
         let (bearing, journal) = (sys.body_state(c.bearing, q, v), sys.body_state(c.journal, q, v));
         let kin = c.kinematics(&bearing, &journal);
-        let (f_n, _) = c.contact_force(&kin, contact.onset_for(&kin));
+        let (f_n, _) = c.contact_force(&kin, contact.onset_for(kin.penetration_rate));
         let damping = if f_n > 0.0 { c.friction.damping(kin.slip, f_n) } else { 0.0 };
         if damping == 0.0 {
             continue;

@@ -1,29 +1,24 @@
-//! Assembly, integration and output of one run.
+//! One run: the model compiled and assembled, the equations of motion integrated
+//! between input corners with contact events and method switching, and the output
+//! recorded.
 
-pub mod assembly;
-pub mod contacts;
-pub mod dopri5;
-pub mod dynamics;
 pub mod energy;
+pub mod equations;
+pub mod events;
 pub mod integrate;
-pub mod jacobian;
+pub mod measures;
 pub mod monitor;
-pub mod ode;
-mod options;
-pub mod prescribed;
-pub mod profile;
-pub mod radau5;
+pub(crate) mod options;
 pub mod record;
-pub mod schur;
-pub mod sdirk4;
-pub mod stepper;
 pub mod switching;
 
 pub use monitor::{BatchControl, Monitor, Progress, Silent, Stop};
 pub use options::{Method, SimOptions};
 
-use crate::contact::ClearanceRevolute;
+use crate::dynamics::{self, assembly};
+use crate::mechanics::contact::ClearanceRevolute;
 use crate::output::{RunStats, SimResult, Status};
+use crate::profile::Profile;
 use crate::system::System;
 use crate::{Error, Model};
 
@@ -40,11 +35,11 @@ pub struct Prepared {
 /// its bearing wall).
 pub fn prepare(model: &Model) -> Result<Prepared, Error> {
     let mut system = System::new(model)?;
-    system.warnings = crate::magnitudes::warnings(model, &system);
+    system.warnings = crate::system::magnitudes::warnings(model, &system);
     check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
     for (k, c) in system.clearances.iter().enumerate() {
-        c.check_initial_penetration(&contacts::kinematics(&system, k, &initial.q, &initial.v))?;
+        c.check_initial_penetration(&system.contact_kinematics(k, &initial.q, &initial.v))?;
     }
     system.warnings.extend(initial.warnings.iter().cloned());
     Ok(Prepared { system, initial })
@@ -210,14 +205,14 @@ fn run_prepared(
     monitor: &mut dyn Monitor,
     started: std::time::Instant,
 ) -> Result<SimResult, Error> {
-    let mut ode = ode::Ode::new(system, initial.active.clone(), opts.rtol, opts.atol);
+    let mut ode = equations::Ode::new(system, initial.active.clone(), opts.rtol, opts.atol);
     let mut rec =
         record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
-    ode.ws.profile = opts.profile.then(profile::Profile::default);
+    ode.ws.profile = opts.profile.then(Profile::default);
     let n = system.n_coords();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
-    let mut log = contacts::ImpactLog::new(system);
+    let mut log = events::ImpactLog::new(system);
     if opts.every_step && opts.rate.is_some() {
         rec.mark_samples();
     }

@@ -7,7 +7,7 @@
 //! `3.25 / rho` (and no longer than SDIRK4's) for 6 evaluations.
 //!
 //! Sticking friction is a stiffness the model can name: a clearance joint's friction
-//! law damps the slip at a rate `lambda_f` ([`super::dynamics::friction_rate`]) that
+//! law damps the slip at a rate `lambda_f` ([`crate::dynamics::friction_rate`]) that
 //! rises a thousandfold as the slip falls below the stiction speed, for a few
 //! milliseconds at a time. It hands the step to Radau IIA directly once friction holds an
 //! explicit step near DOPRI5's stability edge of 3.3 (`lambda_f h > 2`), and takes it
@@ -16,7 +16,7 @@
 //! spend most of each short sticking phase in the wrong method: on the founding case
 //! DOPRI5 alone took 8000 steps of 5 us in its 53 ms of sticking, Radau IIA 800.
 
-use super::Method;
+use super::options::Method;
 
 /// Consecutive stiff indications after which DOPRI5 hands over, at first.
 const STIFF_SWITCH: usize = 15;

@@ -4,8 +4,8 @@
 //! ([outputs](../../../docs/outputs.md)).
 
 use crate::math::{perp, Vec2};
+use crate::mechanics::planar::BodyState;
 use crate::model::JointKind;
-use crate::planar::BodyState;
 use crate::system::{JointInfo, MarkerInfo};
 
 /// A body's position, velocity and acceleration (the ground: all zero).

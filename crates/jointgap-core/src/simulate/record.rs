@@ -1,13 +1,12 @@
 //! Output channels: which quantities exist (DESIGN.md naming) and how each sample is
 //! computed from a state by one full evaluation of the equations of motion.
 
-use super::contacts::{self, Mode};
-use super::dynamics::{accelerations, Singular, Workspace};
 use super::energy::{Accounts, Amounts, ACCOUNTS};
-use super::ode::DenseStep;
-use crate::contact::ClearanceRevolute;
+use super::measures::{joint_coordinate, marker_motion, BodyMotion};
+use crate::dynamics::{accelerations, Singular, Workspace};
+use crate::integrators::ode::DenseStep;
 use crate::math::{cross, rotate, Vec2};
-use crate::measures::{joint_coordinate, marker_motion, BodyMotion};
+use crate::mechanics::contact::{ClearanceRevolute, ContactState, Mode};
 use crate::model::JointKind;
 use crate::system::System;
 use crate::Error;
@@ -267,7 +266,7 @@ impl Recorder {
     pub fn begin_step(
         &mut self,
         sys: &System,
-        contacts: &[contacts::ContactState],
+        contacts: &[ContactState],
         step: &DenseStep,
         t0: f64,
         t1: f64,
@@ -439,16 +438,16 @@ fn put_joint_forces(
     sys: &System,
     ws: &Workspace,
     j: &crate::system::JointInfo,
-    (bi, bj): (&crate::planar::BodyState, &crate::planar::BodyState),
+    (bi, bj): (&crate::mechanics::planar::BodyState, &crate::mechanics::planar::BodyState),
     (q, v): (&[f64], &[f64]),
     lambda_of: &dyn Fn(usize) -> f64,
 ) {
     let mut put = |x: f64| out.put(x);
     if let Some(k) = j.clearance {
         let c = &sys.clearances[k];
-        let kin = contacts::kinematics(sys, k, q, v);
+        let kin = sys.contact_kinematics(k, q, v);
         let state = &ws.contacts[k];
-        let (f_n, f_t) = c.contact_force(&kin, state.onset_for(&kin));
+        let (f_n, f_t) = c.contact_force(&kin, state.onset_for(kin.penetration_rate));
         let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
         let bearing_angle = sys.body_state(c.bearing, q, v).phi();
         let e_local = rotate(-bearing_angle, kin.e);
@@ -466,7 +465,7 @@ fn put_joint_forces(
         let ev = sys.rows[r].kind.eval(
             bi,
             bj,
-            crate::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
+            crate::mechanics::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
         );
         let l = lambda_of(r);
         f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
@@ -525,7 +524,7 @@ impl Cursor<'_> {
             potential += f.potential_energy(|b| sys.body_state(b, q, v));
         }
         for (k, c) in sys.clearances.iter().enumerate() {
-            potential += c.normal.elastic_energy(contacts::kinematics(sys, k, q, v).penetration);
+            potential += c.normal.elastic_energy(sys.contact_kinematics(k, q, v).penetration);
         }
         self.put(kinetic);
         self.put(potential);

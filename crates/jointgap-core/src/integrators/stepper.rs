@@ -1,7 +1,7 @@
-//! The inner step of an integration method; the loop in `integrate` owns time, error
+//! The inner step of an integration method; the simulation loop owns time, error
 //! control, corners, projection and output (the template of scipy's `OdeSolver`).
 
-use super::ode::Ode;
+use super::ode::{Rhs, Tolerances};
 
 /// Outcome of one trial step.
 #[derive(Debug, Clone, Copy)]
@@ -21,19 +21,22 @@ pub enum StepFailure {
     Singular,
 }
 
-/// One integration method's inner step.
-pub trait Stepper {
+/// One integration method's inner step on any right-hand side `R` (a trait object per
+/// `R`, so that the loop can change methods mid-run).
+pub trait Stepper<R: Rhs + ?Sized> {
     /// Name in reports.
     fn name(&self) -> &'static str;
     /// `1 / (p + 1)` with p the order of the error estimate.
     fn error_exponent(&self) -> f64;
-    /// Tries a step of size `h` from `(t, y)` with `f0 = f(t, y)`; writes the solution
-    /// and its derivative at `t + h`. An accepted attempt (error <= 1) evaluates `ode`
-    /// last at `(t + h, y_new)`: the loop reads the drift there from the workspace.
+    /// Tries a step of size `h` from `(t, y)` with `f0 = f(t, y)`, its error weighed
+    /// against `tol`; writes the solution and its derivative at `t + h`. An accepted
+    /// attempt (error <= 1) evaluates `ode` last at `(t + h, y_new)`: the loop reads the
+    /// drift there from the workspace.
     #[allow(clippy::too_many_arguments)]
     fn attempt(
         &mut self,
-        ode: &mut Ode,
+        ode: &mut R,
+        tol: Tolerances,
         t: f64,
         y: &[f64],
         f0: &[f64],
@@ -55,7 +58,7 @@ pub trait Stepper {
     }
     /// Implicit methods: the spectral radius of the Jacobian at `(t, y)`, evaluated
     /// afresh, so that `auto` can tell whether an explicit step would be stable.
-    fn spectral_radius(&mut self, _ode: &mut Ode, _t: f64, _y: &[f64], _f: &[f64]) -> Option<f64> {
+    fn spectral_radius(&mut self, _ode: &mut R, _t: f64, _y: &[f64], _f: &[f64]) -> Option<f64> {
         None
     }
 }

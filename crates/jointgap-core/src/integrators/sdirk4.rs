@@ -6,11 +6,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::dynamics::Singular;
 use super::jacobian;
-use super::ode::{Ode, Rhs};
-use super::profile;
+use super::ode::{Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
+use crate::profile;
 
 const GAMMA: f64 = 0.25;
 const C: [f64; 5] = [0.25, 0.75, 11.0 / 20.0, 0.5, 1.0];
@@ -67,7 +66,13 @@ impl Sdirk4 {
     }
 
     /// Jacobian of f at (t, y): `[0 I; force Jacobian]`, or forward differences.
-    fn jacobian(&mut self, ode: &mut Ode, t: f64, y: &[f64], f0: &[f64]) -> Result<(), Singular> {
+    fn jacobian<R: Rhs + ?Sized>(
+        &mut self,
+        ode: &mut R,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+    ) -> Result<(), Singular> {
         self.jac_from_forces = !self.full_jacobian;
         if self.full_jacobian {
             jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?;
@@ -103,7 +108,15 @@ impl Sdirk4 {
     }
 
     /// Solves stage `s`: `Y = base + h gamma f(Y)`; leaves `Y` in `stage`, `f(Y)` in `k[s]`.
-    fn solve_stage(&mut self, ode: &mut Ode, t: f64, h: f64, s: usize, y: &[f64]) -> Result<(), StepFailure> {
+    fn solve_stage<R: Rhs + ?Sized>(
+        &mut self,
+        ode: &mut R,
+        tol: Tolerances,
+        t: f64,
+        h: f64,
+        s: usize,
+        y: &[f64],
+    ) -> Result<(), StepFailure> {
         let n = y.len();
         let lu = self.lu.as_ref().expect("factored before the stages");
         // Predictor: the previous stage's slope.
@@ -113,10 +126,10 @@ impl Sdirk4 {
         }
         let mut prev_norm = f64::INFINITY;
         for iter in 0..10 {
-            ode.rhs(t + C[s] * h, &self.stage, &mut self.work).map_err(|Singular| StepFailure::Singular)?;
+            ode.eval(t + C[s] * h, &self.stage, &mut self.work).map_err(|Singular| StepFailure::Singular)?;
             let mut r = DVector::from_fn(n, |i, _| self.base[i] + h * GAMMA * self.work[i] - self.stage[i]);
             lu.solve_mut(&mut r);
-            let norm = ode.error_norm(r.as_slice(), y, &self.stage);
+            let norm = tol.error_norm(r.as_slice(), y, &self.stage);
             for i in 0..n {
                 self.stage[i] += r[i];
             }
@@ -144,7 +157,7 @@ impl Sdirk4 {
     }
 }
 
-impl Stepper for Sdirk4 {
+impl<R: Rhs + ?Sized> Stepper<R> for Sdirk4 {
     fn name(&self) -> &'static str {
         "sdirk4"
     }
@@ -161,17 +174,18 @@ impl Stepper for Sdirk4 {
         self.slow = true;
     }
 
-    fn spectral_radius(&mut self, ode: &mut Ode, t: f64, y: &[f64], f: &[f64]) -> Option<f64> {
-        let lap = profile::start(&ode.ws.profile);
+    fn spectral_radius(&mut self, ode: &mut R, t: f64, y: &[f64], f: &[f64]) -> Option<f64> {
+        let lap = profile::start(ode.profile());
         self.jacobian(ode, t, y, f).ok()?;
         let radius = self.jac.complex_eigenvalues().iter().map(|z| z.norm()).fold(0.0, f64::max);
-        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
+        profile::stop(ode.profile(), lap, |p| &mut p.jacobians);
         radius.is_finite().then_some(radius)
     }
 
     fn attempt(
         &mut self,
-        ode: &mut Ode,
+        ode: &mut R,
+        tol: Tolerances,
         t: f64,
         y: &[f64],
         f0: &[f64],
@@ -181,14 +195,14 @@ impl Stepper for Sdirk4 {
     ) -> Result<Attempt, StepFailure> {
         let n = y.len();
         if !self.jac_valid || (self.slow && !self.jac_fresh) {
-            let lap = profile::start(&ode.ws.profile);
+            let lap = profile::start(ode.profile());
             self.jacobian(ode, t, y, f0).map_err(|Singular| StepFailure::Singular)?;
-            profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
+            profile::stop(ode.profile(), lap, |p| &mut p.jacobians);
             self.slow = false;
         }
-        let lap = profile::start(&ode.ws.profile);
+        let lap = profile::start(ode.profile());
         let factored = self.factor(h);
-        profile::stop(&mut ode.ws.profile, lap, |p| &mut p.jacobians);
+        profile::stop(ode.profile(), lap, |p| &mut p.jacobians);
         factored?;
         for s in 0..5 {
             for i in 0..n {
@@ -198,7 +212,7 @@ impl Stepper for Sdirk4 {
                 }
                 self.base[i] = y[i] + h * acc;
             }
-            if let Err(e) = self.solve_stage(ode, t, h, s, y) {
+            if let Err(e) = self.solve_stage(ode, tol, t, h, s, y) {
                 if e == StepFailure::Convergence {
                     self.slow = true;
                     self.full_jacobian |= self.jac_fresh && self.jac_from_forces;
@@ -210,7 +224,7 @@ impl Stepper for Sdirk4 {
         self.full_jacobian = false;
         // Stiffly accurate: the last stage is the solution.
         y_new.copy_from_slice(&self.stage);
-        ode.rhs(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
+        ode.eval(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
         let mut err = DVector::from_fn(n, |i, _| {
             let mut e = 0.0;
             for j in 0..5 {
@@ -221,7 +235,7 @@ impl Stepper for Sdirk4 {
         // Filter through (I - h gamma J)^-1 so stiff components do not inflate the
         // estimate (Shampine's device, as in RADAU5).
         self.lu.as_ref().expect("factored").solve_mut(&mut err);
-        Ok(Attempt { error: ode.error_norm(err.as_slice(), y, y_new), stiffness: None })
+        Ok(Attempt { error: tol.error_norm(err.as_slice(), y, y_new), stiffness: None })
     }
 }
 

@@ -1,8 +1,7 @@
 //! Dormand-Prince 5(4): explicit, 7 stages with first-same-as-last (Dormand and Prince
 //! 1980; coefficients as in Hairer, Norsett, Wanner, Solving ODEs I, Table II.5.2).
 
-use super::dynamics::Singular;
-use super::ode::Ode;
+use super::ode::{Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
 
 const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -34,7 +33,7 @@ impl Dopri5 {
     }
 }
 
-impl Stepper for Dopri5 {
+impl<R: Rhs + ?Sized> Stepper<R> for Dopri5 {
     fn name(&self) -> &'static str {
         "dopri5"
     }
@@ -45,7 +44,8 @@ impl Stepper for Dopri5 {
 
     fn attempt(
         &mut self,
-        ode: &mut Ode,
+        ode: &mut R,
+        tol: Tolerances,
         t: f64,
         y: &[f64],
         f0: &[f64],
@@ -66,7 +66,7 @@ impl Stepper for Dopri5 {
             for ((stage, y), acc) in self.stage.iter_mut().zip(y).zip(&self.acc) {
                 *stage = y + h * acc;
             }
-            ode.rhs(t + C[s] * h, &self.stage, &mut self.k[s]).map_err(|Singular| StepFailure::Singular)?;
+            ode.eval(t + C[s] * h, &self.stage, &mut self.k[s]).map_err(|Singular| StepFailure::Singular)?;
             if s == 5 {
                 // Keep stage 6 for the stiffness test; stage 7 is the new solution.
                 self.err.copy_from_slice(&self.stage);
@@ -91,7 +91,7 @@ impl Stepper for Dopri5 {
         for (err, acc) in self.err.iter_mut().zip(&self.acc) {
             *err = h * acc;
         }
-        Ok(Attempt { error: ode.error_norm(&self.err, y, y_new), stiffness })
+        Ok(Attempt { error: tol.error_norm(&self.err, y, y_new), stiffness })
     }
 }
 

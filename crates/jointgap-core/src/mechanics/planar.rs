@@ -4,8 +4,8 @@
 //! Every row is written `C(q, t) = 0`; its time derivatives give `Cq qd + Ct = 0` and
 //! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
 
-use crate::drivers::Motion;
 use crate::math::{perp, Vec2};
+use crate::mechanics::drivers::Motion;
 
 /// Position and velocity of one body (the ground: all zero), with the sine and cosine
 /// of its angle computed once: every joint row and force on the body rotates by them.

@@ -1,59 +1,11 @@
-//! Discrete state of clearance joints during a run: whether each journal touches its
-//! bearing, the onset speed of the current impact, the contact mode, and the impact
-//! list. Onsets and separations are events located by root finding on the penetration.
+//! Contact events of clearance joints during a run: onsets and separations located by
+//! root finding on the penetration inside each step, which change the joints'
+//! discrete state ([`ContactState`]), and the impact list they build.
 
-use super::ode::DenseStep;
-use crate::contact::ContactKinematics;
+use crate::integrators::ode::DenseStep;
+use crate::mechanics::contact::{ContactKinematics, ContactState, Mode};
 use crate::output::Impact;
 use crate::system::System;
-
-/// Contact mode reported in the `mode` channel.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Mode {
-    /// No contact (penetration < 0).
-    FreeFlight = 0,
-    /// From onset through the first compression and restitution.
-    Impact = 1,
-    /// Contact that lasts beyond the first restitution: the journal follows the wall.
-    Continuous = 2,
-}
-
-/// State of one clearance joint, kept in the workspace.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactState {
-    /// True between a located onset and the next separation.
-    pub in_contact: bool,
-    /// Approach speed of the current impact [m/s].
-    pub onset_speed: f64,
-    /// Mode for the output.
-    pub mode: Mode,
-    /// Seen the penetration rate turn negative since onset (restitution phase).
-    restituting: bool,
-}
-
-impl Default for ContactState {
-    fn default() -> Self {
-        ContactState { in_contact: false, onset_speed: 0.0, mode: Mode::FreeFlight, restituting: false }
-    }
-}
-
-/// Kinematics of clearance joint `k` at state `(q, v)`.
-pub fn kinematics(sys: &System, k: usize, q: &[f64], v: &[f64]) -> ContactKinematics {
-    let c = &sys.clearances[k];
-    c.kinematics(&sys.body_state(c.bearing, q, v), &sys.body_state(c.journal, q, v))
-}
-
-impl ContactState {
-    /// Approach speed for the hysteresis laws: the located onset's, or, outside a
-    /// located contact (a run that starts in contact), the current rate.
-    pub fn onset_for(&self, kin: &ContactKinematics) -> f64 {
-        if self.in_contact {
-            self.onset_speed
-        } else {
-            kin.penetration_rate
-        }
-    }
-}
 
 /// Interior points at which a step is searched for a contact change, so that a brief
 /// contact inside one step is not missed.
@@ -95,7 +47,7 @@ pub fn locate(
         // Each joint's kinematics once per probe: the search and the peaks both use them.
         let mut probed = std::mem::take(&mut log.probed);
         probed.clear();
-        probed.extend((0..states.len()).map(|k| kinematics(sys, k, q, v)));
+        probed.extend((0..states.len()).map(|k| sys.contact_kinematics(k, q, v)));
         let change = probed.iter().enumerate().position(|(k, kin)| differs(k, kin.penetration));
         if change.is_none() {
             for k in (0..states.len()).filter(|&k| states[k].in_contact) {
@@ -117,7 +69,7 @@ pub fn locate(
     while b - a > 1e-12 {
         let mid = 0.5 * (a + b);
         step.at(mid, scratch);
-        let d = kinematics(sys, k, &scratch[..n], &scratch[n..]).penetration;
+        let d = sys.contact_kinematics(k, &scratch[..n], &scratch[n..]).penetration;
         if differs(k, d) {
             b = mid;
         } else {
@@ -158,8 +110,8 @@ fn screen(
     models.clear();
     let mut quiet = true;
     for (k, state) in states.iter().enumerate() {
-        let a = kinematics(sys, k, &step.y0[..n], &step.y0[n..]);
-        let b = kinematics(sys, k, &step.y1[..n], &step.y1[n..]);
+        let a = sys.contact_kinematics(k, &step.y0[..n], &step.y0[n..]);
+        let b = sys.contact_kinematics(k, &step.y1[..n], &step.y1[n..]);
         let model = Cubic {
             d0: a.penetration,
             r0: step.h * a.penetration_rate,
@@ -186,7 +138,7 @@ fn screen(
             step.at(theta, scratch);
             let (q, v) = scratch.split_at(n);
             for (k, (_, checked)) in models.iter_mut().enumerate() {
-                checked[i] = kinematics(sys, k, q, v).penetration;
+                checked[i] = sys.contact_kinematics(k, q, v).penetration;
             }
         }
         quiet = models.iter().zip(states).all(|((model, checked), state)| {
@@ -309,19 +261,15 @@ impl ImpactLog {
         q: &[f64],
         v: &[f64],
     ) {
-        let rate = kinematics(sys, k, q, v).penetration_rate;
+        let rate = sys.contact_kinematics(k, q, v).penetration_rate;
         let s = &mut states[k];
         if s.in_contact {
-            s.in_contact = false;
-            s.mode = Mode::FreeFlight;
+            s.separate();
             if let Some(last) = self.impacts[k].last_mut() {
                 last.duration = Some(t - last.onset_time);
             }
         } else {
-            s.in_contact = true;
-            s.onset_speed = rate;
-            s.mode = Mode::Impact;
-            s.restituting = false;
+            s.touch(rate);
             self.impacts[k].push(Impact {
                 onset_time: t,
                 onset_speed: rate,
@@ -350,14 +298,8 @@ impl ImpactLog {
             if !s.in_contact {
                 continue;
             }
-            let kin = kinematics(sys, k, q, v);
-            if s.mode == Mode::Impact {
-                if kin.penetration_rate < 0.0 {
-                    s.restituting = true;
-                } else if s.restituting {
-                    s.mode = Mode::Continuous;
-                }
-            }
+            let kin = sys.contact_kinematics(k, q, v);
+            s.follow(kin.penetration_rate);
             self.raise_peak(sys, k, s, &kin);
         }
     }

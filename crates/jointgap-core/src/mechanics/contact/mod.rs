@@ -5,13 +5,15 @@
 pub mod friction;
 pub mod materials;
 pub mod normal;
+mod state;
+
+pub use state::{ContactState, Mode};
 
 use crate::math::{cross, perp, Vec2};
+use crate::mechanics::planar::BodyState;
+use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
-use crate::planar::BodyState;
-use crate::solve::contacts::ContactState;
-use crate::system::Resolver;
 use crate::Error;
 use normal::NormalForce;
 
@@ -251,7 +253,7 @@ impl ClearanceRevolute {
     /// damping (and by clipping, which drops the elastic force a pulling force would
     /// return), `-F_T v_t >= 0` by friction.
     pub fn losses(&self, k: &ContactKinematics, state: &ContactState) -> (f64, f64) {
-        let (f_n, f_t) = self.contact_force(k, state.onset_for(k));
+        let (f_n, f_t) = self.contact_force(k, state.onset_for(k.penetration_rate));
         ((f_n - self.normal.elastic_force(k.penetration)) * k.penetration_rate, -f_t * k.slip)
     }
 
@@ -264,7 +266,7 @@ impl ClearanceRevolute {
     /// the opposite on the bearing at its own.
     pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, state: &ContactState, qe: &mut [f64]) {
         let k = self.kinematics(bearing, journal);
-        let (f_n, f_t) = self.contact_force(&k, state.onset_for(&k));
+        let (f_n, f_t) = self.contact_force(&k, state.onset_for(k.penetration_rate));
         if f_n != 0.0 || f_t != 0.0 {
             let f = Self::journal_force(&k, f_n, f_t);
             add_force_at(qe, self.journal, journal, k.point_journal, f);

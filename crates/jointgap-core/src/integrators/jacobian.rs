@@ -3,8 +3,7 @@
 
 use nalgebra::DMatrix;
 
-use super::dynamics::Singular;
-use super::ode::Rhs;
+use super::ode::{Rhs, Singular};
 
 /// Fills `jac` ((n - first) x n, n = `y.len()`) with rows `first..n` of
 /// `(f(t, y + d_j e_j) - f0) / d_j`, one force evaluation per column, increment

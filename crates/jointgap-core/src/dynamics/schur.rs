@@ -19,7 +19,6 @@
 
 use std::sync::Arc;
 
-use super::dynamics::Singular;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
@@ -28,6 +27,12 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Par};
+
+/// The augmented system is singular: the mechanism locks up or passes a singular
+/// configuration (e.g. a four-bar at a change point). Kept with the Schur complement,
+/// whose factorisation is where the equations of motion find it.
+#[derive(Debug, Clone, Copy)]
+pub struct Singular;
 
 /// Rows up to which the envelope factor is used whatever its size.
 pub const DENSE_LIMIT: usize = 48;
@@ -605,7 +610,7 @@ impl Schur {
     /// Whether the last [`Schur::solve`] found `S` ill-conditioned (its plain factor's
     /// squared pivots spread over more than 1/[`WELL_CONDITIONED`]): the mechanism is
     /// near a singular position, where the projection takes its residual down further
-    /// ([`super::dynamics::project`]).
+    /// ([`super::project`]).
     pub fn ill_conditioned(&self) -> bool {
         self.ill_conditioned
     }

@@ -8,8 +8,7 @@
 //! Newton-Euler equations. The Schur complement keeps only the remaining rows: on the
 //! founding slider-crank 4 of 7.
 
-use super::dynamics::Singular;
-use super::schur::RowJacobian;
+use super::schur::{RowJacobian, Singular};
 use crate::system::System;
 
 /// A body fixed by its own three rows.

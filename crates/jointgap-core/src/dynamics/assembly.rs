@@ -4,9 +4,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::dynamics::{constraints, Workspace};
-use crate::drivers::Motion;
-use crate::planar::RowEval;
+use super::{constraints, Workspace};
+use crate::mechanics::drivers::Motion;
+use crate::mechanics::planar::RowEval;
 use crate::system::{InitialCondition, Owner, System};
 use crate::Error;
 

@@ -1,14 +1,17 @@
-//! The equations of motion as a first-order ODE `y' = f(t, y)` with `y = (q, v)` and
-//! `f = (v, qdd)`, plus the tolerance-weighted error norm the integrators share.
+//! A first-order ODE `y' = f(t, y)` with `y = (q, v)` and `f = (v, a)` as the methods
+//! see it, the tolerance-weighted error norm they share, and the dense output of a step.
 
 use nalgebra::DMatrix;
 
-use super::dynamics::{accelerations_for_integration, force_jacobian, Singular, Workspace};
-use super::profile::Profile;
-use crate::system::System;
+use crate::profile::Profile;
 
-/// A first-order system `y' = f(t, y)` as the implicit methods see it: the equations of
-/// motion ([`Ode`]), or a model problem in their tests.
+/// `f(t, y)` has no value at a state: the system behind it is singular there (for the
+/// equations of motion, the mechanism locks up). No step can pass such a state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Singular;
+
+/// A first-order system `y' = f(t, y)` as the methods see it: the equations of motion
+/// (the simulation loop's `Ode`), or a model problem in their tests.
 pub trait Rhs {
     /// Writes `f(t, y)` into `dy`.
     fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular>;
@@ -26,57 +29,17 @@ pub trait Rhs {
     }
 }
 
-impl Rhs for Ode<'_> {
-    fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
-        self.rhs(t, y, dy)
-    }
-
-    fn profile(&mut self) -> &mut Option<Profile> {
-        &mut self.ws.profile
-    }
-
-    fn force_jacobian(&mut self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) -> Option<Result<(), Singular>> {
-        let (q, v) = y.split_at(self.sys.n_coords());
-        Some(force_jacobian(self.sys, t, q, v, &mut self.ws, jac))
-    }
-}
-
-/// One run's ODE: system, scratch and counters.
-pub struct Ode<'a> {
-    /// The mechanism.
-    pub sys: &'a System,
-    /// Scratch of the augmented solve.
-    pub ws: Workspace,
-    /// Number of `f` evaluations.
-    pub evaluations: usize,
+/// Tolerances of a run: a method accepts a step whose local error, weighted by them,
+/// is at most 1.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
     /// Relative tolerance.
     pub rtol: f64,
     /// Absolute tolerance.
     pub atol: f64,
 }
 
-impl<'a> Ode<'a> {
-    /// The ODE of `sys` with the active rows `active`, at tolerances `rtol`, `atol`.
-    pub fn new(sys: &'a System, active: Vec<usize>, rtol: f64, atol: f64) -> Self {
-        Ode { sys, ws: Workspace::new(sys, active), evaluations: 0, rtol, atol }
-    }
-
-    /// State length `2 n_coords`.
-    pub fn state_len(&self) -> usize {
-        2 * self.sys.n_coords()
-    }
-
-    /// Writes `f(t, y)` into `dy`.
-    pub fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
-        self.evaluations += 1;
-        let n = self.sys.n_coords();
-        let (q, v) = y.split_at(n);
-        accelerations_for_integration(self.sys, t, q, v, &mut self.ws)?;
-        dy[..n].copy_from_slice(v);
-        dy[n..].copy_from_slice(&self.ws.qdd);
-        Ok(())
-    }
-
+impl Tolerances {
     /// RMS of `err_i / (atol + rtol max(|y0_i|, |y1_i|))` (Hairer, Norsett, Wanner I, II.4).
     pub fn error_norm(&self, err: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
         let mut sum = 0.0;

@@ -1,0 +1,10 @@
+//! The mechanism's element kinds, each built from its model entry (points resolved by
+//! `resolve::Resolver`) and evaluated as a pure function of the bodies' states: the
+//! vocabulary the compiled system is written in. Nothing here knows how elements are
+//! indexed in a mechanism or how its equations are solved.
+
+pub mod contact;
+pub mod drivers;
+pub mod forces;
+pub mod planar;
+pub(crate) mod resolve;

@@ -1,0 +1,61 @@
+//! The equations of motion as the first-order ODE the integrators step: `y = (q, v)`,
+//! `f = (v, qdd)` with `qdd` from the augmented solve of [`crate::dynamics`]. This is
+//! where the mechanics meets the generic methods, through their [`Rhs`] trait: the
+//! methods never see a body or a constraint, and the dynamics never sees a method.
+
+use nalgebra::DMatrix;
+
+use crate::dynamics::{self, accelerations_for_integration, force_jacobian, Workspace};
+use crate::integrators::ode::{Rhs, Singular, Tolerances};
+use crate::profile::Profile;
+use crate::system::System;
+
+/// One run's ODE: system, scratch and counters.
+pub struct Ode<'a> {
+    /// The mechanism.
+    pub sys: &'a System,
+    /// Scratch of the augmented solve.
+    pub ws: Workspace,
+    /// Number of `f` evaluations.
+    pub evaluations: usize,
+    /// The run's tolerances, which the methods' error estimates are weighed against.
+    pub tolerances: Tolerances,
+}
+
+impl<'a> Ode<'a> {
+    /// The ODE of `sys` with the active rows `active`, at tolerances `rtol`, `atol`.
+    pub fn new(sys: &'a System, active: Vec<usize>, rtol: f64, atol: f64) -> Self {
+        Ode { sys, ws: Workspace::new(sys, active), evaluations: 0, tolerances: Tolerances { rtol, atol } }
+    }
+
+    /// State length `2 n_coords`.
+    pub fn state_len(&self) -> usize {
+        2 * self.sys.n_coords()
+    }
+
+    /// Writes `f(t, y)` into `dy`.
+    pub fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), dynamics::Singular> {
+        self.evaluations += 1;
+        let n = self.sys.n_coords();
+        let (q, v) = y.split_at(n);
+        accelerations_for_integration(self.sys, t, q, v, &mut self.ws)?;
+        dy[..n].copy_from_slice(v);
+        dy[n..].copy_from_slice(&self.ws.qdd);
+        Ok(())
+    }
+}
+
+impl Rhs for Ode<'_> {
+    fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
+        self.rhs(t, y, dy).map_err(|dynamics::Singular| Singular)
+    }
+
+    fn profile(&mut self) -> &mut Option<Profile> {
+        &mut self.ws.profile
+    }
+
+    fn force_jacobian(&mut self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) -> Option<Result<(), Singular>> {
+        let (q, v) = y.split_at(self.sys.n_coords());
+        Some(force_jacobian(self.sys, t, q, v, &mut self.ws, jac).map_err(|dynamics::Singular| Singular))
+    }
+}

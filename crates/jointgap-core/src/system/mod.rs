@@ -1,0 +1,656 @@
+//! Model -> System: checks every element (errors name it), resolves points, and lays
+//! out coordinates (3 per moving body: x, y, phi) and scalar constraint rows.
+
+pub(crate) mod magnitudes;
+pub mod resolved;
+
+use std::collections::HashMap;
+
+use crate::math::Vec2;
+use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
+use crate::mechanics::drivers::MotionProfile;
+use crate::mechanics::forces::ForceElement;
+use crate::mechanics::planar::{BodyState, RowKind};
+use crate::mechanics::resolve::Resolver;
+use crate::model::{JointKind, Model, GROUND};
+use crate::Error;
+
+/// A moving body's inertia; its coordinates sit at `3 * index`.
+#[derive(Debug, Clone)]
+pub struct BodyInfo {
+    /// Name.
+    pub name: String,
+    /// Mass [kg].
+    pub mass: f64,
+    /// Centroidal moment of inertia [kg m^2]. For a point mass (inertia 0 in the model)
+    /// whose joints hold its rotation fixed, a stand-in (see [`point_mass_inertia`]): its
+    /// angular acceleration is then zero, so the motion and the reactions do not depend
+    /// on it, and the mass matrix stays invertible.
+    pub inertia: f64,
+}
+
+/// A joint coordinate given at t = 0 (a joint's `initial` and `initial_rate`): a row that
+/// assembly alone solves, with the joints and drivers, and that the run then drops.
+#[derive(Debug, Clone)]
+pub struct InitialCondition {
+    /// Body i of the joint (`None`: ground).
+    pub body_i: Option<usize>,
+    /// Body j of the joint.
+    pub body_j: Option<usize>,
+    /// The joint coordinate as a row: `Angle` (revolute) or `Along` the axis (prismatic),
+    /// its offset the given coordinate.
+    pub kind: RowKind,
+    /// True when the coordinate is given (else only its rate).
+    pub placed: bool,
+    /// The given rate [rad/s or m/s].
+    pub rate: Option<f64>,
+    /// For messages, e.g. `joint 'ground_crank' (initial angle)`.
+    pub label: String,
+}
+
+/// Which element a constraint row belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Owner {
+    /// Joint index.
+    Joint(usize),
+    /// Driver index.
+    Driver(usize),
+}
+
+/// One scalar constraint equation.
+#[derive(Debug, Clone)]
+pub struct Row {
+    /// Body i (`None`: ground).
+    pub body_i: Option<usize>,
+    /// Body j (`None`: ground).
+    pub body_j: Option<usize>,
+    /// The equation.
+    pub kind: RowKind,
+    /// Owning joint or driver.
+    pub owner: Owner,
+    /// Driver whose motion enters this row.
+    pub driver: Option<usize>,
+    /// False when assembly found the row redundant (dependent on earlier rows).
+    pub active: bool,
+    /// For messages, e.g. `joint 'crank_rod' (x)`.
+    pub label: String,
+}
+
+/// A checked marker: a point whose motion the run reports (`measures::marker_motion`).
+#[derive(Debug, Clone)]
+pub struct MarkerInfo {
+    /// Name.
+    pub name: String,
+    /// Body carrying the point (`None`: ground).
+    pub body: Option<usize>,
+    /// The point in the body's frame [m].
+    pub s: Vec2,
+    /// Body whose frame the motion is measured in (`None`: ground).
+    pub frame: Option<usize>,
+}
+
+impl MarkerInfo {
+    /// Checks a marker; errors name it.
+    fn new(m: &crate::model::Marker, res: &Resolver) -> Result<Self, Error> {
+        let who = format!("marker '{}'", m.name);
+        let body = res.body(&who, "body", &m.body)?;
+        let frame = match &m.frame {
+            Some(name) => res.body(&who, "frame", name)?,
+            None => None,
+        };
+        Ok(MarkerInfo { name: m.name.clone(), body, s: res.point(&who, "point", body, &m.point)?, frame })
+    }
+}
+
+/// A joint after checking.
+#[derive(Debug, Clone)]
+pub struct JointInfo {
+    /// Name.
+    pub name: String,
+    /// Kind.
+    pub kind: JointKind,
+    /// Body j, on which reactions are reported (`None`: ground).
+    pub body_j: Option<usize>,
+    /// Body i.
+    pub body_i: Option<usize>,
+    /// Joint point on body j, body frame [m].
+    pub s_j: Vec2,
+    /// Joint point on body i, body frame [m].
+    pub s_i: Vec2,
+    /// Sliding direction of a prismatic joint, unit vector in the frame of body i.
+    pub axis: Option<Vec2>,
+    /// Its rows in `System::rows` (none for a clearance joint).
+    pub rows: std::ops::Range<usize>,
+    /// Index in `System::clearances` of a clearance joint.
+    pub clearance: Option<usize>,
+}
+
+/// A driver after checking.
+#[derive(Debug, Clone)]
+pub struct DriverInfo {
+    /// Name.
+    pub name: String,
+    /// Driven joint index.
+    pub joint: usize,
+    /// True for a rotation (revolute), false for a translation (prismatic).
+    pub rotation: bool,
+    /// Motion profile.
+    pub profile: MotionProfile,
+    /// Its row in `System::rows`.
+    pub row: usize,
+}
+
+/// The compiled, immutable mechanism: everything the solver needs, nothing it changes.
+#[derive(Debug, Clone)]
+pub struct System {
+    /// Moving bodies; body k owns coordinates `3k..3k+3`.
+    pub bodies: Vec<BodyInfo>,
+    /// Joints in model order.
+    pub joints: Vec<JointInfo>,
+    /// Drivers in model order.
+    pub drivers: Vec<DriverInfo>,
+    /// Constraint rows: joints in model order, then drivers.
+    pub rows: Vec<Row>,
+    /// Force elements in model order.
+    pub forces: Vec<ForceElement>,
+    /// Clearance joints, in model order.
+    pub clearances: Vec<ClearanceRevolute>,
+    /// Markers, in model order.
+    pub markers: Vec<MarkerInfo>,
+    /// Gravity [m/s^2].
+    pub gravity: Vec2,
+    /// Approximate initial coordinates (user placement).
+    pub q_guess: Vec<f64>,
+    /// Approximate initial velocities.
+    pub v_guess: Vec<f64>,
+    /// Times where a prescribed input has a corner; steps stop there.
+    pub corners: Vec<f64>,
+    /// Joint coordinates and rates given at t = 0, for assembly.
+    pub initial_conditions: Vec<InitialCondition>,
+    /// Notes for the user, filled by `simulate::prepare`: implausible magnitudes
+    /// (`magnitudes`), redundant constraints removed by assembly, ...
+    pub warnings: Vec<String>,
+}
+
+/// Global position, angle and velocity of a body at its user placement.
+fn placement(model: &Model, body: Option<usize>) -> BodyState {
+    match body {
+        None => BodyState::default(),
+        Some(k) => {
+            let b = &model.bodies[k];
+            BodyState::new(
+                Vec2::new(b.position[0], b.position[1]),
+                b.angle,
+                Vec2::new(b.velocity[0], b.velocity[1]),
+                b.omega,
+            )
+        }
+    }
+}
+
+fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<(), Error> {
+    match values.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(Error::Model(format!("{who}: {what} = {v} is not finite"))),
+        None => Ok(()),
+    }
+}
+
+/// The row of joint `k`'s coordinate (relative angle of a revolute joint, travel of a
+/// prismatic one along its axis) with its value at t = 0: `initial`, else the value at the
+/// placement; and whether it is a rotation. `None` for fixed and clearance joints.
+fn coordinate_row(
+    model: &Model,
+    joints: &[JointInfo],
+    k: usize,
+    initial: Option<f64>,
+) -> Option<(RowKind, bool)> {
+    let joint = &joints[k];
+    let (pi, pj) = (placement(model, joint.body_i), placement(model, joint.body_j));
+    match joint.kind {
+        JointKind::Revolute => {
+            Some((RowKind::Angle { offset: initial.unwrap_or(pj.phi() - pi.phi()) }, true))
+        }
+        JointKind::Prismatic => {
+            let axis = model.joints[k].axis.expect("checked with the joint");
+            let u = Vec2::new(axis[0], axis[1]).normalize();
+            let here = pj.r + pj.rotate(joint.s_j) - pi.r - pi.rotate(joint.s_i);
+            let placed = pi.rotate(u).dot(&here);
+            Some((
+                RowKind::Along { s_i: joint.s_i, w: u, s_j: joint.s_j, offset: initial.unwrap_or(placed) },
+                false,
+            ))
+        }
+        JointKind::Fixed | JointKind::ClearanceRevolute => None,
+    }
+}
+
+/// Gives each point mass (a body of zero inertia) a stand-in inertia where its joints
+/// fix its rotation, or an error naming the free rotation.
+///
+/// A body's rotation is fixed when the angle rows of prismatic and fixed joints tie it to
+/// the ground, directly or through bodies so tied. Its angular acceleration is then zero
+/// at all times, so its inertia multiplies zero in every equation: any value gives the
+/// same motion and reactions, and a positive one keeps `M` invertible for the Schur
+/// complement. The stand-in is the body's mass times the square of the largest distance
+/// of a joint point from its centre of mass in the model (1 m when all sit at centres of
+/// mass), which keeps the Schur complement's rows of one scale. A rotation held by a
+/// driver is not fixed in this sense: the motor's torque would carry the stand-in.
+fn point_mass_inertia(
+    model: &Model,
+    rows: &[Row],
+    joints: &[JointInfo],
+    bodies: &mut [BodyInfo],
+) -> Result<(), Error> {
+    if bodies.iter().all(|b| b.inertia > 0.0) {
+        return Ok(());
+    }
+    let mut fixed = vec![false; bodies.len()];
+    let held = |b: Option<usize>, fixed: &[bool]| b.is_none_or(|k| fixed[k]);
+    loop {
+        let mut grew = false;
+        for row in rows.iter().filter(|r| matches!(r.kind, RowKind::Angle { .. }) && r.driver.is_none()) {
+            for (a, b) in [(row.body_i, row.body_j), (row.body_j, row.body_i)] {
+                if let Some(k) = b {
+                    if !fixed[k] && held(a, &fixed) {
+                        fixed[k] = true;
+                        grew = true;
+                    }
+                }
+            }
+        }
+        if !grew {
+            break;
+        }
+    }
+    let reach = joints
+        .iter()
+        .flat_map(|j| [j.s_i.norm(), j.s_j.norm()])
+        .chain(model.bodies.iter().flat_map(|b| b.points.values().map(|p| p[0].hypot(p[1]))))
+        .fold(0.0, f64::max);
+    let length = if reach > 0.0 { reach } else { 1.0 };
+    for (k, b) in bodies.iter_mut().enumerate() {
+        if b.inertia > 0.0 {
+            continue;
+        }
+        if !fixed[k] {
+            let mine: Vec<String> = joints
+                .iter()
+                .filter(|j| j.body_i == Some(k) || j.body_j == Some(k))
+                .map(|j| {
+                    let kind = match j.kind {
+                        JointKind::Revolute => "revolute",
+                        JointKind::Prismatic => "prismatic",
+                        JointKind::Fixed => "fixed",
+                        JointKind::ClearanceRevolute => "clearance_revolute",
+                    };
+                    format!("'{}' {kind}", j.name)
+                })
+                .collect();
+            return Err(Error::Model(format!(
+                "body '{}': inertia = 0 (a point mass) needs its rotation fixed by its joints, but its \
+                 rotation is free: no prismatic or fixed joint ties it to the ground or to a body that \
+                 cannot turn (its joints: {}); give its moment of inertia",
+                b.name,
+                if mine.is_empty() { "none".to_string() } else { mine.join(", ") }
+            )));
+        }
+        b.inertia = b.mass * length * length;
+    }
+    Ok(())
+}
+
+/// The names of the model's elements seen so far: every body, joint, driver, force and
+/// marker needs a name of its own, since outputs and messages address elements by name.
+#[derive(Default)]
+struct Names<'m> {
+    /// Name -> kind of the element that took it.
+    seen: HashMap<&'m str, &'static str>,
+}
+
+impl<'m> Names<'m> {
+    /// Takes `name` for an element of `kind`, or an error naming it when it is empty,
+    /// reserved, or taken.
+    fn claim(&mut self, kind: &'static str, name: &'m str) -> Result<(), Error> {
+        if name.is_empty() {
+            return Err(Error::Model(format!("a {kind} has an empty name")));
+        }
+        if name == GROUND || name == "system" {
+            return Err(Error::Model(format!("{kind} '{name}': the name '{name}' is reserved")));
+        }
+        if let Some(other) = self.seen.insert(name, kind) {
+            return Err(Error::Model(format!("{kind} '{name}': the name is already used by a {other}")));
+        }
+        Ok(())
+    }
+}
+
+/// Checks each body's mass, inertia and placement; returns the bodies and their index
+/// by name.
+fn check_bodies<'m>(
+    model: &'m Model,
+    names: &mut Names<'m>,
+) -> Result<(Vec<BodyInfo>, HashMap<&'m str, usize>), Error> {
+    let mut bodies = Vec::new();
+    let mut index = HashMap::new();
+    for (k, b) in model.bodies.iter().enumerate() {
+        names.claim("body", &b.name)?;
+        let who = format!("body '{}'", b.name);
+        if !(b.mass.is_finite() && b.mass > 0.0) {
+            return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
+        }
+        if !(b.inertia.is_finite() && b.inertia >= 0.0) {
+            return Err(Error::Model(format!("{who}: inertia = {} kg m^2 must not be negative", b.inertia)));
+        }
+        check_finite(&who, "position", &b.position)?;
+        check_finite(&who, "angle", &[b.angle])?;
+        check_finite(&who, "velocity", &b.velocity)?;
+        check_finite(&who, "omega", &[b.omega])?;
+        index.insert(b.name.as_str(), k);
+        bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
+    }
+    Ok((bodies, index))
+}
+
+/// The joints compiled: each ideal joint's constraint rows (appended to `rows`), each
+/// clearance joint's contact element, and every joint's points and axis.
+fn compile_joints<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+    rows: &mut Vec<Row>,
+) -> Result<(Vec<JointInfo>, Vec<ClearanceRevolute>), Error> {
+    let mut joints = Vec::new();
+    let mut clearances = Vec::new();
+    for (k, j) in model.joints.iter().enumerate() {
+        names.claim("joint", &j.name)?;
+        let who = format!("joint '{}'", j.name);
+        let bi = res.body(&who, "body_i", &j.body_i)?;
+        let bj = res.body(&who, "body_j", &j.body_j)?;
+        if bi == bj {
+            return Err(Error::Model(format!("{who}: connects body '{}' to itself", j.body_i)));
+        }
+        let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
+        let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
+        let (pi, pj) = (placement(model, bi), placement(model, bj));
+        let rel_angle = pj.phi() - pi.phi();
+        let first = rows.len();
+        let mut push = |kind: RowKind, tag: &str| {
+            rows.push(Row {
+                body_i: bi,
+                body_j: bj,
+                kind,
+                owner: Owner::Joint(k),
+                driver: None,
+                active: true,
+                label: format!("{who} ({tag})"),
+            })
+        };
+        let mut clearance = None;
+        let mut sliding = None;
+        if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
+            return Err(Error::Model(format!(
+                "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
+            )));
+        }
+        match (j.kind, j.axis) {
+            (JointKind::ClearanceRevolute, None) => {
+                let data = j.clearance.as_ref().expect("checked above");
+                clearances.push(ClearanceRevolute::new(j, data, bi, bj, res)?);
+                clearance = Some(clearances.len() - 1);
+            }
+            (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
+                return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
+            }
+            (JointKind::Prismatic, None) => {
+                return Err(Error::Model(format!("{who}: a prismatic joint needs an 'axis'")));
+            }
+            (JointKind::Revolute, None) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+            }
+            (JointKind::Fixed, None) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+                push(RowKind::Angle { offset: rel_angle }, "angle");
+            }
+            (JointKind::Prismatic, Some(axis)) => {
+                let u = Vec2::new(axis[0], axis[1]);
+                if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
+                    return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
+                }
+                let u = u.normalize();
+                sliding = Some(u);
+                push(RowKind::Angle { offset: rel_angle }, "angle");
+                push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
+            }
+        }
+        joints.push(JointInfo {
+            name: j.name.clone(),
+            kind: j.kind,
+            body_i: bi,
+            body_j: bj,
+            s_i,
+            s_j,
+            axis: sliding,
+            rows: first..rows.len(),
+            clearance,
+        });
+    }
+    Ok((joints, clearances))
+}
+
+/// The drivers compiled: each one's motion row on its joint's coordinate (appended to
+/// `rows`) and profile, whose corners go to `corners`.
+fn compile_drivers<'m>(
+    model: &'m Model,
+    names: &mut Names<'m>,
+    joints: &[JointInfo],
+    rows: &mut Vec<Row>,
+    corners: &mut Vec<f64>,
+) -> Result<Vec<DriverInfo>, Error> {
+    let mut drivers = Vec::new();
+    for (k, d) in model.drivers.iter().enumerate() {
+        names.claim("driver", &d.name)?;
+        let who = format!("driver '{}'", d.name);
+        let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
+            let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+            Error::Model(format!(
+                "{who}: joint '{}' is not a joint of the model (joints: {})",
+                d.joint,
+                names.join(", ")
+            ))
+        })?;
+        if let Some(other) = drivers.iter().find(|o: &&DriverInfo| o.joint == jk) {
+            return Err(Error::Model(format!(
+                "{who}: joint '{}' is already driven by driver '{}'",
+                d.joint, other.name
+            )));
+        }
+        let joint = &joints[jk];
+        let profile = MotionProfile::new(&d.profile, &d.name)?;
+        if let Some(v) = d.initial {
+            check_finite(&who, "initial", &[v])?;
+        }
+        if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
+            return Err(Error::Model(format!(
+                "joint '{}': initial and initial_rate cannot be given for a driven joint \
+                 (driver '{}' sets its motion): give its coordinate at t = 0 as the \
+                 driver's initial",
+                d.joint, d.name
+            )));
+        }
+        let Some((kind, rotation)) = coordinate_row(model, joints, jk, d.initial) else {
+            return Err(Error::Model(format!(
+                "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                d.joint,
+                if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+            )));
+        };
+        corners.extend(profile.corners());
+        rows.push(Row {
+            body_i: joint.body_i,
+            body_j: joint.body_j,
+            kind,
+            owner: Owner::Driver(k),
+            driver: Some(k),
+            active: true,
+            label: format!("{who} (motion)"),
+        });
+        drivers.push(DriverInfo { name: d.name.clone(), joint: jk, rotation, profile, row: rows.len() - 1 });
+    }
+    Ok(drivers)
+}
+
+/// The joint coordinates and rates given at t = 0 (`initial`, `initial_rate`), as rows
+/// for assembly.
+fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<InitialCondition>, Error> {
+    let mut initial_conditions = Vec::new();
+    for (k, j) in model.joints.iter().enumerate() {
+        if j.initial.is_none() && j.initial_rate.is_none() {
+            continue;
+        }
+        let who = format!("joint '{}'", j.name);
+        check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
+        check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
+        let Some((kind, rotation)) = coordinate_row(model, joints, k, j.initial) else {
+            return Err(Error::Model(format!(
+                "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
+            )));
+        };
+        let what = match (j.initial.is_some(), rotation) {
+            (true, true) => "initial angle",
+            (true, false) => "initial travel",
+            (false, _) => "initial rate",
+        };
+        initial_conditions.push(InitialCondition {
+            body_i: joints[k].body_i,
+            body_j: joints[k].body_j,
+            kind,
+            placed: j.initial.is_some(),
+            rate: j.initial_rate,
+            label: format!("{who} ({what})"),
+        });
+    }
+    Ok(initial_conditions)
+}
+
+/// The force elements compiled, their profiles' corners added to `corners`.
+fn compile_forces<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+    corners: &mut Vec<f64>,
+) -> Result<Vec<ForceElement>, Error> {
+    let mut forces = Vec::new();
+    for f in &model.forces {
+        names.claim("force", f.name())?;
+        let element = ForceElement::new(f, res)?;
+        corners.extend(element.corners());
+        forces.push(element);
+    }
+    Ok(forces)
+}
+
+/// The markers checked.
+fn compile_markers<'m>(
+    model: &'m Model,
+    res: &Resolver,
+    names: &mut Names<'m>,
+) -> Result<Vec<MarkerInfo>, Error> {
+    let mut markers = Vec::new();
+    for m in &model.markers {
+        names.claim("marker", &m.name)?;
+        markers.push(MarkerInfo::new(m, res)?);
+    }
+    Ok(markers)
+}
+
+/// The times inside the run where an input has a corner, in order, each once: the
+/// steps stop there.
+fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
+    corners.retain(|t| *t > 0.0);
+    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    corners.dedup();
+    corners
+}
+
+/// The bodies' coordinates and velocities at their user placement: the starting guess
+/// of assembly.
+fn placement_guess(model: &Model) -> (Vec<f64>, Vec<f64>) {
+    let mut q_guess = Vec::with_capacity(3 * model.bodies.len());
+    let mut v_guess = Vec::with_capacity(3 * model.bodies.len());
+    for b in &model.bodies {
+        q_guess.extend([b.position[0], b.position[1], b.angle]);
+        v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
+    }
+    (q_guess, v_guess)
+}
+
+impl System {
+    /// Checks and compiles a model: bodies, joints, drivers, the joint coordinates
+    /// given at t = 0, force elements and markers, in this order (so that an error
+    /// names the first offending element in the model's order), then the point
+    /// masses' stand-in inertia.
+    pub fn new(model: &Model) -> Result<System, Error> {
+        if model.bodies.is_empty() {
+            return Err(Error::Model(
+                "the model has no bodies: a mechanism needs at least one [[body]] (is the file empty?)"
+                    .into(),
+            ));
+        }
+        check_finite("model", "gravity", &model.gravity)?;
+        let mut names = Names::default();
+        let (mut bodies, index) = check_bodies(model, &mut names)?;
+        let res = Resolver::new(model, index);
+        let mut rows = Vec::new();
+        let (joints, clearances) = compile_joints(model, &res, &mut names, &mut rows)?;
+        let mut corners = Vec::new();
+        let drivers = compile_drivers(model, &mut names, &joints, &mut rows, &mut corners)?;
+        let initial_conditions = initial_conditions(model, &joints)?;
+        let forces = compile_forces(model, &res, &mut names, &mut corners)?;
+        let markers = compile_markers(model, &res, &mut names)?;
+        let corners = step_corners(corners);
+        let (q_guess, v_guess) = placement_guess(model);
+        point_mass_inertia(model, &rows, &joints, &mut bodies)?;
+        Ok(System {
+            bodies,
+            joints,
+            drivers,
+            rows,
+            forces,
+            clearances,
+            markers,
+            gravity: Vec2::new(model.gravity[0], model.gravity[1]),
+            q_guess,
+            v_guess,
+            corners,
+            initial_conditions,
+            warnings: Vec::new(),
+        })
+    }
+
+    /// Number of coordinates (3 per moving body).
+    pub fn n_coords(&self) -> usize {
+        3 * self.bodies.len()
+    }
+
+    /// Kinematics of clearance joint `k` at state `(q, v)`.
+    pub fn contact_kinematics(&self, k: usize, q: &[f64], v: &[f64]) -> ContactKinematics {
+        let c = &self.clearances[k];
+        c.kinematics(&self.body_state(c.bearing, q, v), &self.body_state(c.journal, q, v))
+    }
+
+    /// State of body `b` (ground: zero) from coordinate and velocity vectors.
+    #[inline]
+    pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
+        match b {
+            None => BodyState::default(),
+            Some(k) => BodyState::new(
+                Vec2::new(q[3 * k], q[3 * k + 1]),
+                q[3 * k + 2],
+                Vec2::new(v[3 * k], v[3 * k + 1]),
+                v[3 * k + 2],
+            ),
+        }
+    }
+}
