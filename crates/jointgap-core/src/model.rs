@@ -495,7 +495,7 @@ impl Force {
 
 impl Model {
     /// Parses a model from JSON (SI units), rejecting unknown keys.
-    pub fn from_json(text: &str) -> Result<Model, crate::Error> {
-        serde_json::from_str(text).map_err(|e| crate::Error::Model(format!("model JSON: {e}")))
+    pub fn from_json(text: &str) -> Result<Model, crate::error::Error> {
+        serde_json::from_str(text).map_err(|e| crate::error::Error::Model(format!("model JSON: {e}")))
     }
 }

@@ -33,11 +33,11 @@ fn to_py_err(e: jointgap_core::Error) -> PyErr {
     .map_or_else(|failed| failed, |()| error)
 }
 
-/// The engine's defaults ([`jointgap_core::defaults::defaults`]) as JSON: `gravity`,
+/// The engine's defaults ([`jointgap_core::simulate::all_defaults::defaults`]) as JSON: `gravity`,
 /// `normal_law` (`exponent`, `clip`) and `options` (every run option but `t_end`).
 #[pyfunction]
 fn defaults() -> PyResult<String> {
-    serde_json::to_string(&jointgap_core::defaults::defaults())
+    serde_json::to_string(&jointgap_core::simulate::all_defaults::defaults())
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 

@@ -5,10 +5,10 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{constraints, Workspace};
+use crate::error::Error;
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::planar::RowEval;
 use crate::system::{InitialCondition, Owner, System};
-use crate::Error;
 
 /// Residual that counts as assembled [m or rad].
 const ASSEMBLY_TOL: f64 = 1e-12;

@@ -115,18 +115,18 @@ impl CubicSpline {
 
 impl MotionProfile {
     /// Checks a profile, naming the driver in errors.
-    pub fn new(profile: &Profile, driver: &str) -> Result<Self, crate::Error> {
-        let err = |msg: String| Err(crate::Error::Model(format!("driver '{driver}': {msg}")));
-        let finite = |what: &str, v: f64| -> Result<(), crate::Error> {
+    pub fn new(profile: &Profile, driver: &str) -> Result<Self, crate::error::Error> {
+        let err = |msg: String| Err(crate::error::Error::Model(format!("driver '{driver}': {msg}")));
+        let finite = |what: &str, v: f64| -> Result<(), crate::error::Error> {
             if v.is_finite() {
                 Ok(())
             } else {
-                Err(crate::Error::Model(format!("driver '{driver}': {what} = {v} is not finite")))
+                Err(crate::error::Error::Model(format!("driver '{driver}': {what} = {v} is not finite")))
             }
         };
-        let table = |time: &[f64], value: &[f64]| -> Result<(), crate::Error> {
+        let table = |time: &[f64], value: &[f64]| -> Result<(), crate::error::Error> {
             if time.len() < 2 || time.len() != value.len() {
-                return Err(crate::Error::Model(format!(
+                return Err(crate::error::Error::Model(format!(
                     "driver '{driver}': a table needs at least 2 times and as many values (got {} times, {} values)",
                     time.len(),
                     value.len()
@@ -135,7 +135,7 @@ impl MotionProfile {
             if let Some(k) =
                 time.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
             {
-                return Err(crate::Error::Model(format!(
+                return Err(crate::error::Error::Model(format!(
                     "driver '{driver}': table times must increase strictly (time[{}] = {} then {})",
                     k,
                     time[k],
@@ -143,7 +143,9 @@ impl MotionProfile {
                 )));
             }
             if let Some(v) = time.iter().chain(value).find(|v| !v.is_finite()) {
-                return Err(crate::Error::Model(format!("driver '{driver}': table value {v} is not finite")));
+                return Err(crate::error::Error::Model(format!(
+                    "driver '{driver}': table value {v} is not finite"
+                )));
             }
             Ok(())
         };

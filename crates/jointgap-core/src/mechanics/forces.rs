@@ -1,11 +1,11 @@
 //! Applied forces: gravity, spring-dampers and prescribed loads, as generalised forces
 //! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
 
+use crate::error::Error;
 use crate::math::{cross, perp, Vec2};
 use crate::mechanics::planar::BodyState;
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Force, Signal};
-use crate::Error;
 
 /// A value against time: constant, or linear between table points and held outside.
 #[derive(Debug, Clone)]

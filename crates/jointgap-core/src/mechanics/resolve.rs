@@ -4,9 +4,9 @@
 
 use std::collections::{BTreeMap, HashMap};
 
+use crate::error::Error;
 use crate::math::Vec2;
 use crate::model::{Model, PointRef, GROUND};
-use crate::Error;
 
 /// Looks up bodies by name and resolves points on them, naming the element in errors.
 pub(crate) struct Resolver<'a> {

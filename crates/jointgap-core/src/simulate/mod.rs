@@ -2,13 +2,14 @@
 //! between input corners with contact events and method switching, and the output
 //! recorded.
 
+pub mod all_defaults;
 pub mod energy;
 pub mod equations;
 pub mod events;
 pub mod integrate;
 pub mod measures;
 pub mod monitor;
-pub(crate) mod options;
+mod options;
 pub mod record;
 pub mod switching;
 

@@ -4,12 +4,12 @@
 use super::energy::{Accounts, Amounts, ACCOUNTS};
 use super::measures::{joint_coordinate, marker_motion, BodyMotion};
 use crate::dynamics::{accelerations, Singular, Workspace};
+use crate::error::Error;
 use crate::integrators::ode::DenseStep;
 use crate::math::{cross, rotate, Vec2};
 use crate::mechanics::contact::{ClearanceRevolute, ContactState, Mode};
 use crate::model::JointKind;
 use crate::system::System;
-use crate::Error;
 
 const BODY_QUANTITIES: [&str; 9] = ["x", "y", "angle", "vx", "vy", "omega", "ax", "ay", "alpha"];
 /// Channels of each kind of joint: the force on body j (for a clearance joint, the

@@ -6,6 +6,7 @@ pub mod resolved;
 
 use std::collections::HashMap;
 
+use crate::error::Error;
 use crate::math::Vec2;
 use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
 use crate::mechanics::drivers::MotionProfile;
@@ -13,7 +14,6 @@ use crate::mechanics::forces::ForceElement;
 use crate::mechanics::planar::{BodyState, RowKind};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{JointKind, Model, GROUND};
-use crate::Error;
 
 /// A moving body's inertia; its coordinates sit at `3 * index`.
 #[derive(Debug, Clone)]

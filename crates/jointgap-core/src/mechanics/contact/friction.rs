@@ -4,8 +4,8 @@
 
 use super::normal::{step, step_slope};
 use crate::error::ElementError;
+use crate::error::Error;
 use crate::model::FrictionSpec;
-use crate::Error;
 
 /// Checks a friction law's values of clearance joint `joint`; its errors name the key
 /// `friction`.

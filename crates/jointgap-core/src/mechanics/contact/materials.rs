@@ -2,8 +2,8 @@
 //! stiffness of a journal in a bearing (docs/physics.md section 3; sources in
 //! docs/clearance-joints.md).
 
+use crate::error::Error;
 use crate::model::{Material, MaterialRef};
-use crate::Error;
 
 /// A library entry: name, Young's modulus [Pa], Poisson's ratio, typical d_max [m].
 pub struct LibraryMaterial {

@@ -9,12 +9,12 @@ mod state;
 
 pub use state::{ContactState, Mode};
 
+use crate::error::Error;
 use crate::math::{cross, perp, Vec2};
 use crate::mechanics::planar::BodyState;
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
-use crate::Error;
 use normal::NormalForce;
 
 /// A checked clearance joint.

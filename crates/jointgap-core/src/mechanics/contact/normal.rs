@@ -1,8 +1,8 @@
 //! Normal contact force laws (docs/physics.md section 3).
 
 use crate::error::ElementError;
+use crate::error::Error;
 use crate::model::NormalLawSpec;
-use crate::Error;
 
 /// A checked normal law; `k` and `n` are the stiffness and exponent.
 #[derive(Debug, Clone, Copy, PartialEq)]
