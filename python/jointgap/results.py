@@ -89,7 +89,9 @@ class RunStats(TypedDict, total=False):
     """The integrator that ran: ``dopri5``, ``sdirk4``, ``radau5``, or for ``auto`` the
     methods it used and when (``auto: dopri5, sdirk4 from t = ...``)."""
     wall_time: float
-    """Wall-clock time of the run [s]."""
+    """Wall-clock time of the run [s]: integration and output, and compiling and
+    assembling the model only where it was not prepared already (loading a model
+    prepares it, so a loaded model's runs leave that out)."""
     profile: StageTimes | None
     """Time per stage when the run was asked to measure it, else None."""
 
