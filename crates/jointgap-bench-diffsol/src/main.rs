@@ -157,7 +157,7 @@ fn run(
     let started = Instant::now();
     let prepared = jointgap_core::simulate::prepare(model).expect("model assembles");
     let sys = &prepared.system;
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     let slider = sys.bodies.iter().position(|b| b.name == "slider").unwrap();
     let ode = Ode::new(sys, prepared.initial.active.clone(), rtol, rtol * 1e-2);
     let cell = RefCell::new(Eval {

@@ -144,7 +144,7 @@ type Run = (Method, f64, &'static str, f64, SimResult);
 fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     let prepared = jointgap_core::simulate::prepare(model).unwrap();
     let sys = &prepared.system;
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     // State at t = 0.5 s from an accurate run.
     let opts = SimOptions { rate: Some(2.0), rtol: 1e-10, atol: 1e-12, ..SimOptions::new(T_END) };
     let res = simulate(model, &opts).unwrap();

@@ -15,7 +15,7 @@ use serde_json::json;
 fn both_jacobians(model: &Model, t: f64, y: &[f64]) -> (DMatrix<f64>, DMatrix<f64>) {
     let prepared = prepare(model).unwrap();
     let sys = &prepared.system;
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
     let mut f0 = vec![0.0; 2 * n];
     ode.rhs(t, y, &mut f0).unwrap();

@@ -19,7 +19,7 @@ fn dense_solution(model: &Model, t: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec
     let mut ws = Workspace::in_order(sys, prepared.initial.active.clone());
     constraints(sys, t, q, v, &mut ws);
     applied_forces(sys, t, q, v, &mut ws);
-    let (n, m) = (sys.n_coords(), ws.active.len());
+    let (n, m) = (sys.layout.nv(), ws.active.len());
     let mut a = DMatrix::zeros(n + m, n + m);
     for (k, b) in sys.bodies.iter().enumerate() {
         a[(3 * k, 3 * k)] = b.mass;
@@ -46,7 +46,7 @@ fn dense_solution(model: &Model, t: f64, q: &[f64], v: &[f64]) -> (Vec<f64>, Vec
 fn check(model: &Model, t: f64) -> usize {
     let prepared = prepare(model).unwrap();
     let sys = &prepared.system;
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     let q: Vec<f64> =
         prepared.initial.q.iter().enumerate().map(|(i, x)| x + 1e-3 * ((i * 7 % 5) as f64 - 2.0)).collect();
     let v: Vec<f64> = prepared

@@ -17,7 +17,7 @@ use jointgap_core::Method;
 fn accepted_attempt_evaluates_last_at_its_end() {
     let prepared = prepare(&common::slider_crank_clearance()).unwrap();
     let sys = &prepared.system;
-    let n = 2 * sys.n_coords();
+    let n = sys.layout.nq() + sys.layout.nv();
     let steppers: Vec<Box<dyn Stepper<Ode>>> =
         [Method::Dopri5, Method::Radau5, Method::Sdirk4].into_iter().map(|m| stepper(m, n)).collect();
     for mut stepper in steppers {

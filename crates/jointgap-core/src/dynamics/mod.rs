@@ -17,6 +17,7 @@ pub use schur::Singular;
 use crate::math::{cross, perp, Vec2};
 use crate::mechanics::contact::ContactState;
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::BodyState;
 use crate::profile::{self, Profile};
 use crate::system::System;
@@ -97,7 +98,7 @@ impl Workspace {
         prescribed: Vec<PrescribedBody>,
         factorisation: Factorisation,
     ) -> Self {
-        let n = sys.n_coords();
+        let n = sys.layout.nv();
         let m = active.len();
         let mut m_inv = Vec::with_capacity(n);
         for b in &sys.bodies {
@@ -292,11 +293,12 @@ fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
         ws.qe[3 * k + 1] += b.mass * sys.gravity.y;
     }
     let bodies = &ws.bodies;
+    let mut loads = Loads::new(&sys.layout, &mut ws.qe);
     for f in &sys.forces {
-        f.add_to(t, |b| *body_of(bodies, b), &mut ws.qe);
+        f.add_to(t, |b| *body_of(bodies, b), &mut loads);
     }
     for (c, contact) in sys.clearances.iter().zip(&ws.contacts) {
-        c.add_to(body_of(bodies, c.bearing), body_of(bodies, c.journal), contact, &mut ws.qe);
+        c.add_to(body_of(bodies, c.bearing), body_of(bodies, c.journal), contact, &mut loads);
     }
 }
 
@@ -322,7 +324,7 @@ pub fn accelerations_for_integration(
     constraint_rows(sys, t, ws);
     forces_at_bodies(sys, t, ws);
     profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     for j in 0..n {
         ws.qdd[j] = ws.m_inv[j] * ws.qe[j];
     }
@@ -387,7 +389,7 @@ pub fn force_jacobian(
     ws: &mut Workspace,
     jac: &mut DMatrix<f64>,
 ) -> Result<(), Singular> {
-    let n = sys.n_coords();
+    let n = sys.layout.nv();
     ws.load_bodies(sys, q, v);
     constraint_rows(sys, t, ws);
     forces_at_bodies(sys, t, ws);

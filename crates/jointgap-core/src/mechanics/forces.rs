@@ -2,8 +2,9 @@
 //! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
 
 use crate::error::Error;
-use crate::math::{cross, perp, Vec2};
-use crate::mechanics::planar::BodyState;
+use crate::math::{perp, Vec2};
+use crate::mechanics::layout::Loads;
+use crate::mechanics::planar::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Force, Signal};
 
@@ -142,20 +143,18 @@ fn line(bi: &BodyState, s_i: Vec2, bj: &BodyState, s_j: Vec2) -> Option<(Vec2, f
     Some((u, length, u.dot(&(bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega))))
 }
 
-/// Adds force `f` acting at body-frame point `s` of body `b` to `qe`.
+/// Adds force `f` acting at body-frame point `s` of body `b` to the loads.
 #[inline]
-pub fn add_point_force(qe: &mut [f64], b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
-    if let Some(k) = b {
-        qe[3 * k] += f.x;
-        qe[3 * k + 1] += f.y;
-        qe[3 * k + 2] += cross(state.rotate(s), f);
+pub fn add_point_force(loads: &mut Loads, b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
+    if let Some(qe) = loads.body(b) {
+        planar::add_force(qe, state.rotate(s), f);
     }
 }
 
 #[inline]
-fn add_torque(qe: &mut [f64], b: Option<usize>, tau: f64) {
-    if let Some(k) = b {
-        qe[3 * k + 2] += tau;
+fn add_torque(loads: &mut Loads, b: Option<usize>, tau: f64) {
+    if let Some(qe) = loads.body(b) {
+        planar::add_torque(qe, tau);
     }
 }
 
@@ -241,8 +240,8 @@ impl ForceElement {
         }
     }
 
-    /// Adds this element's generalised force at time `t` to `qe`.
-    pub fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut [f64]) {
+    /// Adds this element's generalised force at time `t` to the loads.
+    pub fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut Loads) {
         match self {
             ForceElement::SpringDamper {
                 body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..

@@ -6,5 +6,6 @@
 pub mod contact;
 pub mod drivers;
 pub mod forces;
+pub mod layout;
 pub mod planar;
 pub(crate) mod resolve;

@@ -4,8 +4,14 @@
 //! Every row is written `C(q, t) = 0`; its time derivatives give `Cq qd + Ct = 0` and
 //! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
 
-use crate::math::{perp, Vec2};
+use crate::math::{cross, perp, Vec2};
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::layout::BodyShape;
+use crate::model::Body;
+
+/// The planar body kind: positions `(x, y, phi)`, velocities `(vx, vy, omega)`, and a
+/// diagonal mass `(m, m, J)`.
+pub const PLANAR_BODY: BodyShape = BodyShape { nq: 3, nv: 3 };
 
 /// Position and velocity of one body (the ground: all zero), with the sine and cosine
 /// of its angle computed once: every joint row and force on the body rotates by them.
@@ -40,6 +46,13 @@ impl BodyState {
         BodyState { r, phi, v, omega, sin, cos }
     }
 
+    /// The state of a planar body from its positions `q = (x, y, phi)` and velocities
+    /// `v = (vx, vy, omega)`.
+    #[inline]
+    pub fn read(q: &[f64], v: &[f64]) -> Self {
+        BodyState::new(Vec2::new(q[0], q[1]), q[2], Vec2::new(v[0], v[1]), v[2])
+    }
+
     /// Angle [rad].
     #[inline]
     pub fn phi(&self) -> f64 {
@@ -51,6 +64,27 @@ impl BodyState {
     pub fn rotate(&self, s: Vec2) -> Vec2 {
         Vec2::new(self.cos * s.x - self.sin * s.y, self.sin * s.x + self.cos * s.y)
     }
+}
+
+/// A planar body's positions and velocities at its placement in the model: the
+/// starting guess of assembly.
+pub fn placement_coordinates(b: &Body) -> ([f64; 3], [f64; 3]) {
+    ([b.position[0], b.position[1], b.angle], [b.velocity[0], b.velocity[1], b.omega])
+}
+
+/// Adds force `f` [N], whose arm from the centre of mass is `arm` (global axes), to a
+/// planar body's generalized forces `qe = (Fx, Fy, M)`.
+#[inline]
+pub fn add_force(qe: &mut [f64], arm: Vec2, f: Vec2) {
+    qe[0] += f.x;
+    qe[1] += f.y;
+    qe[2] += cross(arm, f);
+}
+
+/// Adds torque `tau` [N m] to a planar body's generalized forces.
+#[inline]
+pub fn add_torque(qe: &mut [f64], tau: f64) {
+    qe[2] += tau;
 }
 
 impl Default for BodyState {

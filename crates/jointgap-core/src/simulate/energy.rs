@@ -55,7 +55,7 @@ impl Accounts {
         let mut own = ws.clone();
         own.profile = None;
         let driver_rows = sys.drivers.iter().map(|d| ws.active.iter().position(|&r| r == d.row)).collect();
-        let n = 2 * sys.n_coords();
+        let n = sys.layout.nq() + sys.layout.nv();
         Accounts {
             ws: own,
             driver_rows,

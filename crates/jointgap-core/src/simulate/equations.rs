@@ -30,13 +30,13 @@ impl<'a> Ode<'a> {
 
     /// State length `2 n_coords`.
     pub fn state_len(&self) -> usize {
-        2 * self.sys.n_coords()
+        self.sys.layout.nq() + self.sys.layout.nv()
     }
 
     /// Writes `f(t, y)` into `dy`.
     pub fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), dynamics::Singular> {
         self.evaluations += 1;
-        let n = self.sys.n_coords();
+        let n = self.sys.layout.nq();
         let (q, v) = y.split_at(n);
         accelerations_for_integration(self.sys, t, q, v, &mut self.ws)?;
         dy[..n].copy_from_slice(v);
@@ -55,7 +55,7 @@ impl Rhs for Ode<'_> {
     }
 
     fn force_jacobian(&mut self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) -> Option<Result<(), Singular>> {
-        let (q, v) = y.split_at(self.sys.n_coords());
+        let (q, v) = y.split_at(self.sys.layout.nq());
         Some(force_jacobian(self.sys, t, q, v, &mut self.ws, jac).map_err(|dynamics::Singular| Singular))
     }
 }

@@ -210,7 +210,7 @@ fn run_prepared(
     let mut rec =
         record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(Profile::default);
-    let n = system.n_coords();
+    let n = system.layout.nq();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
     let mut log = events::ImpactLog::new(system);

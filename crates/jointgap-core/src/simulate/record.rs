@@ -137,9 +137,16 @@ pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
 /// The name of entry `i` of the state `y = (q, v)` as the channel that records it,
 /// e.g. `crank.omega`.
 pub fn state_name(sys: &System, i: usize) -> String {
-    let n = sys.n_coords();
-    let (k, quantity) = if i < n { (i, i % 3) } else { (i - n, 3 + (i - n) % 3) };
-    format!("{}.{}", sys.bodies[k / 3].name, BODY_QUANTITIES[quantity])
+    let nq = sys.layout.nq();
+    let slots = sys.layout.slots();
+    let (k, quantity) = if i < nq {
+        let k = slots.iter().position(|s| s.q().contains(&i)).expect("a position of a body");
+        (k, i - slots[k].q_at)
+    } else {
+        let k = slots.iter().position(|s| s.v().contains(&(i - nq))).expect("a velocity of a body");
+        (k, slots[k].shape.nq + i - nq - slots[k].v_at)
+    };
+    format!("{}.{}", sys.bodies[k].name, BODY_QUANTITIES[quantity])
 }
 
 impl Recorder {

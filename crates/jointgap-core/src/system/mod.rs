@@ -1,5 +1,6 @@
 //! Model -> System: checks every element (errors name it), resolves points, and lays
-//! out coordinates (3 per moving body: x, y, phi) and scalar constraint rows.
+//! out coordinates (each moving body's where its kind says: [`Layout`]) and scalar
+//! constraint rows.
 
 pub(crate) mod magnitudes;
 pub mod resolved;
@@ -11,11 +12,12 @@ use crate::math::Vec2;
 use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
-use crate::mechanics::planar::{BodyState, RowKind};
+use crate::mechanics::layout::Layout;
+use crate::mechanics::planar::{self, BodyState, RowKind, PLANAR_BODY};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{JointKind, Model, GROUND};
 
-/// A moving body's inertia; its coordinates sit at `3 * index`.
+/// A moving body's inertia; its coordinates sit where [`System::layout`] says.
 #[derive(Debug, Clone)]
 pub struct BodyInfo {
     /// Name.
@@ -143,8 +145,10 @@ pub struct DriverInfo {
 /// The compiled, immutable mechanism: everything the solver needs, nothing it changes.
 #[derive(Debug, Clone)]
 pub struct System {
-    /// Moving bodies; body k owns coordinates `3k..3k+3`.
+    /// Moving bodies, in model order.
     pub bodies: Vec<BodyInfo>,
+    /// Where each body's coordinates sit in `q` and `v`.
+    pub layout: Layout,
     /// Joints in model order.
     pub joints: Vec<JointInfo>,
     /// Drivers in model order.
@@ -574,14 +578,14 @@ fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
     corners
 }
 
-/// The bodies' coordinates and velocities at their user placement: the starting guess
-/// of assembly.
-fn placement_guess(model: &Model) -> (Vec<f64>, Vec<f64>) {
-    let mut q_guess = Vec::with_capacity(3 * model.bodies.len());
-    let mut v_guess = Vec::with_capacity(3 * model.bodies.len());
-    for b in &model.bodies {
-        q_guess.extend([b.position[0], b.position[1], b.angle]);
-        v_guess.extend([b.velocity[0], b.velocity[1], b.omega]);
+/// The bodies' coordinates and velocities at their user placement, laid out by
+/// `layout`: the starting guess of assembly.
+fn placement_guess(model: &Model, layout: &Layout) -> (Vec<f64>, Vec<f64>) {
+    let (mut q_guess, mut v_guess) = (vec![0.0; layout.nq()], vec![0.0; layout.nv()]);
+    for (b, slot) in model.bodies.iter().zip(layout.slots()) {
+        let (q, v) = planar::placement_coordinates(b);
+        q_guess[slot.q()].copy_from_slice(&q);
+        v_guess[slot.v()].copy_from_slice(&v);
     }
     (q_guess, v_guess)
 }
@@ -610,10 +614,12 @@ impl System {
         let forces = compile_forces(model, &res, &mut names, &mut corners)?;
         let markers = compile_markers(model, &res, &mut names)?;
         let corners = step_corners(corners);
-        let (q_guess, v_guess) = placement_guess(model);
+        let layout = Layout::new(bodies.iter().map(|_| PLANAR_BODY));
+        let (q_guess, v_guess) = placement_guess(model, &layout);
         point_mass_inertia(model, &rows, &joints, &mut bodies)?;
         Ok(System {
             bodies,
+            layout,
             joints,
             drivers,
             rows,
@@ -629,11 +635,6 @@ impl System {
         })
     }
 
-    /// Number of coordinates (3 per moving body).
-    pub fn n_coords(&self) -> usize {
-        3 * self.bodies.len()
-    }
-
     /// Kinematics of clearance joint `k` at state `(q, v)`.
     pub fn contact_kinematics(&self, k: usize, q: &[f64], v: &[f64]) -> ContactKinematics {
         let c = &self.clearances[k];
@@ -645,12 +646,10 @@ impl System {
     pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
         match b {
             None => BodyState::default(),
-            Some(k) => BodyState::new(
-                Vec2::new(q[3 * k], q[3 * k + 1]),
-                q[3 * k + 2],
-                Vec2::new(v[3 * k], v[3 * k + 1]),
-                v[3 * k + 2],
-            ),
+            Some(k) => {
+                let slot = self.layout.slot(k);
+                BodyState::read(&q[slot.q()], &v[slot.v()])
+            }
         }
     }
 }

@@ -10,8 +10,9 @@ mod state;
 pub use state::{ContactState, Mode};
 
 use crate::error::Error;
-use crate::math::{cross, perp, Vec2};
-use crate::mechanics::planar::BodyState;
+use crate::math::{perp, Vec2};
+use crate::mechanics::layout::Loads;
+use crate::mechanics::planar::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
@@ -262,9 +263,9 @@ impl ClearanceRevolute {
         -k.n * f_n + perp(k.n) * f_t
     }
 
-    /// Adds the contact forces to `qe`: the journal force at the journal's contact point,
-    /// the opposite on the bearing at its own.
-    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, state: &ContactState, qe: &mut [f64]) {
+    /// Adds the contact forces to the loads: the journal force at the journal's contact
+    /// point, the opposite on the bearing at its own.
+    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, state: &ContactState, qe: &mut Loads) {
         let k = self.kinematics(bearing, journal);
         let (f_n, f_t) = self.contact_force(&k, state.onset_for(k.penetration_rate));
         if f_n != 0.0 || f_t != 0.0 {
@@ -276,10 +277,8 @@ impl ClearanceRevolute {
 }
 
 /// Adds a force at a global point of a body.
-fn add_force_at(qe: &mut [f64], b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
-    if let Some(k) = b {
-        qe[3 * k] += f.x;
-        qe[3 * k + 1] += f.y;
-        qe[3 * k + 2] += cross(p - state.r, f);
+fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
+    if let Some(qe) = loads.body(b) {
+        planar::add_force(qe, p - state.r, f);
     }
 }
