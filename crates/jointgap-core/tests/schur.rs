@@ -4,6 +4,8 @@
 
 use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur, DENSE_LIMIT};
 use jointgap_core::dynamics::{accelerations, Workspace};
+use jointgap_core::mechanics::layout::Layout;
+use jointgap_core::mechanics::planar::PLANAR_BODY;
 use jointgap_core::{Model, SimOptions};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;
@@ -105,6 +107,7 @@ fn envelope_factor_with_fill_solves_as_a_dense_cholesky() {
     let link = |k: usize| [if k == 0 { None } else { Some(k - 1) }, Some(k)];
     let bodies: Vec<_> = (0..n).flat_map(|k| [link(7 * k % n), link(7 * k % n)]).collect();
     let m = bodies.len();
+    let layout = Layout::new((0..n).map(|_| PLANAR_BODY));
     // Entries of each row from a fixed pseudo-random sequence in (-1, 1).
     let mut seed = 12345u64;
     let mut next = || {
@@ -113,7 +116,10 @@ fn envelope_factor_with_fill_solves_as_a_dense_cholesky() {
     };
     let jac: Vec<RowJacobian> = bodies
         .iter()
-        .map(|&b| RowJacobian { bodies: b, entries: [[next(), next(), next()], [next(), next(), next()]] })
+        .map(|&b| RowJacobian {
+            entries: [[next(), next(), next()], [next(), next(), next()]],
+            ..RowJacobian::new(b, &layout)
+        })
         .collect();
     let m_inv: Vec<f64> = (0..3 * n).map(|i| 1.0 + (i % 5) as f64).collect();
     let mut cq = DMatrix::zeros(m, 3 * n);

@@ -6,6 +6,8 @@
 
 use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur};
 use jointgap_core::dynamics::{accelerations, Workspace};
+use jointgap_core::mechanics::layout::Layout;
+use jointgap_core::mechanics::planar::PLANAR_BODY;
 use jointgap_core::{Model, SimOptions, Status};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;
@@ -26,9 +28,13 @@ fn rank_deficient_rows() -> (Vec<RowJacobian>, Vec<f64>, DMatrix<f64>) {
         [None, Some(2)],
         [Some(1), Some(2)],
     ];
+    let layout = Layout::new([PLANAR_BODY; 3]);
     let mut jac: Vec<RowJacobian> = pairs
         .iter()
-        .map(|&bodies| RowJacobian { bodies, entries: [[next(), next(), next()], [next(), next(), next()]] })
+        .map(|&bodies| RowJacobian {
+            entries: [[next(), next(), next()], [next(), next(), next()]],
+            ..RowJacobian::new(bodies, &layout)
+        })
         .collect();
     // Row 3 = 2 row 0 - row 2 and row 5 = -3 row 1, each over the same bodies.
     for side in 0..2 {

@@ -141,10 +141,11 @@ fn solve_positions(
         let mut step = 1.0;
         let mut trial = q.to_vec();
         let mut next = fit.clone();
+        let mut along = vec![0.0; dq.len()];
         for _ in 0..30 {
-            for j in 0..q.len() {
-                trial[j] = q[j] - step * dq[j];
-            }
+            along.iter_mut().zip(dq.iter()).for_each(|(a, d)| *a = -(step * d));
+            trial.copy_from_slice(q);
+            sys.displace(&mut trial, &along);
             next = residuals(sys, t, &trial, v, placing, &mut ws);
             if next.0.amax() < r0 {
                 break;
@@ -169,8 +170,8 @@ type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
 fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
     let at = generic_configuration(sys, q, v);
     let (active, warnings, mut basis) = independent_rows(sys, &jacobian(sys, 0.0, &at, v))?;
-    let mut given = DMatrix::zeros(sys.initial_conditions.len(), q.len());
-    let mut near = DMatrix::zeros(1, q.len());
+    let mut given = DMatrix::zeros(sys.initial_conditions.len(), sys.layout.nv());
+    let mut near = DMatrix::zeros(1, sys.layout.nv());
     for (a, ic) in sys.initial_conditions.iter().enumerate() {
         initial_row(sys, ic, q, v, &mut given, a);
         initial_row(sys, ic, &at, v, &mut near, 0);
@@ -220,7 +221,7 @@ fn generic_configuration(sys: &System, q: &[f64], v: &[f64]) -> Vec<f64> {
         return q.to_vec();
     }
     let mut best = (rank_at_q, q.to_vec());
-    let scale = step_scale(&cq);
+    let scale = step_scale(&cq, sys.rotations());
     let along = DVector::from_column_slice(v);
     let free = free_direction(&cq);
     // Where the mechanism goes first (the drivers moving with it); only where that does not
@@ -234,7 +235,8 @@ fn generic_configuration(sys: &System, q: &[f64], v: &[f64]) -> Vec<f64> {
     }
     for steps in tries {
         for (t, step) in steps {
-            let mut p: Vec<f64> = q.iter().zip(step.iter()).map(|(q, d)| q + d).collect();
+            let mut p = q.to_vec();
+            sys.displace(&mut p, step.as_slice());
             if solve_positions(sys, t, &mut p, v, &[]).is_err() {
                 continue;
             }
@@ -259,10 +261,10 @@ const NEARBY_STEP: f64 = 1e-3;
 /// most that many radians and move by at most that fraction of the mechanism's largest
 /// lever arm (the largest ratio of a row's angle entry to its position entries); `None`
 /// for a zero direction.
-fn step_scale(cq: &DMatrix<f64>) -> impl Fn(&DVector<f64>) -> Option<f64> {
+fn step_scale(cq: &DMatrix<f64>, rotations: Vec<bool>) -> impl Fn(&DVector<f64>) -> Option<f64> {
     let (mut lever, mut unit) = (0.0f64, 0.0f64);
     for (j, column) in cq.column_iter().enumerate() {
-        if j % 3 == 2 {
+        if rotations[j] {
             lever = lever.max(column.amax());
         } else {
             unit = unit.max(column.amax());
@@ -270,7 +272,7 @@ fn step_scale(cq: &DMatrix<f64>) -> impl Fn(&DVector<f64>) -> Option<f64> {
     }
     let length = if lever > 0.0 && unit > 0.0 { lever / unit } else { 1.0 };
     move |d: &DVector<f64>| {
-        let size = d.iter().enumerate().map(|(j, x)| x.abs() / if j % 3 == 2 { 1.0 } else { length });
+        let size = d.iter().enumerate().map(|(j, x)| x.abs() / if rotations[j] { 1.0 } else { length });
         let size = size.fold(0.0, f64::max);
         (size > 0.0).then(|| NEARBY_STEP / size)
     }
@@ -307,8 +309,9 @@ fn initial_row(
     cq.row_mut(a).fill(0.0);
     for (body, entries) in [(ic.body_i, ev.jac_i), (ic.body_j, ev.jac_j)] {
         if let Some(k) = body {
-            for d in 0..3 {
-                cq[(a, 3 * k + d)] += entries[d];
+            let at = sys.layout.slot(k).v_at;
+            for (d, e) in entries.iter().enumerate() {
+                cq[(a, at + d)] += e;
             }
         }
     }
@@ -320,8 +323,8 @@ fn changed_velocities(sys: &System, given: &[f64], used: &[f64]) -> Vec<String> 
     let mut out = Vec::new();
     let why = "assembly changed it to satisfy the joints and drivers; give a joint's \
                initial_rate to set a velocity that assembly keeps";
-    for (k, b) in sys.bodies.iter().enumerate() {
-        let (g, u) = (&given[3 * k..3 * k + 3], &used[3 * k..3 * k + 3]);
+    for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
+        let (g, u) = (&given[slot.v()], &used[slot.v()]);
         let moved = |g: f64, u: f64, scale: f64| (g - u).abs() > 1e-9 * scale.max(1e-12);
         let speed = g[0].hypot(g[1]);
         if speed > 0.0 && (moved(g[0], u[0], speed) || moved(g[1], u[1], speed)) {

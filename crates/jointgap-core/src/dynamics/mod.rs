@@ -14,11 +14,12 @@ pub mod schur;
 
 pub use schur::Singular;
 
-use crate::math::{cross, perp, Vec2};
+use crate::math::perp;
 use crate::mechanics::contact::ContactState;
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::layout::Layout;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar::{self, BodyState};
 use crate::profile::{self, Profile};
 use crate::system::System;
 use prescribed::PrescribedBody;
@@ -37,9 +38,11 @@ pub struct Workspace {
     /// Bodies that their own rows fix, in the order their accelerations are found.
     prescribed: Vec<PrescribedBody>,
     /// Filled by [`accelerations`]: each prescribed body's `B^-1`.
-    prescribed_inverse: Vec<[[f64; 3]; 3]>,
-    /// Inverse of the diagonal mass matrix, zero for a prescribed body: no force moves
-    /// it; (n_coords).
+    prescribed_inverse: Vec<prescribed::BodyBlock>,
+    /// Where each body's coordinates sit (the system's).
+    layout: Layout,
+    /// Inverse of the mass matrix, each planar body's diagonal laid out as `v`, zero for
+    /// a prescribed body: no force moves it; (nv).
     pub m_inv: Vec<f64>,
     /// Filled by [`constraints`]: residuals; (n_active).
     pub c: DVector<f64>,
@@ -98,14 +101,15 @@ impl Workspace {
         prescribed: Vec<PrescribedBody>,
         factorisation: Factorisation,
     ) -> Self {
-        let n = sys.layout.nv();
+        let layout = sys.layout.clone();
+        let n = layout.nv();
         let m = active.len();
-        let mut m_inv = Vec::with_capacity(n);
-        for b in &sys.bodies {
-            m_inv.extend([1.0 / b.mass, 1.0 / b.mass, 1.0 / b.inertia]);
+        let mut m_inv = vec![0.0; n];
+        for (b, slot) in sys.bodies.iter().zip(layout.slots()) {
+            m_inv[slot.v()].copy_from_slice(&planar::inverse_mass(b.mass, b.inertia));
         }
         for p in &prescribed {
-            m_inv[3 * p.body..3 * p.body + 3].fill(0.0);
+            m_inv[p.own.clone()].fill(0.0);
         }
         let bodies: Vec<[Option<usize>; 2]> =
             active.iter().map(|&r| [sys.rows[r].body_i, sys.rows[r].body_j]).collect();
@@ -118,11 +122,11 @@ impl Workspace {
         Workspace {
             active,
             dynamic,
-            prescribed_inverse: vec![[[0.0; 3]; 3]; prescribed.len()],
+            prescribed_inverse: vec![Default::default(); prescribed.len()],
             prescribed,
             c: DVector::zeros(m),
             // Each row's bodies are fixed for the run; `constraints` fills the entries.
-            jac: bodies.iter().map(|&bodies| RowJacobian { bodies, ..Default::default() }).collect(),
+            jac: bodies.iter().map(|&bodies| RowJacobian::new(bodies, &layout)).collect(),
             ct: DVector::zeros(m),
             gamma: DVector::zeros(m),
             qe: vec![0.0; n],
@@ -135,6 +139,7 @@ impl Workspace {
             profile: None,
             bodies: vec![BodyState::default(); sys.bodies.len()],
             scratch: vec![0.0; n],
+            layout,
         }
     }
 
@@ -143,14 +148,14 @@ impl Workspace {
         self.prescribed.iter().map(|p| p.body)
     }
 
-    /// The Jacobian as a dense matrix (n_active x n_coords), for the one-time solves
-    /// of assembly.
+    /// The Jacobian as a dense matrix (n_active x nv), for the one-time solves of
+    /// assembly.
     pub fn dense_jacobian(&self) -> DMatrix<f64> {
         let mut cq = DMatrix::zeros(self.jac.len(), self.m_inv.len());
         for (a, row) in self.jac.iter().enumerate() {
-            for (k, entries) in row.blocks() {
-                for d in 0..3 {
-                    cq[(a, 3 * k + d)] += entries[d];
+            for (at, entries) in row.placed_blocks() {
+                for (d, e) in entries.iter().enumerate() {
+                    cq[(a, at + d)] += e;
                 }
             }
         }
@@ -191,10 +196,10 @@ impl Workspace {
         let (mut position, mut velocity) = (largest(q), largest(v));
         for row in &self.jac {
             for (k, entries) in row.blocks() {
-                if entries[0] != 0.0 || entries[1] != 0.0 {
-                    let reach = entries[2].abs() * q[3 * k + 2].abs();
-                    position = position.max(reach);
-                    velocity = velocity.max(reach * v[3 * k + 2].abs());
+                let slot = self.layout.slot(k);
+                if let Some((moved, changed)) = planar::rotation_reach(entries, &q[slot.q()], &v[slot.v()]) {
+                    position = position.max(moved);
+                    velocity = velocity.max(changed);
                 }
             }
         }
@@ -231,10 +236,17 @@ impl Workspace {
         solved
     }
 
-    /// The smallest mass-weighted `dx` with `Cq dx = r` (`r` per active row, e.g. the
-    /// residuals, for a projection): the prescribed bodies from their own rows, the
-    /// others through the Schur complement. Subtracts it from `x`.
-    fn subtract_solution(&mut self, r: &[f64], x: &mut [f64]) -> Result<(), Singular> {
+    /// The smallest mass-weighted `dx` (velocity coordinates) with `Cq dx = r` (`r` per
+    /// active row, e.g. the residuals, for a projection): the prescribed bodies from
+    /// their own rows, the others through the Schur complement. Moves `x` by `-dx` with
+    /// `add(x, -dx)`, in these two parts: for velocities `add` adds, for positions it
+    /// displaces each body by its kind's rule ([`System::displace`]).
+    fn subtract_solution(
+        &mut self,
+        r: &[f64],
+        x: &mut [f64],
+        add: impl Fn(&mut [f64], &[f64]),
+    ) -> Result<(), Singular> {
         let mut dx = std::mem::take(&mut self.scratch);
         dx.fill(0.0);
         for p in &self.prescribed {
@@ -242,12 +254,16 @@ impl Workspace {
             p.solve_rows(&self.jac, &b_inv, |a| r[a], &mut dx);
         }
         let mut mu: Vec<f64> = (0..self.dynamic).map(|a| r[a] - self.jac[a].dot(&dx)).collect();
-        for (x, dx) in x.iter_mut().zip(&dx) {
-            *x -= dx;
-        }
-        self.scratch = dx;
+        dx.iter_mut().for_each(|d| *d = -*d);
+        add(x, &dx);
         self.schur_solve(&mut mu)?;
-        self.subtract_correction(&mu, x);
+        dx.fill(0.0);
+        for (row, &m) in self.jac.iter().zip(&mu) {
+            row.add_transposed(m, &mut dx);
+        }
+        dx.iter_mut().zip(&self.m_inv).for_each(|(d, m)| *d = -(m * *d));
+        add(x, &dx);
+        self.scratch = dx;
         Ok(())
     }
 }
@@ -288,9 +304,8 @@ pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Works
 /// [`applied_forces`] at the loaded body states.
 fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
     ws.qe.fill(0.0);
-    for (k, b) in sys.bodies.iter().enumerate() {
-        ws.qe[3 * k] += b.mass * sys.gravity.x;
-        ws.qe[3 * k + 1] += b.mass * sys.gravity.y;
+    for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
+        planar::add_weight(&mut ws.qe[slot.v()], b.mass, sys.gravity);
     }
     let bodies = &ws.bodies;
     let mut loads = Loads::new(&sys.layout, &mut ws.qe);
@@ -365,7 +380,8 @@ fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
     let mut lambda = std::mem::take(&mut ws.lambda);
     for (p, b_inv) in ws.prescribed.iter().zip(&ws.prescribed_inverse).rev() {
         let b = &sys.bodies[p.body];
-        p.multipliers(&ws.jac, b_inv, [b.mass, b.mass, b.inertia], &ws.qe, &ws.qdd, lambda.as_mut_slice());
+        let mass = planar::mass_diagonal(b.mass, b.inertia);
+        p.multipliers(&ws.jac, b_inv, mass, &ws.qe, &ws.qdd, lambda.as_mut_slice());
     }
     ws.lambda = lambda;
 }
@@ -389,24 +405,30 @@ pub fn force_jacobian(
     ws: &mut Workspace,
     jac: &mut DMatrix<f64>,
 ) -> Result<(), Singular> {
-    let n = sys.layout.nv();
+    let layout = &sys.layout;
+    let n = layout.nv();
     ws.load_bodies(sys, q, v);
     constraint_rows(sys, t, ws);
     forces_at_bodies(sys, t, ws);
     let qe0 = ws.qe.clone();
+    // Column j: position j, then velocity j - nq, each with its body.
+    let positions = layout.slots().iter().enumerate().flat_map(|(k, s)| s.q().map(move |i| (k, i, false)));
+    let velocities = layout.slots().iter().enumerate().flat_map(|(k, s)| s.v().map(move |i| (k, i, true)));
+    let (mut q_body, mut v_body) = (q.to_vec(), v.to_vec());
     // Factor S at the base point; the columns below reuse it.
     let mut mu = vec![0.0; ws.dynamic];
     ws.schur_solve(&mut mu)?;
     let mut col = vec![0.0; n];
-    for j in 0..2 * n {
-        let (k, d) = (j % n / 3, j % n % 3);
+    for (j, (k, i, velocity)) in positions.chain(velocities).enumerate() {
         let base = ws.bodies[k];
-        let y = if j < n { q[j] } else { v[j - n] };
+        let bumped = if velocity { &mut v_body } else { &mut q_body };
+        let y = bumped[i];
         let dy = f64::EPSILON.sqrt() * y.abs().max(1e-5);
-        let mut bumped = [base.r.x, base.r.y, base.phi(), base.v.x, base.v.y, base.omega];
-        bumped[d + if j < n { 0 } else { 3 }] += dy;
-        let [x, yy, phi, vx, vy, omega] = bumped;
-        ws.bodies[k] = BodyState::new(Vec2::new(x, yy), phi, Vec2::new(vx, vy), omega);
+        bumped[i] += dy;
+        let slot = layout.slot(k);
+        ws.bodies[k] = BodyState::read(planar::block(&q_body, slot.q_at), planar::block(&v_body, slot.v_at));
+        let bumped = if velocity { &mut v_body } else { &mut q_body };
+        bumped[i] = y;
         forces_at_bodies(sys, t, ws);
         ws.bodies[k] = base;
         let mut nonzero = false;
@@ -451,14 +473,14 @@ pub fn project(
             break;
         }
         let residual = ws.c.clone();
-        ws.subtract_solution(residual.as_slice(), q)?;
+        ws.subtract_solution(residual.as_slice(), q, |q, dx| sys.displace(q, dx))?;
     }
     constraints(sys, t, q, v, ws);
     if ws.c.amax() > 1e3 * settled(ws, q, v) {
         return Err(Singular);
     }
     let residual: Vec<f64> = ws.velocity_residual(v).collect();
-    ws.subtract_solution(&residual, v)
+    ws.subtract_solution(&residual, v, |v, dv| v.iter_mut().zip(dv).for_each(|(v, d)| *v += d))
 }
 
 /// The position residual at which [`project`] stops away from singular positions:
@@ -488,13 +510,12 @@ pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> 
         // Slip = g . qdot: each body's point velocity along the tangent.
         let t = perp(kin.n);
         let mut g = vec![0.0; ws.m_inv.len()];
+        let mut slip = Loads::new(&sys.layout, &mut g);
         for (body, state, point, sign) in
             [(c.journal, &journal, kin.point_journal, 1.0), (c.bearing, &bearing, kin.point_bearing, -1.0)]
         {
-            if let Some(k) = body {
-                g[3 * k] += sign * t.x;
-                g[3 * k + 1] += sign * t.y;
-                g[3 * k + 2] += sign * cross(point - state.r, t);
+            if let Some(g) = slip.body(body) {
+                planar::add_force(g, point - state.r, t * sign);
             }
         }
         let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();

@@ -9,15 +9,21 @@
 //! founding slider-crank 4 of 7.
 
 use super::schur::{RowJacobian, Singular};
+use crate::mechanics::planar::{BodyRow, NV};
 use crate::system::System;
 
-/// A body fixed by its own three rows.
+/// A square block over one body's velocities: `B` of its own rows, and its inverse.
+pub type BodyBlock = [BodyRow; NV];
+
+/// A body fixed by its own rows, as many as its velocities.
 #[derive(Debug, Clone)]
 pub struct PrescribedBody {
     /// Body index.
     pub body: usize,
+    /// Its velocities' place in `v` (and in `qe`, `qdd`).
+    pub own: std::ops::Range<usize>,
     /// Positions of its own rows in the solve order, and the body's side in each.
-    pub rows: [(usize, usize); 3],
+    pub rows: [(usize, usize); NV],
     /// Every other row touching it, with the body's side: their forces on it enter its
     /// Newton-Euler equations.
     pub others: Vec<(usize, usize)>,
@@ -43,7 +49,7 @@ pub fn split(sys: &System, active: &[usize]) -> Split {
     let n = sys.bodies.len();
     let mut fixed = vec![false; n];
     let mut taken = vec![false; active.len()];
-    let mut groups: Vec<(usize, [usize; 3])> = Vec::new();
+    let mut groups: Vec<(usize, [usize; NV])> = Vec::new();
     let bodies_of = |a: usize| [sys.rows[active[a]].body_i, sys.rows[active[a]].body_j];
     loop {
         let mut found = false;
@@ -58,10 +64,10 @@ pub fn split(sys: &System, active: &[usize]) -> Split {
                     b.contains(&Some(k)) && b.iter().all(|o| o.is_none_or(|o| o == k || fixed[o]))
                 })
                 .collect();
-            if let [a, b, c] = own[..] {
+            if let Ok(rows) = <[usize; NV]>::try_from(own) {
                 fixed[k] = true;
-                [a, b, c].iter().for_each(|&r| taken[r] = true);
-                groups.push((k, [a, b, c]));
+                rows.iter().for_each(|&r| taken[r] = true);
+                groups.push((k, rows));
                 found = true;
             }
         }
@@ -83,6 +89,7 @@ pub fn split(sys: &System, active: &[usize]) -> Split {
         .iter()
         .map(|&(k, rows)| PrescribedBody {
             body: k,
+            own: sys.layout.slot(k).v(),
             rows: rows.map(|a| (position[a], side(a, k))),
             others: (0..active.len())
                 .filter(|a| !rows.contains(a) && bodies_of(*a).contains(&Some(k)))
@@ -96,7 +103,7 @@ pub fn split(sys: &System, active: &[usize]) -> Split {
 impl PrescribedBody {
     /// `B^-1`, with `B` its own rows' entries for its coordinates (one row per
     /// equation); `Singular` where `B` is.
-    pub fn inverse(&self, jac: &[RowJacobian]) -> Result<[[f64; 3]; 3], Singular> {
+    pub fn inverse(&self, jac: &[RowJacobian]) -> Result<BodyBlock, Singular> {
         inverse3(self.rows.map(|(a, side)| jac[a].entries[side]))
     }
 
@@ -106,15 +113,14 @@ impl PrescribedBody {
     pub fn solve_rows(
         &self,
         jac: &[RowJacobian],
-        b_inv: &[[f64; 3]; 3],
+        b_inv: &BodyBlock,
         rhs: impl Fn(usize) -> f64,
         x: &mut [f64],
     ) {
-        let k = 3 * self.body;
-        x[k..k + 3].fill(0.0);
+        x[self.own.clone()].fill(0.0);
         let r = self.rows.map(|(a, _)| rhs(a) - jac[a].dot(x));
-        for (d, b) in b_inv.iter().enumerate() {
-            x[k + d] = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
+        for (x, b) in x[self.own.clone()].iter_mut().zip(b_inv) {
+            *x = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
         }
     }
 
@@ -124,20 +130,17 @@ impl PrescribedBody {
     pub fn multipliers(
         &self,
         jac: &[RowJacobian],
-        b_inv: &[[f64; 3]; 3],
-        mass: [f64; 3],
+        b_inv: &BodyBlock,
+        mass: BodyRow,
         qe: &[f64],
         qdd: &[f64],
         lambda: &mut [f64],
     ) {
-        let k = 3 * self.body;
-        let mut r = [0.0; 3];
-        for d in 0..3 {
-            r[d] = qe[k + d] - mass[d] * qdd[k + d];
-        }
+        let (qe, qdd) = (&qe[self.own.clone()], &qdd[self.own.clone()]);
+        let mut r: BodyRow = std::array::from_fn(|d| qe[d] - mass[d] * qdd[d]);
         for &(a, side) in &self.others {
-            for d in 0..3 {
-                r[d] -= jac[a].entries[side][d] * lambda[a];
+            for (r, e) in r.iter_mut().zip(&jac[a].entries[side]) {
+                *r -= e * lambda[a];
             }
         }
         for (i, &(a, _)) in self.rows.iter().enumerate() {
@@ -148,7 +151,7 @@ impl PrescribedBody {
 
 /// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes
 /// against the entries' scale.
-fn inverse3(a: [[f64; 3]; 3]) -> Result<[[f64; 3]; 3], Singular> {
+fn inverse3(a: BodyBlock) -> Result<BodyBlock, Singular> {
     // Written out: the compiler does not always unroll index arithmetic here (measured:
     // 2.4x the instructions when it did not).
     let cof = |[r0, r1]: [usize; 2], [c0, c1]: [usize; 2]| a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0];

@@ -28,6 +28,9 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Par};
 
+use crate::mechanics::layout::Layout;
+use crate::mechanics::planar::{block, block_mut, BodyRow};
+
 /// The augmented system is singular: the mechanism locks up or passes a singular
 /// configuration (e.g. a four-bar at a change point). Kept with the Schur complement,
 /// whose factorisation is where the equations of motion find it.
@@ -52,19 +55,33 @@ pub enum Factorisation {
     Sparse,
 }
 
-/// One active row's Jacobian `Cq_a`: at most two bodies, three entries each.
+/// One active row's Jacobian `Cq_a`: at most two bodies, a block over each one's
+/// velocities.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct RowJacobian {
     /// The bodies i and j (`None`: the ground).
     pub bodies: [Option<usize>; 2],
-    /// dC/d(x, y, phi) of body i, then of body j.
-    pub entries: [[f64; 3]; 2],
+    /// Where each body's velocities start in `v` (the layout's; unused for the ground).
+    pub at: [usize; 2],
+    /// The block of body i, then of body j.
+    pub entries: [BodyRow; 2],
 }
 
 impl RowJacobian {
+    /// The row of bodies `bodies`, entries zero, placed by `layout`.
+    pub fn new(bodies: [Option<usize>; 2], layout: &Layout) -> Self {
+        let at = bodies.map(|b| b.map_or(0, |k| layout.slot(k).v_at));
+        RowJacobian { bodies, at, entries: Default::default() }
+    }
+
     /// `(body, entries)` of each body the row touches.
-    pub fn blocks(&self) -> impl Iterator<Item = (usize, &[f64; 3])> {
+    pub fn blocks(&self) -> impl Iterator<Item = (usize, &BodyRow)> {
         self.bodies.iter().zip(&self.entries).filter_map(|(k, jac)| k.map(|k| (k, jac)))
+    }
+
+    /// `(velocity address, entries)` of each body the row touches.
+    pub fn placed_blocks(&self) -> impl Iterator<Item = (usize, &BodyRow)> {
+        (0..2).filter(|&side| self.bodies[side].is_some()).map(|side| (self.at[side], &self.entries[side]))
     }
 
     /// `Cq_a x` for a vector over all coordinates.
@@ -72,10 +89,9 @@ impl RowJacobian {
     pub fn dot(&self, x: &[f64]) -> f64 {
         // Body i's products, then body j's, in the order the sum has always been taken.
         let part = |side: usize| {
-            self.bodies[side].map(|k| {
-                let jac = &self.entries[side];
-                let x = &x[3 * k..3 * k + 3];
-                jac[0] * x[0] + jac[1] * x[1] + jac[2] * x[2]
+            self.bodies[side].map(|_| {
+                let (jac, x) = (&self.entries[side], block(x, self.at[side]));
+                jac[1..].iter().zip(&x[1..]).fold(jac[0] * x[0], |sum, (j, x)| sum + j * x)
             })
         };
         match (part(0), part(1)) {
@@ -89,11 +105,10 @@ impl RowJacobian {
     #[inline]
     pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
         for side in 0..2 {
-            if let Some(k) = self.bodies[side] {
-                let jac = &self.entries[side];
-                let y = &mut y[3 * k..3 * k + 3];
-                for d in 0..3 {
-                    y[d] += s * jac[d];
+            if self.bodies[side].is_some() {
+                let (jac, y) = (&self.entries[side], block_mut(y, self.at[side]));
+                for (y, e) in y.iter_mut().zip(jac) {
+                    *y += s * e;
                 }
             }
         }
@@ -115,8 +130,8 @@ pub struct Schur {
     shared: Vec<SharedBody>,
     /// Each row's entries for its first and second body (`2 row + side`), as they are
     /// and times that body's inverse mass: an update's products are then one lookup each.
-    plain: Vec<[f64; 3]>,
-    scaled: Vec<[f64; 3]>,
+    plain: Vec<BodyRow>,
+    scaled: Vec<BodyRow>,
     /// Values of `S`, as `entries`; computed from `plain` and `scaled` when a path
     /// needs them (the plain dense factor sums straight into its buffer).
     values: Vec<f64>,
@@ -417,8 +432,8 @@ impl Schur {
             diagonal,
             envelope,
             shared,
-            plain: vec![[0.0; 3]; 2 * m],
-            scaled: vec![[0.0; 3]; 2 * m],
+            plain: vec![BodyRow::default(); 2 * m],
+            scaled: vec![BodyRow::default(); 2 * m],
             values: vec![0.0; k],
             values_current: false,
             regularised: vec![0.0; k],
@@ -451,10 +466,10 @@ impl Schur {
         self.values_current = false;
         for (a, row) in jac.iter().enumerate() {
             for (side, k) in row.bodies.iter().enumerate() {
-                if let Some(k) = k {
-                    let (e, w) = (row.entries[side], &m_inv[3 * k..3 * k + 3]);
+                if k.is_some() {
+                    let (e, w) = (row.entries[side], block(m_inv, row.at[side]));
                     self.plain[2 * a + side] = e;
-                    self.scaled[2 * a + side] = [e[0] * w[0], e[1] * w[1], e[2] * w[2]];
+                    self.scaled[2 * a + side] = std::array::from_fn(|d| e[d] * w[d]);
                 }
             }
         }
@@ -673,9 +688,9 @@ impl Schur {
 /// Adds one shared body's part of an entry of `S`, `(Cq_a,d / m_d) Cq_b,d`, to `value`
 /// term by term in the order `d` = x, y, angle, as every path of the factor sums it.
 #[inline]
-fn add_shared(value: &mut f64, scaled: &[f64; 3], plain: &[f64; 3]) {
-    for d in 0..3 {
-        *value += scaled[d] * plain[d];
+fn add_shared(value: &mut f64, scaled: &BodyRow, plain: &BodyRow) {
+    for (s, p) in scaled.iter().zip(plain) {
+        *value += s * p;
     }
 }
 

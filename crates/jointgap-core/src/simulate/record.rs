@@ -8,10 +8,10 @@ use crate::error::Error;
 use crate::integrators::ode::DenseStep;
 use crate::math::{cross, rotate, Vec2};
 use crate::mechanics::contact::{ClearanceRevolute, ContactState, Mode};
+use crate::mechanics::planar;
 use crate::model::JointKind;
 use crate::system::System;
 
-const BODY_QUANTITIES: [&str; 9] = ["x", "y", "angle", "vx", "vy", "omega", "ax", "ay", "alpha"];
 /// Channels of each kind of joint: the force on body j (for a clearance joint, the
 /// contact force on the journal body), then the kind's own.
 const REVOLUTE_QUANTITIES: [&str; 2] = ["fx", "fy"];
@@ -111,7 +111,7 @@ pub struct Recorder {
 pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
     let mut names = Vec::new();
     for b in &sys.bodies {
-        names.extend(BODY_QUANTITIES.iter().map(|q| format!("{}.{q}", b.name)));
+        names.extend(planar::CHANNELS.iter().map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
         names.extend(joint_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
@@ -146,7 +146,7 @@ pub fn state_name(sys: &System, i: usize) -> String {
         let k = slots.iter().position(|s| s.v().contains(&(i - nq))).expect("a velocity of a body");
         (k, slots[k].shape.nq + i - nq - slots[k].v_at)
     };
-    format!("{}.{}", sys.bodies[k].name, BODY_QUANTITIES[quantity])
+    format!("{}.{}", sys.bodies[k].name, planar::CHANNELS[quantity])
 }
 
 impl Recorder {
@@ -339,16 +339,8 @@ impl Recorder {
         accelerations(sys, t, q, v, ws)?;
         let mut out = Cursor { values: &mut self.values, kept: &self.kept, next: 0 };
         let mut put = |x: f64| out.put(x);
-        for k in 0..sys.bodies.len() {
-            for i in 0..3 {
-                put(q[3 * k + i]);
-            }
-            for i in 0..3 {
-                put(v[3 * k + i]);
-            }
-            for i in 0..3 {
-                put(ws.qdd[3 * k + i]);
-            }
+        for slot in sys.layout.slots() {
+            q[slot.q()].iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
         }
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
@@ -384,11 +376,10 @@ impl Recorder {
         }
         let motion = |b: Option<usize>| match b {
             None => BodyMotion::default(),
-            Some(k) => BodyMotion {
-                state: sys.body_state(b, q, v),
-                acceleration: Vec2::new(ws.qdd[3 * k], ws.qdd[3 * k + 1]),
-                alpha: ws.qdd[3 * k + 2],
-            },
+            Some(k) => {
+                let (acceleration, alpha) = planar::read_acceleration(&ws.qdd[sys.layout.slot(k).v()]);
+                BodyMotion { state: sys.body_state(b, q, v), acceleration, alpha }
+            }
         };
         for m in &sys.markers {
             if out.skipped(MARKER_QUANTITIES.len()) {
@@ -522,10 +513,9 @@ impl Cursor<'_> {
     ) {
         let mut kinetic = 0.0;
         let mut potential = 0.0;
-        for (k, b) in sys.bodies.iter().enumerate() {
-            let (vx, vy, w) = (v[3 * k], v[3 * k + 1], v[3 * k + 2]);
-            kinetic += 0.5 * b.mass * (vx * vx + vy * vy) + 0.5 * b.inertia * w * w;
-            potential -= b.mass * (sys.gravity.x * q[3 * k] + sys.gravity.y * q[3 * k + 1]);
+        for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
+            kinetic += planar::kinetic_energy(b.mass, b.inertia, &v[slot.v()]);
+            potential -= planar::gravity_work(b.mass, sys.gravity, &q[slot.q()]);
         }
         for f in &sys.forces {
             potential += f.potential_energy(|b| sys.body_state(b, q, v));

@@ -13,7 +13,7 @@ use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::layout::Layout;
-use crate::mechanics::planar::{self, BodyState, RowKind, PLANAR_BODY};
+use crate::mechanics::planar::{self, block, BodyState, RowKind, PLANAR_BODY};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{JointKind, Model, GROUND};
 
@@ -641,6 +641,20 @@ impl System {
         c.kinematics(&self.body_state(c.bearing, q, v), &self.body_state(c.journal, q, v))
     }
 
+    /// Moves the positions `q` by `dv`, a displacement in velocity coordinates, body
+    /// by body by its kind's rule.
+    pub fn displace(&self, q: &mut [f64], dv: &[f64]) {
+        for slot in self.layout.slots() {
+            planar::displace(&mut q[slot.q()], &dv[slot.v()]);
+        }
+    }
+
+    /// Whether each velocity coordinate is a rotation (in `v`'s order): what sets a
+    /// step's size in radians rather than in metres.
+    pub fn rotations(&self) -> Vec<bool> {
+        self.layout.slots().iter().flat_map(|s| (0..s.shape.nv).map(planar::is_rotation)).collect()
+    }
+
     /// State of body `b` (ground: zero) from coordinate and velocity vectors.
     #[inline]
     pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
@@ -648,7 +662,7 @@ impl System {
             None => BodyState::default(),
             Some(k) => {
                 let slot = self.layout.slot(k);
-                BodyState::read(&q[slot.q()], &v[slot.v()])
+                BodyState::read(block(q, slot.q_at), block(v, slot.v_at))
             }
         }
     }
