@@ -93,7 +93,7 @@ def test_engine_errors_carry_their_parts(engine) -> None:
         check_model(json.dumps({"bodies": [{"name": "b", "mass": 0.0, "inertia": 1.0}]}))
     e = err.value
     assert str(e) == "body 'b': mass = 0 kg must be positive"
-    assert (e.category, e.kind, e.element, e.key) == ("model", "body", "b", None)
+    assert (e.category, e.kind, e.element, e.key) == ("model", "body", "b", "mass")
     assert e.problem == "mass = 0 kg must be positive"
 
     model = _founding_with(laws.hunt_crossley(1.5)).to_json()
@@ -106,7 +106,7 @@ def test_engine_errors_carry_their_parts(engine) -> None:
     with pytest.raises(EngineError) as err:
         simulate(jointgap.load(FOUNDING).to_json(), json.dumps({"t_end": 0.1, "rtol": 2.0}))
     e = err.value
-    assert (e.category, e.kind, e.element, e.key) == ("options", None, None, None)
+    assert (e.category, e.kind, e.element, e.key) == ("options", None, None, "rtol")
     assert e.problem == str(e) == "option rtol = 2: must lie in (0, 1)"
 
 
@@ -155,3 +155,4 @@ def test_a_built_model_run_at_a_rate_compiles_once(engine) -> None:
     before = compilations()
     assert model.simulate("10 ms", rate="1 kHz").ok  # its output size estimated, then run
     assert compilations() - before == 1
+

@@ -91,13 +91,15 @@ fn record_initial(
 fn check_weights(system: &System) -> Result<(), Error> {
     let g = system.gravity.norm();
     match system.bodies.iter().find(|b| !(b.mass * g).is_finite()) {
-        Some(b) => Err(Error::Model(format!(
-            "body '{}': mass = {:e} kg: its weight m |g| = {} N overflows the floating-point range \
-             (about 1.8e308); check the value and its unit",
-            b.name,
-            b.mass,
-            b.mass * g
-        ))),
+        Some(b) => Err(crate::error::Named::body(&b.name).error(
+            "mass",
+            format!(
+                "mass = {:e} kg: its weight m |g| = {} N overflows the floating-point range \
+                 (about 1.8e308); check the value and its unit",
+                b.mass,
+                b.mass * g
+            ),
+        )),
         None => Ok(()),
     }
 }
@@ -115,10 +117,15 @@ fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
     } else {
         "model"
     };
-    Error::Model(format!(
-        "{kind} '{element}': {quantity} = {value} at the initial state (t = 0), before the run: {}",
+    let problem = format!(
+        "{quantity} = {value} at the initial state (t = 0), before the run: {}",
         record::NON_FINITE_CAUSE
-    ))
+    );
+    // A channel is no key of the model file: the error names the element alone.
+    match kind {
+        "model" => Error::Model(format!("{kind} '{element}': {problem}")),
+        _ => crate::error::ElementError::new(kind, element, None, problem),
+    }
 }
 
 /// The channels a run of `model` with `opts` records (`opts.channels` selects them), in
