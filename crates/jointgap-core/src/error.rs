@@ -52,7 +52,7 @@ pub struct ElementError {
 
 impl ElementError {
     /// A model error about `key` of the element `element` of kind `kind`.
-    pub fn new(kind: &'static str, element: &str, key: Option<&str>, problem: String) -> Error {
+    pub fn model(kind: &'static str, element: &str, key: Option<&str>, problem: String) -> Error {
         Error::Element(ElementError {
             category: "model",
             kind,
@@ -64,7 +64,7 @@ impl ElementError {
 
     /// An error about a key of clearance joint `joint`.
     pub fn joint(joint: &str, key: Option<&str>, problem: String) -> Error {
-        Self::new("joint", joint, key, problem)
+        Self::model("joint", joint, key, problem)
     }
 
     /// An assembly error about `key` of the element `element` of kind `kind`.
@@ -123,12 +123,12 @@ impl<'a> Named<'a> {
 
     /// The model error of this element's `key`.
     pub fn error(&self, key: &str, problem: String) -> Error {
-        ElementError::new(self.kind, self.name, Some(key), problem)
+        ElementError::model(self.kind, self.name, Some(key), problem)
     }
 
     /// The model error of this element as a whole, no one key at fault.
     pub fn error_of_element(&self, problem: String) -> Error {
-        ElementError::new(self.kind, self.name, None, problem)
+        ElementError::model(self.kind, self.name, None, problem)
     }
 }
 

@@ -46,8 +46,11 @@ fn error_of(model: &Model) -> Error {
     }
 }
 
-/// `(category, kind, element, key)` of an error, and its message.
-fn parts_of(e: &Error) -> ((&'static str, Option<&'static str>, Option<String>, Option<String>), String) {
+/// `(category, kind, element, key)` of an error.
+type Parts = (&'static str, Option<&'static str>, Option<String>, Option<String>);
+
+/// The [`Parts`] of an error, and its message.
+fn parts_of(e: &Error) -> (Parts, String) {
     let p = e.parts();
     ((p.category, p.kind, p.element, p.key), e.to_string())
 }
@@ -245,7 +248,10 @@ fn an_error_of_the_whole_model_names_no_element_and_an_option_names_its_key() {
     let options = |change: &dyn Fn(&mut SimOptions)| {
         let mut o = SimOptions::new(0.01);
         change(&mut o);
-        simulate(&model, &o).err().expect("an options error")
+        match simulate(&model, &o) {
+            Ok(_) => panic!("expected an options error"),
+            Err(e) => e,
+        }
     };
     let (parts, text) = parts_of(&options(&|o| o.rtol = 2.0));
     assert_eq!(parts, ("options", None, None, Some("rtol".into())));

@@ -124,7 +124,7 @@ fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
     // A channel is no key of the model file: the error names the element alone.
     match kind {
         "model" => Error::Model(format!("{kind} '{element}': {problem}")),
-        _ => crate::error::ElementError::new(kind, element, None, problem),
+        _ => crate::error::ElementError::model(kind, element, None, problem),
     }
 }
 

@@ -323,7 +323,7 @@ impl<'m> Names<'m> {
             return Err(Error::Model(format!("a {kind} has an empty name")));
         }
         if name == GROUND || name == "system" {
-            return Err(ElementError::new(
+            return Err(ElementError::model(
                 kind,
                 name,
                 Some("name"),
@@ -331,7 +331,7 @@ impl<'m> Names<'m> {
             ));
         }
         if let Some(other) = self.seen.insert(name, kind) {
-            return Err(ElementError::new(
+            return Err(ElementError::model(
                 kind,
                 name,
                 Some("name"),
