@@ -156,3 +156,29 @@ def test_a_built_model_run_at_a_rate_compiles_once(engine) -> None:
     assert model.simulate("10 ms", rate="1 kHz").ok  # its output size estimated, then run
     assert compilations() - before == 1
 
+
+def test_a_batch_at_a_rate_compiles_each_model_once(engine) -> None:
+    """Estimating a batch's output size prepares each model and the batch runs those
+    prepared models: N distinct models (more than the binding keeps for single runs), N
+    compilations; results as the single runs'."""
+    from jointgap._jointgap import compilations
+
+    def pendulum(name: str, length: float) -> jointgap.Model:
+        return (
+            jointgap.Model(name)
+            .add_body(
+                "bob", mass=1, inertia=1e-3, position=(length, 0), points={"pivot": (-length, 0)}
+            )
+            .add_ground_point("O", (0, 0))
+            .add_revolute("hinge", "ground", "bob", point_i="O", point_j="pivot")
+        )
+
+    models = [pendulum(f"batch_once_{k}", 0.5 + 0.1 * k) for k in range(12)]
+    before = compilations()
+    results = jointgap.simulate_batch(models, "10 ms", rate="1 kHz", threads=2)
+    assert compilations() - before == len(models)
+    for model, result in zip(models, results, strict=True):
+        assert isinstance(result, jointgap.Result) and result.ok
+        single = model.simulate("10 ms", rate="1 kHz")
+        assert single.channels == result.channels
+        assert (single.time == result.time).all() and (single.data == result.data).all()

@@ -158,19 +158,37 @@ pub fn simulate_batch(
     threads: Option<usize>,
     control: &BatchControl,
 ) -> Vec<Option<Result<SimResult, Error>>> {
+    simulate_batch_of(models, prepare, opts, threads, control)
+}
+
+/// [`simulate_batch`] of `cases` that `prepare` turns into prepared models, each once, in
+/// the batch's threads as its run starts: a front end that holds some models prepared
+/// already hands them over instead of compiling them again. As in [`simulate_with`], a
+/// run's wall time counts its preparation.
+pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared>>(
+    cases: &[C],
+    prepare: impl Fn(&C) -> Result<P, Error> + Sync,
+    opts: &SimOptions,
+    threads: Option<usize>,
+    control: &BatchControl,
+) -> Vec<Option<Result<SimResult, Error>>> {
     use rayon::prelude::*;
-    let one =
-        |m: &Model| (!control.stopped()).then(|| control.case(|| simulate_with(m, opts, &mut &*control)));
+    let simulate_one = |c: &C| {
+        opts.check()?;
+        let started = std::time::Instant::now();
+        run_prepared(prepare(c)?.borrow(), opts, &mut &*control, started)
+    };
+    let one = |c: &C| (!control.stopped()).then(|| control.case(|| simulate_one(c)));
     let run = || {
         let mut done: Vec<(usize, Option<Result<SimResult, Error>>)> =
-            models.iter().enumerate().par_bridge().map(|(k, m)| (k, one(m))).collect();
+            cases.iter().enumerate().par_bridge().map(|(k, c)| (k, one(c))).collect();
         done.sort_unstable_by_key(|(k, _)| *k);
         done.into_iter().map(|(_, result)| result).collect()
     };
     match threads {
         Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build() {
             Ok(pool) => pool.install(run),
-            Err(_) => models.iter().map(one).collect(),
+            Err(_) => cases.iter().map(one).collect(),
         },
         None => run(),
     }

@@ -614,12 +614,22 @@ fn placement_guess(model: &Model, layout: &Layout) -> (Vec<f64>, Vec<f64>) {
     (q_guess, v_guess)
 }
 
+/// Models this process has compiled ([`System::new`]), for [`compilations`].
+static COMPILATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// How many models this process has compiled: a front end's test reads it to see that
+/// loading a model and running it, alone or in a batch, compiles the model once.
+pub fn compilations() -> usize {
+    COMPILATIONS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 impl System {
     /// Checks and compiles a model: bodies, joints, drivers, the joint coordinates
     /// given at t = 0, force elements and markers, in this order (so that an error
     /// names the first offending element in the model's order), then the point
     /// masses' stand-in inertia.
     pub fn new(model: &Model) -> Result<System, Error> {
+        COMPILATIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         if model.bodies.is_empty() {
             return Err(Error::Model(
                 "the model has no bodies: a mechanism needs at least one [[body]] (is the file empty?)"
