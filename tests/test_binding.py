@@ -93,7 +93,7 @@ def test_engine_errors_carry_their_parts(engine) -> None:
         check_model(json.dumps({"bodies": [{"name": "b", "mass": 0.0, "inertia": 1.0}]}))
     e = err.value
     assert str(e) == "body 'b': mass = 0 kg must be positive"
-    assert (e.category, e.kind, e.element, e.key) == ("model", "body", "b", None)
+    assert (e.category, e.kind, e.element, e.key) == ("model", "body", "b", "mass")
     assert e.problem == "mass = 0 kg must be positive"
 
     model = _founding_with(laws.hunt_crossley(1.5)).to_json()
@@ -106,7 +106,7 @@ def test_engine_errors_carry_their_parts(engine) -> None:
     with pytest.raises(EngineError) as err:
         simulate(jointgap.load(FOUNDING).to_json(), json.dumps({"t_end": 0.1, "rtol": 2.0}))
     e = err.value
-    assert (e.category, e.kind, e.element, e.key) == ("options", None, None, None)
+    assert (e.category, e.kind, e.element, e.key) == ("options", None, None, "rtol")
     assert e.problem == str(e) == "option rtol = 2: must lie in (0, 1)"
 
 
@@ -155,3 +155,30 @@ def test_a_built_model_run_at_a_rate_compiles_once(engine) -> None:
     before = compilations()
     assert model.simulate("10 ms", rate="1 kHz").ok  # its output size estimated, then run
     assert compilations() - before == 1
+
+
+def test_a_batch_at_a_rate_compiles_each_model_once(engine) -> None:
+    """Estimating a batch's output size prepares each model and the batch runs those
+    prepared models: N distinct models (more than the binding keeps for single runs), N
+    compilations; results as the single runs'."""
+    from jointgap._jointgap import compilations
+
+    def pendulum(name: str, length: float) -> jointgap.Model:
+        return (
+            jointgap.Model(name)
+            .add_body(
+                "bob", mass=1, inertia=1e-3, position=(length, 0), points={"pivot": (-length, 0)}
+            )
+            .add_ground_point("O", (0, 0))
+            .add_revolute("hinge", "ground", "bob", point_i="O", point_j="pivot")
+        )
+
+    models = [pendulum(f"batch_once_{k}", 0.5 + 0.1 * k) for k in range(12)]
+    before = compilations()
+    results = jointgap.simulate_batch(models, "10 ms", rate="1 kHz", threads=2)
+    assert compilations() - before == len(models)
+    for model, result in zip(models, results, strict=True):
+        assert isinstance(result, jointgap.Result) and result.ok
+        single = model.simulate("10 ms", rate="1 kHz")
+        assert single.channels == result.channels
+        assert (single.time == result.time).all() and (single.data == result.data).all()

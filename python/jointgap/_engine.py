@@ -137,39 +137,39 @@ def output_size(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputS
     recorded, a number known only after the run). Raises the engine's ValueError for an
     invalid model (one that does not assemble included: the engine prepares the model
     here and keeps it for its run) or channel selection."""
-    rate = options.get("rate")
-    if rate is None:
+    if options.get("rate") is None:
         return None
     from . import _jointgap
 
-    samples = math.floor(float(options["t_end"]) * float(rate) * (1 + 1e-12)) + 1
-    samples = -(-samples // int(options.get("decimate") or 1))
     channels = _jointgap.channel_names(json.dumps(model), json.dumps(options))
-    return OutputSize(samples, len(channels))
+    return OutputSize(_samples(options), len(channels))
+
+
+def _samples(options: Mapping[str, Any]) -> int:
+    """Output samples of a run with complete ``options`` that have a rate."""
+    samples = math.floor(float(options["t_end"]) * float(options["rate"]) * (1 + 1e-12)) + 1
+    return -(-samples // int(options.get("decimate") or 1))
 
 
 def check_output_size(models: Sequence[Mapping[str, Any]], options: Mapping[str, Any]) -> None:
     """Refuses runs whose samples, held in memory together, would take more than
     :data:`OUTPUT_MEMORY_FRACTION` of :func:`machine_memory`: raises
-    :class:`OutputTooLarge` with the figure and the ways out."""
+    :class:`OutputTooLarge` with the figure and the ways out. The engine counts each
+    model's channels (none for a model it refuses: its run says why), preparing the
+    models and keeping them for their runs."""
     memory = machine_memory()
-    if memory is None or not models:
+    if memory is None or not models or options.get("rate") is None:
         return
-    known = [s for m in models if (s := _size_if_valid(m, options)) is not None]
+    from . import _jointgap
+
+    counts = _jointgap.channel_counts([json.dumps(m) for m in models], json.dumps(options))
+    known = [c for c in counts if c is not None]
     if not known:
         return
-    total = OutputSize(known[0].samples, max(s.channels for s in known), len(models))
+    total = OutputSize(_samples(options), max(known), len(models))
     limit = int(OUTPUT_MEMORY_FRACTION * memory)
     if total.memory > limit:
         raise OutputTooLarge(total, limit, memory, options)
-
-
-def _size_if_valid(model: Mapping[str, Any], options: Mapping[str, Any]) -> OutputSize | None:
-    """:func:`output_size`, None for a model the engine refuses (its run says why)."""
-    try:
-        return output_size(model, options)
-    except ValueError:
-        return None
 
 
 Progress = Callable[[float, int, int], object]

@@ -7,6 +7,7 @@ import numpy.typing as npt
 
 __all__ = [
     "EngineError",
+    "channel_counts",
     "channel_names",
     "check_model",
     "clearance_data",
@@ -28,8 +29,9 @@ class EngineError(ValueError):
     element: str | None
     """The element's name."""
     key: str | None
-    """The offending key, dotted for a nested one (``normal_law.restitution``), where the
-    engine's check knows it."""
+    """The offending key as the model file writes it, dotted for a nested one
+    (``normal_law.restitution``), or the option's name; None where no one key is at
+    fault."""
     problem: str
     """What is wrong, without the element."""
 
@@ -65,6 +67,11 @@ def channel_names(model_json: str, options_json: str | None = None) -> list[str]
     those a run with them records (the model prepared and kept for its run, so one that
     does not assemble raises too); without, every channel of the model (model order).
     Raises EngineError naming the offending element, or for unknown channels."""
+
+def channel_counts(models_json: list[str], options_json: str) -> list[int | None]:
+    """How many channels a run of each model with the options records (as
+    :func:`channel_names`), None for a model the engine refuses: a batch's estimate of its
+    output size. Every model is prepared and kept for the batch's run, however many."""
 
 def simulate(
     model_json: str,
@@ -119,7 +126,8 @@ def simulate_batch(
     a KeyboardInterrupt raised by ``progress``) stops the batch: the runs going end with
     status interrupted and what they computed, the models not started do not run. Any
     other exception of ``progress`` stops the batch in the same way and is raised again
-    here.
+    here. A model this process holds prepared (its output size just estimated with
+    :func:`channel_names`) runs without being compiled again.
 
     Returns ``(slots, interrupted)``: in order, ``(arrays, None)`` as :func:`simulate`
     gives them, ``(None, error)`` for a model that could not run or ``(None, None)``

@@ -32,8 +32,6 @@ from ._schema import (
     GROUND,
     JOINT_EQUATIONS,
     convert_element,
-    params_of,
-    types_of,
 )
 from .errors import ModelError
 from .laws import Law
@@ -605,16 +603,7 @@ class Model:
             return self._located(ModelError(problem))
         owner = self._owner.get(name)
         index = owner[1] if owner is not None and owner[0] == kind else None
-        if key is None and index is not None:
-            # A check that does not say its key names it first: "mass = 0 kg ...".
-            first = problem.split(" ", 1)[0].strip("':,")
-            key = first if first in self._keys_of(kind, index) else None
         return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
-
-    def _keys_of(self, kind: str, index: int) -> list[str]:
-        element = self._elements[kind][index]
-        type_ = element.get("type") if types_of(kind) else None
-        return [p.key for p in params_of(kind, type_)]
 
     def _located(self, error: ModelError) -> ModelError:
         return error if self._source is None else self._source.locate(error)

@@ -3,7 +3,6 @@
 use numpy::{PyArray1, PyArray2};
 use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use jointgap_core::simulate::Prepared;
@@ -58,11 +57,9 @@ fn parse(
 static PREPARED: Mutex<Vec<(String, Arc<Prepared>)>> = Mutex::new(Vec::new());
 
 /// How many prepared models [`PREPARED`] keeps: a few, for the threads of a study or an
-/// identification that run different models at once.
+/// identification that run different models at once; a batch's estimate of its output
+/// size ([`channel_counts`]) keeps all of its models, however many, for its run.
 const PREPARED_KEPT: usize = 8;
-
-/// Models compiled by this process ([`compilations`]).
-static COMPILATIONS: AtomicUsize = AtomicUsize::new(0);
 
 /// The kept prepared models; a panic while one was held leaves the list valid.
 fn kept() -> MutexGuard<'static, Vec<(String, Arc<Prepared>)>> {
@@ -71,17 +68,37 @@ fn kept() -> MutexGuard<'static, Vec<(String, Arc<Prepared>)>> {
 
 /// The prepared model of `model_json` (parsed as `model`), kept or prepared now.
 fn prepared(model_json: &str, model: &jointgap_core::Model) -> Result<Arc<Prepared>, jointgap_core::Error> {
+    prepared_keeping(model_json, model, PREPARED_KEPT)
+}
+
+/// [`prepared`], the list then keeping the last `keep` models.
+fn prepared_keeping(
+    model_json: &str,
+    model: &jointgap_core::Model,
+    keep: usize,
+) -> Result<Arc<Prepared>, jointgap_core::Error> {
     if let Some(found) = kept_prepared(model_json) {
         return Ok(found);
     }
-    COMPILATIONS.fetch_add(1, Ordering::Relaxed);
     let prepared = Arc::new(jointgap_core::simulate::prepare(model)?);
     let mut kept = kept();
     kept.push((model_json.to_string(), Arc::clone(&prepared)));
-    if kept.len() > PREPARED_KEPT {
-        kept.remove(0);
-    }
+    let over = kept.len().saturating_sub(keep);
+    kept.drain(..over);
     Ok(prepared)
+}
+
+/// The prepared model of a batch's `model_json`: the kept one (its output size was
+/// estimated), else prepared now for its run alone (a batch without a rate: its models
+/// are not kept, they would push out those of the runs and checks the list is for).
+fn batch_prepared(
+    model_json: &str,
+    model: &jointgap_core::Model,
+) -> Result<Arc<Prepared>, jointgap_core::Error> {
+    match kept_prepared(model_json) {
+        Some(found) => Ok(found),
+        None => Ok(Arc::new(jointgap_core::simulate::prepare(model)?)),
+    }
 }
 
 /// The kept prepared model of `model_json`, if any.
@@ -89,17 +106,12 @@ fn kept_prepared(model_json: &str) -> Option<Arc<Prepared>> {
     kept().iter().rev().find(|(text, _)| text == model_json).map(|(_, p)| Arc::clone(p))
 }
 
-/// A model compiled without being assembled (its channels, its clearance joints).
-fn compiled(model: &jointgap_core::Model) -> Result<jointgap_core::System, jointgap_core::Error> {
-    COMPILATIONS.fetch_add(1, Ordering::Relaxed);
-    jointgap_core::System::new(model)
-}
-
-/// How many models this process has compiled (`System::new`), kept ones counted once:
-/// a test reads it to see that loading a model and running it compiles the model once.
+/// How many models this process has compiled ([`jointgap_core::system::compilations`]),
+/// kept ones counted once: a test reads it to see that loading a model and running it,
+/// alone or in a batch, compiles the model once.
 #[pyfunction]
 fn compilations() -> usize {
-    COMPILATIONS.load(Ordering::Relaxed)
+    jointgap_core::system::compilations()
 }
 
 /// Checks a model (JSON, SI units) as far as a run goes before its first step (assembled,
@@ -118,7 +130,7 @@ fn check_model(model_json: &str) -> PyResult<Vec<String>> {
 #[pyfunction]
 fn clearance_data(model_json: &str) -> PyResult<String> {
     let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-    let system = compiled(&model).map_err(to_py_err)?;
+    let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
     let data = jointgap_core::system::resolved::clearances(&model, &system);
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
@@ -131,12 +143,33 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
 fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<String>> {
     let Some(options_json) = options_json else {
         let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-        let system = compiled(&model).map_err(to_py_err)?;
+        let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
         return Ok(jointgap_core::simulate::record::channel_names(&system, false));
     };
     let (model, options) = parse(model_json, options_json)?;
     let prepared = prepared(model_json, &model).map_err(to_py_err)?;
     jointgap_core::simulate::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
+}
+
+/// How many channels a run of each model with the options records ([`channel_names`]),
+/// `None` for a model the engine refuses (its run says why): a batch's estimate of its
+/// output size. Every model is prepared and kept for the batch's run, however many.
+#[pyfunction]
+fn channel_counts(
+    py: Python<'_>,
+    models_json: Vec<String>,
+    options_json: &str,
+) -> PyResult<Vec<Option<usize>>> {
+    let options: jointgap_core::SimOptions =
+        serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
+    let keep = PREPARED_KEPT.max(models_json.len());
+    let count = |model_json: &String| {
+        let model = jointgap_core::Model::from_json(model_json).ok()?;
+        let prepared = prepared_keeping(model_json, &model, keep).ok()?;
+        let names = jointgap_core::simulate::recorded_channels_of(&prepared.system, &options).ok()?;
+        Some(names.len())
+    };
+    Ok(py.allow_threads(|| models_json.iter().map(count).collect()))
 }
 
 type Arrays<'py> = (Bound<'py, PyArray1<f64>>, Vec<String>, Bound<'py, PyArray2<f64>>, String);
@@ -276,6 +309,8 @@ type Slot<'py> = (Option<Arrays<'py>>, Option<PyObject>);
 /// wall time; on Ctrl-C the runs going end as interrupted with what they computed and
 /// the cases not started are not run. Any other exception of `progress` stops the batch
 /// in the same way and is raised again when the runs have returned.
+/// A model this process holds prepared (its output size was just estimated) runs without
+/// being compiled again; the others are prepared once, in the batch's threads.
 #[pyfunction]
 #[pyo3(signature = (models_json, options_json, threads=None, progress=None, interval=0.2))]
 fn simulate_batch<'py>(
@@ -291,14 +326,20 @@ fn simulate_batch<'py>(
     check_interval(interval)?;
     let parsed: Vec<Result<jointgap_core::Model, jointgap_core::Error>> =
         models_json.iter().map(|m| jointgap_core::Model::from_json(m)).collect();
-    let valid: Vec<jointgap_core::Model> = parsed.iter().filter_map(|m| m.as_ref().ok().cloned()).collect();
+    let valid: Vec<(&str, &jointgap_core::Model)> = models_json
+        .iter()
+        .zip(&parsed)
+        .filter_map(|(json, m)| Some((json.as_str(), m.as_ref().ok()?)))
+        .collect();
     let control = jointgap_core::BatchControl::default();
     let (results, error) = py.allow_threads(|| {
         std::thread::scope(|scope| {
             let (done, wait) = std::sync::mpsc::channel();
             let (valid, options, control) = (&valid, &options, &control);
             let runs = scope.spawn(move || {
-                let results = jointgap_core::simulate_batch(valid, options, threads, control);
+                let prepare = |(json, model): &(&str, &jointgap_core::Model)| batch_prepared(json, model);
+                let results =
+                    jointgap_core::simulate::simulate_batch_of(valid, prepare, options, threads, control);
                 let _ = done.send(());
                 results
             });
@@ -308,6 +349,12 @@ fn simulate_batch<'py>(
             (results, error)
         })
     });
+    // The batch's models, kept for its run, make way again.
+    {
+        let mut kept = kept();
+        let over = kept.len().saturating_sub(PREPARED_KEPT);
+        kept.drain(..over);
+    }
     if let Some(error) = error {
         return Err(error);
     }
@@ -381,5 +428,6 @@ fn _jointgap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(clearance_data, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(channel_names, m)?)?;
+    m.add_function(wrap_pyfunction!(channel_counts, m)?)?;
     Ok(())
 }

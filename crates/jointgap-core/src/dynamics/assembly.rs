@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::{constraints, Workspace};
-use crate::error::Error;
+use crate::error::{ElementError, Error};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::planar::RowEval;
 use crate::system::{InitialCondition, Owner, System};
@@ -176,11 +176,14 @@ fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checke
         initial_row(sys, ic, q, v, &mut given, a);
         initial_row(sys, ic, &at, v, &mut near, 0);
         if !independent(&mut basis, near.row(0).transpose()) {
-            return Err(Error::Assembly(format!(
-                "{}: the joints, drivers and the other initial conditions already fix this \
-                 joint's coordinate; leave its initial value and rate out",
-                ic.label
-            )));
+            return Err(ElementError::assembly(
+                "joint",
+                &sys.joints[ic.joint].name,
+                Some(if ic.placed { "initial" } else { "initial_rate" }),
+                "the joints, drivers and the other initial conditions already fix this joint's \
+                 coordinate; leave its initial value and rate out"
+                    .into(),
+            ));
         }
     }
     Ok((active, warnings, given))
@@ -365,11 +368,13 @@ fn independent_rows(sys: &System, cq: &DMatrix<f64>) -> Result<(Vec<usize>, Vec<
             continue;
         }
         let row_info = &sys.rows[r];
-        if let Owner::Driver(_) = row_info.owner {
-            return Err(Error::Assembly(format!(
-                "{}: the driven joint cannot move, the other constraints already fix it",
-                element_name(sys, row_info.owner)
-            )));
+        if let Owner::Driver(k) = row_info.owner {
+            return Err(ElementError::assembly(
+                "driver",
+                &sys.drivers[k].name,
+                Some("joint"),
+                "the driven joint cannot move, the other constraints already fix it".into(),
+            ));
         }
         warnings.push(format!(
             "{}: redundant constraint equation removed (it repeats the others); the joint reactions \

@@ -116,36 +116,47 @@ impl CubicSpline {
 impl MotionProfile {
     /// Checks a profile, naming the driver in errors.
     pub fn new(profile: &Profile, driver: &str) -> Result<Self, crate::error::Error> {
-        let err = |msg: String| Err(crate::error::Error::Model(format!("driver '{driver}': {msg}")));
+        // The profile's keys, as the model file writes them (`profile.speed`).
+        let who = crate::error::Named::driver(driver);
+        let error = |key: &str, problem: String| who.error(&format!("profile.{key}"), problem);
         let finite = |what: &str, v: f64| -> Result<(), crate::error::Error> {
             if v.is_finite() {
                 Ok(())
             } else {
-                Err(crate::error::Error::Model(format!("driver '{driver}': {what} = {v} is not finite")))
+                Err(error(what, format!("{what} = {v} is not finite")))
             }
         };
         let table = |time: &[f64], value: &[f64]| -> Result<(), crate::error::Error> {
             if time.len() < 2 || time.len() != value.len() {
-                return Err(crate::error::Error::Model(format!(
-                    "driver '{driver}': a table needs at least 2 times and as many values (got {} times, {} values)",
-                    time.len(),
-                    value.len()
-                )));
+                return Err(error(
+                    "time",
+                    format!(
+                        "a table needs at least 2 times and as many values (got {} times, {} values)",
+                        time.len(),
+                        value.len()
+                    ),
+                ));
             }
             if let Some(k) =
                 time.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
             {
-                return Err(crate::error::Error::Model(format!(
-                    "driver '{driver}': table times must increase strictly (time[{}] = {} then {})",
-                    k,
-                    time[k],
-                    time[k + 1]
-                )));
+                return Err(error(
+                    "time",
+                    format!(
+                        "table times must increase strictly (time[{}] = {} then {})",
+                        k,
+                        time[k],
+                        time[k + 1]
+                    ),
+                ));
             }
-            if let Some(v) = time.iter().chain(value).find(|v| !v.is_finite()) {
-                return Err(crate::error::Error::Model(format!(
-                    "driver '{driver}': table value {v} is not finite"
-                )));
+            if let Some((key, v)) = time
+                .iter()
+                .map(|v| ("time", v))
+                .chain(value.iter().map(|v| ("value", v)))
+                .find(|(_, v)| !v.is_finite())
+            {
+                return Err(error(key, format!("table value {v} is not finite")));
             }
             Ok(())
         };
@@ -157,7 +168,7 @@ impl MotionProfile {
             Profile::LinearRamp { speed, ramp_time } | Profile::SmoothRamp { speed, ramp_time } => {
                 finite("speed", *speed)?;
                 if !(ramp_time.is_finite() && *ramp_time > 0.0) {
-                    return err(format!("ramp_time = {ramp_time} s must be positive"));
+                    return Err(error("ramp_time", format!("ramp_time = {ramp_time} s must be positive")));
                 }
                 if matches!(profile, Profile::LinearRamp { .. }) {
                     MotionProfile::LinearRamp { speed: *speed, ramp_time: *ramp_time }

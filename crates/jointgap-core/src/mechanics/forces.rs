@@ -1,7 +1,7 @@
 //! Applied forces: gravity, spring-dampers and prescribed loads, as generalised forces
 //! `Qe` on the coordinates (x, y, phi) of each body, and their potential energy.
 
-use crate::error::Error;
+use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, BodyState};
@@ -16,25 +16,33 @@ pub struct TimeTable<const N: usize> {
 }
 
 impl<const N: usize> TimeTable<N> {
-    fn new(who: &str, time: Vec<f64>, value: Vec<[f64; N]>) -> Result<Self, Error> {
+    /// A table of `who`'s `key` (`force`, `torque`), its errors naming them.
+    fn new(who: Named, key: &str, time: Vec<f64>, value: Vec<[f64; N]>) -> Result<Self, Error> {
         if time.is_empty() || time.len() != value.len() {
-            return Err(Error::Model(format!(
-                "{who}: a table needs as many values as times (got {} times, {} values)",
-                time.len(),
-                value.len()
-            )));
+            return Err(who.error(
+                key,
+                format!(
+                    "a table needs as many values as times (got {} times, {} values)",
+                    time.len(),
+                    value.len()
+                ),
+            ));
         }
         if let Some(k) =
             time.windows(2).position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
         {
-            return Err(Error::Model(format!(
-                "{who}: table times must increase strictly (time[{k}] = {} then {})",
-                time[k],
-                time[k + 1]
-            )));
+            return Err(who.error(
+                &format!("{key}.time"),
+                format!("table times must increase strictly (time[{k}] = {} then {})", time[k], time[k + 1]),
+            ));
         }
-        if let Some(v) = time.iter().chain(value.iter().flatten()).find(|v| !v.is_finite()) {
-            return Err(Error::Model(format!("{who}: table value {v} is not finite")));
+        if let Some((part, v)) = time
+            .iter()
+            .map(|v| ("time", v))
+            .chain(value.iter().flatten().map(|v| ("value", v)))
+            .find(|(_, v)| !v.is_finite())
+        {
+            return Err(who.error(&format!("{key}.{part}"), format!("table value {v} is not finite")));
         }
         Ok(TimeTable { time, value })
     }
@@ -43,15 +51,16 @@ impl<const N: usize> TimeTable<N> {
         TimeTable { time: vec![0.0], value: vec![v] }
     }
 
-    fn from_signal(who: &str, s: &Signal<[f64; N]>) -> Result<Self, Error> {
+    /// `who`'s `key` (`force`, `torque`), constant or a table.
+    fn from_signal(who: Named, key: &str, s: &Signal<[f64; N]>) -> Result<Self, Error> {
         match s {
             Signal::Constant(v) => {
                 if let Some(x) = v.iter().find(|x| !x.is_finite()) {
-                    return Err(Error::Model(format!("{who}: value {x} is not finite")));
+                    return Err(who.error(key, format!("value {x} is not finite")));
                 }
                 Ok(Self::constant(*v))
             }
-            Signal::Table { time, value } => Self::new(who, time.clone(), value.clone()),
+            Signal::Table { time, value } => Self::new(who, key, time.clone(), value.clone()),
         }
     }
 
@@ -158,17 +167,17 @@ fn add_torque(loads: &mut Loads, b: Option<usize>, tau: f64) {
     }
 }
 
-fn non_negative(who: &str, what: &str, unit: &str, v: f64) -> Result<f64, Error> {
+fn non_negative(who: Named, what: &str, unit: &str, v: f64) -> Result<f64, Error> {
     if v.is_finite() && v >= 0.0 {
         Ok(v)
     } else {
-        Err(Error::Model(format!("{who}: {what} = {v} {unit} must be zero or positive")))
+        Err(who.error(what, format!("{what} = {v} {unit} must be zero or positive")))
     }
 }
 
 impl ForceElement {
     pub(crate) fn new(f: &Force, res: &Resolver) -> Result<Self, Error> {
-        let who = format!("force '{}'", f.name());
+        let who = Named::force(f.name());
         Ok(match f {
             Force::SpringDamper {
                 name,
@@ -180,39 +189,39 @@ impl ForceElement {
                 damping,
                 free_length,
             } => {
-                let bi = res.body(&who, "body_i", body_i)?;
-                let bj = res.body(&who, "body_j", body_j)?;
+                let bi = res.body(who, "body_i", body_i)?;
+                let bj = res.body(who, "body_j", body_j)?;
                 ForceElement::SpringDamper {
                     name: name.clone(),
                     body_i: bi,
-                    s_i: res.point(&who, "point_i", bi, point_i)?,
+                    s_i: res.point(who, "point_i", bi, point_i)?,
                     body_j: bj,
-                    s_j: res.point(&who, "point_j", bj, point_j)?,
-                    stiffness: non_negative(&who, "stiffness", "N/m", *stiffness)?,
-                    damping: non_negative(&who, "damping", "N s/m", *damping)?,
-                    free_length: non_negative(&who, "free_length", "m", *free_length)?,
+                    s_j: res.point(who, "point_j", bj, point_j)?,
+                    stiffness: non_negative(who, "stiffness", "N/m", *stiffness)?,
+                    damping: non_negative(who, "damping", "N s/m", *damping)?,
+                    free_length: non_negative(who, "free_length", "m", *free_length)?,
                 }
             }
             Force::RotationalSpringDamper { name, body_i, body_j, stiffness, damping, free_angle } => {
                 if !free_angle.is_finite() {
-                    return Err(Error::Model(format!("{who}: free_angle = {free_angle} is not finite")));
+                    return Err(who.error("free_angle", format!("free_angle = {free_angle} is not finite")));
                 }
                 ForceElement::RotationalSpringDamper {
                     name: name.clone(),
-                    body_i: res.body(&who, "body_i", body_i)?,
-                    body_j: res.body(&who, "body_j", body_j)?,
-                    stiffness: non_negative(&who, "stiffness", "N m/rad", *stiffness)?,
-                    damping: non_negative(&who, "damping", "N m s/rad", *damping)?,
+                    body_i: res.body(who, "body_i", body_i)?,
+                    body_j: res.body(who, "body_j", body_j)?,
+                    stiffness: non_negative(who, "stiffness", "N m/rad", *stiffness)?,
+                    damping: non_negative(who, "damping", "N m s/rad", *damping)?,
                     free_angle: *free_angle,
                 }
             }
             Force::AppliedForce { name, body, point, force } => {
-                let b = res.body(&who, "body", body)?;
+                let b = res.body(who, "body", body)?;
                 ForceElement::AppliedForce {
                     name: name.clone(),
                     body: b,
-                    s: res.point(&who, "point", b, point)?,
-                    force: TimeTable::from_signal(&who, force)?,
+                    s: res.point(who, "point", b, point)?,
+                    force: TimeTable::from_signal(who, "force", force)?,
                 }
             }
             Force::AppliedTorque { name, body, torque } => {
@@ -224,8 +233,8 @@ impl ForceElement {
                 };
                 ForceElement::AppliedTorque {
                     name: name.clone(),
-                    body: res.body(&who, "body", body)?,
-                    torque: TimeTable::from_signal(&who, &torque)?,
+                    body: res.body(who, "body", body)?,
+                    torque: TimeTable::from_signal(who, "torque", &torque)?,
                 }
             }
         })

@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use crate::error::Error;
+use crate::error::{Error, Named};
 use crate::math::Vec2;
 use crate::model::{Model, PointRef, GROUND};
 
@@ -20,23 +20,23 @@ impl<'a> Resolver<'a> {
         Resolver { model, index }
     }
 
-    pub(crate) fn body(&self, who: &str, field: &str, name: &str) -> Result<Option<usize>, Error> {
+    pub(crate) fn body(&self, who: Named, field: &str, name: &str) -> Result<Option<usize>, Error> {
         if name == GROUND {
             return Ok(None);
         }
         self.index.get(name).copied().map(Some).ok_or_else(|| {
             let mut known: Vec<&str> = vec![GROUND];
             known.extend(self.model.bodies.iter().map(|b| b.name.as_str()));
-            Error::Model(format!(
-                "{who}: {field} '{name}' is not a body of the model (bodies: {})",
-                known.join(", ")
-            ))
+            who.error(
+                field,
+                format!("{field} '{name}' is not a body of the model (bodies: {})", known.join(", ")),
+            )
         })
     }
 
     pub(crate) fn point(
         &self,
-        who: &str,
+        who: Named,
         field: &str,
         body: Option<usize>,
         p: &PointRef,
@@ -49,14 +49,17 @@ impl<'a> Resolver<'a> {
             PointRef::Local(v) => *v,
             PointRef::Named(n) => *points.get(n).ok_or_else(|| {
                 let known: Vec<&str> = points.keys().map(|s| s.as_str()).collect();
-                Error::Model(format!(
-                    "{who}: {field} '{n}' is not a point of body '{body_name}' (points: {})",
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
-                ))
+                who.error(
+                    field,
+                    format!(
+                        "{field} '{n}' is not a point of body '{body_name}' (points: {})",
+                        if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                    ),
+                )
             })?,
         };
         if !(v[0].is_finite() && v[1].is_finite()) {
-            return Err(Error::Model(format!("{who}: {field} {v:?} is not finite")));
+            return Err(who.error(field, format!("{field} {v:?} is not finite")));
         }
         Ok(Vec2::new(v[0], v[1]))
     }

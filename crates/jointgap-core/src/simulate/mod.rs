@@ -91,13 +91,15 @@ fn record_initial(
 fn check_weights(system: &System) -> Result<(), Error> {
     let g = system.gravity.norm();
     match system.bodies.iter().find(|b| !(b.mass * g).is_finite()) {
-        Some(b) => Err(Error::Model(format!(
-            "body '{}': mass = {:e} kg: its weight m |g| = {} N overflows the floating-point range \
-             (about 1.8e308); check the value and its unit",
-            b.name,
-            b.mass,
-            b.mass * g
-        ))),
+        Some(b) => Err(crate::error::Named::body(&b.name).error(
+            "mass",
+            format!(
+                "mass = {:e} kg: its weight m |g| = {} N overflows the floating-point range \
+                 (about 1.8e308); check the value and its unit",
+                b.mass,
+                b.mass * g
+            ),
+        )),
         None => Ok(()),
     }
 }
@@ -115,10 +117,15 @@ fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
     } else {
         "model"
     };
-    Error::Model(format!(
-        "{kind} '{element}': {quantity} = {value} at the initial state (t = 0), before the run: {}",
+    let problem = format!(
+        "{quantity} = {value} at the initial state (t = 0), before the run: {}",
         record::NON_FINITE_CAUSE
-    ))
+    );
+    // A channel is no key of the model file: the error names the element alone.
+    match kind {
+        "model" => Error::Model(format!("{kind} '{element}': {problem}")),
+        _ => crate::error::ElementError::model(kind, element, None, problem),
+    }
 }
 
 /// The channels a run of `model` with `opts` records (`opts.channels` selects them), in
@@ -151,19 +158,37 @@ pub fn simulate_batch(
     threads: Option<usize>,
     control: &BatchControl,
 ) -> Vec<Option<Result<SimResult, Error>>> {
+    simulate_batch_of(models, prepare, opts, threads, control)
+}
+
+/// [`simulate_batch`] of `cases` that `prepare` turns into prepared models, each once, in
+/// the batch's threads as its run starts: a front end that holds some models prepared
+/// already hands them over instead of compiling them again. As in [`simulate_with`], a
+/// run's wall time counts its preparation.
+pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared>>(
+    cases: &[C],
+    prepare: impl Fn(&C) -> Result<P, Error> + Sync,
+    opts: &SimOptions,
+    threads: Option<usize>,
+    control: &BatchControl,
+) -> Vec<Option<Result<SimResult, Error>>> {
     use rayon::prelude::*;
-    let one =
-        |m: &Model| (!control.stopped()).then(|| control.case(|| simulate_with(m, opts, &mut &*control)));
+    let simulate_one = |c: &C| {
+        opts.check()?;
+        let started = std::time::Instant::now();
+        run_prepared(prepare(c)?.borrow(), opts, &mut &*control, started)
+    };
+    let one = |c: &C| (!control.stopped()).then(|| control.case(|| simulate_one(c)));
     let run = || {
         let mut done: Vec<(usize, Option<Result<SimResult, Error>>)> =
-            models.iter().enumerate().par_bridge().map(|(k, m)| (k, one(m))).collect();
+            cases.iter().enumerate().par_bridge().map(|(k, c)| (k, one(c))).collect();
         done.sort_unstable_by_key(|(k, _)| *k);
         done.into_iter().map(|(_, result)| result).collect()
     };
     match threads {
         Some(n) => match rayon::ThreadPoolBuilder::new().num_threads(n.max(1)).build() {
             Ok(pool) => pool.install(run),
-            Err(_) => models.iter().map(one).collect(),
+            Err(_) => cases.iter().map(one).collect(),
         },
         None => run(),
     }

@@ -140,8 +140,11 @@ impl SimOptions {
 
     /// Rejects non-finite or out-of-range values, naming the option.
     pub fn check(&self) -> Result<(), crate::error::Error> {
-        let bad = |what: &str, v: f64| {
-            Err(crate::error::Error::Options(format!("option {what} = {v}: must be finite and positive")))
+        let bad = |key: &'static str, v: f64| {
+            Err(crate::error::Error::Options {
+                key,
+                problem: format!("option {key} = {v}: must be finite and positive"),
+            })
         };
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
             return bad("t_end", self.t_end);
@@ -152,10 +155,10 @@ impl SimOptions {
             }
         }
         if !(self.rtol.is_finite() && self.rtol > 0.0 && self.rtol < 1.0) {
-            return Err(crate::error::Error::Options(format!(
-                "option rtol = {}: must lie in (0, 1)",
-                self.rtol
-            )));
+            return Err(crate::error::Error::Options {
+                key: "rtol",
+                problem: format!("option rtol = {}: must lie in (0, 1)", self.rtol),
+            });
         }
         if !(self.atol.is_finite() && self.atol > 0.0) {
             return bad("atol", self.atol);
@@ -166,10 +169,16 @@ impl SimOptions {
             }
         }
         if self.max_steps == Some(0) {
-            return Err(crate::error::Error::Options("option max_steps = 0: must be at least 1".into()));
+            return Err(crate::error::Error::Options {
+                key: "max_steps",
+                problem: "option max_steps = 0: must be at least 1".into(),
+            });
         }
         if self.decimate == 0 {
-            return Err(crate::error::Error::Options("option decimate = 0: must be at least 1".into()));
+            return Err(crate::error::Error::Options {
+                key: "decimate",
+                problem: "option decimate = 0: must be at least 1".into(),
+            });
         }
         Ok(())
     }

@@ -179,9 +179,10 @@ impl Recorder {
                         } else {
                             ""
                         };
-                        return Err(Error::Options(format!(
-                            "channel '{p}' is not an output of this model{hint}"
-                        )));
+                        return Err(Error::Options {
+                            key: "channels",
+                            problem: format!("channel '{p}' is not an output of this model{hint}"),
+                        });
                     }
                 }
                 (0..all.len())

@@ -7,7 +7,7 @@ pub mod resolved;
 
 use std::collections::HashMap;
 
-use crate::error::Error;
+use crate::error::{ElementError, Error, Named};
 use crate::math::Vec2;
 use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
 use crate::mechanics::drivers::MotionProfile;
@@ -35,6 +35,8 @@ pub struct BodyInfo {
 /// assembly alone solves, with the joints and drivers, and that the run then drops.
 #[derive(Debug, Clone)]
 pub struct InitialCondition {
+    /// The joint's index.
+    pub joint: usize,
     /// Body i of the joint (`None`: ground).
     pub body_i: Option<usize>,
     /// Body j of the joint.
@@ -94,13 +96,13 @@ pub struct MarkerInfo {
 impl MarkerInfo {
     /// Checks a marker; errors name it.
     fn new(m: &crate::model::Marker, res: &Resolver) -> Result<Self, Error> {
-        let who = format!("marker '{}'", m.name);
-        let body = res.body(&who, "body", &m.body)?;
+        let who = Named::marker(&m.name);
+        let body = res.body(who, "body", &m.body)?;
         let frame = match &m.frame {
-            Some(name) => res.body(&who, "frame", name)?,
+            Some(name) => res.body(who, "frame", name)?,
             None => None,
         };
-        Ok(MarkerInfo { name: m.name.clone(), body, s: res.point(&who, "point", body, &m.point)?, frame })
+        Ok(MarkerInfo { name: m.name.clone(), body, s: res.point(who, "point", body, &m.point)?, frame })
     }
 }
 
@@ -192,9 +194,9 @@ fn placement(model: &Model, body: Option<usize>) -> BodyState {
     }
 }
 
-fn check_finite(who: &str, what: &str, values: &[f64]) -> Result<(), Error> {
+fn check_finite(who: Named, what: &str, values: &[f64]) -> Result<(), Error> {
     match values.iter().find(|v| !v.is_finite()) {
-        Some(v) => Err(Error::Model(format!("{who}: {what} = {v} is not finite"))),
+        Some(v) => Err(who.error(what, format!("{what} = {v} is not finite"))),
         None => Ok(()),
     }
 }
@@ -290,13 +292,15 @@ fn point_mass_inertia(
                     format!("'{}' {kind}", j.name)
                 })
                 .collect();
-            return Err(Error::Model(format!(
-                "body '{}': inertia = 0 (a point mass) needs its rotation fixed by its joints, but its \
-                 rotation is free: no prismatic or fixed joint ties it to the ground or to a body that \
-                 cannot turn (its joints: {}); give its moment of inertia",
-                b.name,
-                if mine.is_empty() { "none".to_string() } else { mine.join(", ") }
-            )));
+            return Err(Named::body(&b.name).error(
+                "inertia",
+                format!(
+                    "inertia = 0 (a point mass) needs its rotation fixed by its joints, but its \
+                     rotation is free: no prismatic or fixed joint ties it to the ground or to a body \
+                     that cannot turn (its joints: {}); give its moment of inertia",
+                    if mine.is_empty() { "none".to_string() } else { mine.join(", ") }
+                ),
+            ));
         }
         b.inertia = b.mass * length * length;
     }
@@ -319,10 +323,20 @@ impl<'m> Names<'m> {
             return Err(Error::Model(format!("a {kind} has an empty name")));
         }
         if name == GROUND || name == "system" {
-            return Err(Error::Model(format!("{kind} '{name}': the name '{name}' is reserved")));
+            return Err(ElementError::model(
+                kind,
+                name,
+                Some("name"),
+                format!("the name '{name}' is reserved"),
+            ));
         }
         if let Some(other) = self.seen.insert(name, kind) {
-            return Err(Error::Model(format!("{kind} '{name}': the name is already used by a {other}")));
+            return Err(ElementError::model(
+                kind,
+                name,
+                Some("name"),
+                format!("the name is already used by a {other}"),
+            ));
         }
         Ok(())
     }
@@ -338,17 +352,17 @@ fn check_bodies<'m>(
     let mut index = HashMap::new();
     for (k, b) in model.bodies.iter().enumerate() {
         names.claim("body", &b.name)?;
-        let who = format!("body '{}'", b.name);
+        let who = Named::body(&b.name);
         if !(b.mass.is_finite() && b.mass > 0.0) {
-            return Err(Error::Model(format!("{who}: mass = {} kg must be positive", b.mass)));
+            return Err(who.error("mass", format!("mass = {} kg must be positive", b.mass)));
         }
         if !(b.inertia.is_finite() && b.inertia >= 0.0) {
-            return Err(Error::Model(format!("{who}: inertia = {} kg m^2 must not be negative", b.inertia)));
+            return Err(who.error("inertia", format!("inertia = {} kg m^2 must not be negative", b.inertia)));
         }
-        check_finite(&who, "position", &b.position)?;
-        check_finite(&who, "angle", &[b.angle])?;
-        check_finite(&who, "velocity", &b.velocity)?;
-        check_finite(&who, "omega", &[b.omega])?;
+        check_finite(who, "position", &b.position)?;
+        check_finite(who, "angle", &[b.angle])?;
+        check_finite(who, "velocity", &b.velocity)?;
+        check_finite(who, "omega", &[b.omega])?;
         index.insert(b.name.as_str(), k);
         bodies.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: b.inertia });
     }
@@ -367,14 +381,15 @@ fn compile_joints<'m>(
     let mut clearances = Vec::new();
     for (k, j) in model.joints.iter().enumerate() {
         names.claim("joint", &j.name)?;
-        let who = format!("joint '{}'", j.name);
-        let bi = res.body(&who, "body_i", &j.body_i)?;
-        let bj = res.body(&who, "body_j", &j.body_j)?;
+        let who = Named::joint(&j.name);
+        let bi = res.body(who, "body_i", &j.body_i)?;
+        let bj = res.body(who, "body_j", &j.body_j)?;
         if bi == bj {
-            return Err(Error::Model(format!("{who}: connects body '{}' to itself", j.body_i)));
+            // `body_j`, where the body named twice is named the second time.
+            return Err(who.error("body_j", format!("connects body '{}' to itself", j.body_i)));
         }
-        let s_i = res.point(&who, "point_i", bi, &j.point_i)?;
-        let s_j = res.point(&who, "point_j", bj, &j.point_j)?;
+        let s_i = res.point(who, "point_i", bi, &j.point_i)?;
+        let s_j = res.point(who, "point_j", bj, &j.point_j)?;
         let (pi, pj) = (placement(model, bi), placement(model, bj));
         let rel_angle = pj.phi() - pi.phi();
         let first = rows.len();
@@ -392,9 +407,10 @@ fn compile_joints<'m>(
         let mut clearance = None;
         let mut sliding = None;
         if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
-            return Err(Error::Model(format!(
-                "{who}: contact data ('clearance') belongs to clearance_revolute joints, and they need it"
-            )));
+            return Err(who.error(
+                "type",
+                "contact data ('clearance') belongs to clearance_revolute joints, and they need it".into(),
+            ));
         }
         match (j.kind, j.axis) {
             (JointKind::ClearanceRevolute, None) => {
@@ -403,10 +419,10 @@ fn compile_joints<'m>(
                 clearance = Some(clearances.len() - 1);
             }
             (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
-                return Err(Error::Model(format!("{who}: 'axis' applies to prismatic joints only")));
+                return Err(who.error("axis", "'axis' applies to prismatic joints only".into()));
             }
             (JointKind::Prismatic, None) => {
-                return Err(Error::Model(format!("{who}: a prismatic joint needs an 'axis'")));
+                return Err(who.error("type", "a prismatic joint needs an 'axis'".into()));
             }
             (JointKind::Revolute, None) => {
                 push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
@@ -420,7 +436,7 @@ fn compile_joints<'m>(
             (JointKind::Prismatic, Some(axis)) => {
                 let u = Vec2::new(axis[0], axis[1]);
                 if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
-                    return Err(Error::Model(format!("{who}: axis {axis:?} must be a non-zero vector")));
+                    return Err(who.error("axis", format!("axis {axis:?} must be a non-zero vector")));
                 }
                 let u = u.normalize();
                 sliding = Some(u);
@@ -455,40 +471,46 @@ fn compile_drivers<'m>(
     let mut drivers = Vec::new();
     for (k, d) in model.drivers.iter().enumerate() {
         names.claim("driver", &d.name)?;
-        let who = format!("driver '{}'", d.name);
+        let who = Named::driver(&d.name);
         let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
             let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
-            Error::Model(format!(
-                "{who}: joint '{}' is not a joint of the model (joints: {})",
-                d.joint,
-                names.join(", ")
-            ))
+            who.error(
+                "joint",
+                format!("joint '{}' is not a joint of the model (joints: {})", d.joint, names.join(", ")),
+            )
         })?;
         if let Some(other) = drivers.iter().find(|o: &&DriverInfo| o.joint == jk) {
-            return Err(Error::Model(format!(
-                "{who}: joint '{}' is already driven by driver '{}'",
-                d.joint, other.name
-            )));
+            return Err(who.error(
+                "joint",
+                format!("joint '{}' is already driven by driver '{}'", d.joint, other.name),
+            ));
         }
         let joint = &joints[jk];
         let profile = MotionProfile::new(&d.profile, &d.name)?;
         if let Some(v) = d.initial {
-            check_finite(&who, "initial", &[v])?;
+            check_finite(who, "initial", &[v])?;
         }
         if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
-            return Err(Error::Model(format!(
-                "joint '{}': initial and initial_rate cannot be given for a driven joint \
-                 (driver '{}' sets its motion): give its coordinate at t = 0 as the \
-                 driver's initial",
-                d.joint, d.name
-            )));
+            let key = if model.joints[jk].initial.is_some() { "initial" } else { "initial_rate" };
+            return Err(Named::joint(&d.joint).error(
+                key,
+                format!(
+                    "initial and initial_rate cannot be given for a driven joint \
+                     (driver '{}' sets its motion): give its coordinate at t = 0 as the \
+                     driver's initial",
+                    d.name
+                ),
+            ));
         }
         let Some((kind, rotation)) = coordinate_row(model, joints, jk, d.initial) else {
-            return Err(Error::Model(format!(
-                "{who}: joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
-                d.joint,
-                if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
-            )));
+            return Err(who.error(
+                "joint",
+                format!(
+                    "joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                    d.joint,
+                    if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+                ),
+            ));
         };
         corners.extend(profile.corners());
         rows.push(Row {
@@ -513,13 +535,14 @@ fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<Initial
         if j.initial.is_none() && j.initial_rate.is_none() {
             continue;
         }
-        let who = format!("joint '{}'", j.name);
-        check_finite(&who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
-        check_finite(&who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
+        let who = Named::joint(&j.name);
+        check_finite(who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
+        check_finite(who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
         let Some((kind, rotation)) = coordinate_row(model, joints, k, j.initial) else {
-            return Err(Error::Model(format!(
-                "{who}: 'initial' and 'initial_rate' apply to revolute and prismatic joints only"
-            )));
+            return Err(who.error(
+                if j.initial.is_some() { "initial" } else { "initial_rate" },
+                "'initial' and 'initial_rate' apply to revolute and prismatic joints only".into(),
+            ));
         };
         let what = match (j.initial.is_some(), rotation) {
             (true, true) => "initial angle",
@@ -527,6 +550,7 @@ fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<Initial
             (false, _) => "initial rate",
         };
         initial_conditions.push(InitialCondition {
+            joint: k,
             body_i: joints[k].body_i,
             body_j: joints[k].body_j,
             kind,
@@ -590,19 +614,31 @@ fn placement_guess(model: &Model, layout: &Layout) -> (Vec<f64>, Vec<f64>) {
     (q_guess, v_guess)
 }
 
+/// Models this process has compiled ([`System::new`]), for [`compilations`].
+static COMPILATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// How many models this process has compiled: a front end's test reads it to see that
+/// loading a model and running it, alone or in a batch, compiles the model once.
+pub fn compilations() -> usize {
+    COMPILATIONS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 impl System {
     /// Checks and compiles a model: bodies, joints, drivers, the joint coordinates
     /// given at t = 0, force elements and markers, in this order (so that an error
     /// names the first offending element in the model's order), then the point
     /// masses' stand-in inertia.
     pub fn new(model: &Model) -> Result<System, Error> {
+        COMPILATIONS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         if model.bodies.is_empty() {
             return Err(Error::Model(
                 "the model has no bodies: a mechanism needs at least one [[body]] (is the file empty?)"
                     .into(),
             ));
         }
-        check_finite("model", "gravity", &model.gravity)?;
+        if let Some(v) = model.gravity.iter().find(|v| !v.is_finite()) {
+            return Err(Error::Model(format!("model: gravity = {v} is not finite")));
+        }
         let mut names = Names::default();
         let (mut bodies, index) = check_bodies(model, &mut names)?;
         let res = Resolver::new(model, index);

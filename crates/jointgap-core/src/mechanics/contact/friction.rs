@@ -7,22 +7,23 @@ use crate::error::ElementError;
 use crate::error::Error;
 use crate::model::FrictionSpec;
 
-/// Checks a friction law's values of clearance joint `joint`; its errors name the key
-/// `friction`.
+/// Checks a friction law's values of clearance joint `joint`; its errors name the law's
+/// key (`friction.mu_s`).
 pub fn check(joint: &str, spec: &FrictionSpec) -> Result<(), Error> {
-    let error = |problem: String| ElementError::joint(joint, Some("friction"), problem);
+    let error =
+        |name: &str, problem: String| ElementError::joint(joint, Some(&format!("friction.{name}")), problem);
     let coef = |name: &str, v: f64| {
         if v.is_finite() && v >= 0.0 {
             Ok(v)
         } else {
-            Err(error(format!("friction {name} = {v} must be zero or positive")))
+            Err(error(name, format!("friction {name} = {v} must be zero or positive")))
         }
     };
     let speed = |name: &str, v: f64| {
         if v.is_finite() && v > 0.0 {
             Ok(v)
         } else {
-            Err(error(format!("friction {name} = {v} m/s must be positive")))
+            Err(error(name, format!("friction {name} = {v} m/s must be positive")))
         }
     };
     match *spec {
@@ -32,14 +33,14 @@ pub fn check(joint: &str, spec: &FrictionSpec) -> Result<(), Error> {
             coef("mu_d", mu_d)?;
             let (v_s, v_d) = (speed("v_s", v_s)?, speed("v_d", v_d)?);
             if v_s >= v_d {
-                return Err(error(format!("friction v_s = {v_s} m/s must be below v_d = {v_d} m/s")));
+                return Err(error("v_s", format!("friction v_s = {v_s} m/s must be below v_d = {v_d} m/s")));
             }
         }
         FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
             coef("mu", mu)?;
             let (v_0, v_1) = (coef("v_0", v_0)?, speed("v_1", v_1)?);
             if v_0 >= v_1 {
-                return Err(error(format!("friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s")));
+                return Err(error("v_0", format!("friction v_0 = {v_0} m/s must be below v_1 = {v_1} m/s")));
             }
         }
         FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {

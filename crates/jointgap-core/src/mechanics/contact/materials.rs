@@ -2,7 +2,7 @@
 //! stiffness of a journal in a bearing (docs/physics.md section 3; sources in
 //! docs/clearance-joints.md).
 
-use crate::error::Error;
+use crate::error::{Error, Named};
 use crate::model::{Material, MaterialRef};
 
 /// A library entry: name, Young's modulus [Pa], Poisson's ratio, typical d_max [m].
@@ -31,7 +31,7 @@ pub const LIBRARY: [LibraryMaterial; 7] = [
 
 /// Resolves a material reference; `who` and `field` name it in errors. Returns the
 /// properties and the library's typical d_max when the material came from the library.
-pub fn resolve(who: &str, field: &str, m: &MaterialRef) -> Result<(Material, Option<f64>), Error> {
+pub fn resolve(who: Named, field: &str, m: &MaterialRef) -> Result<(Material, Option<f64>), Error> {
     match m {
         MaterialRef::Named(name) => LIBRARY
             .iter()
@@ -41,23 +41,23 @@ pub fn resolve(who: &str, field: &str, m: &MaterialRef) -> Result<(Material, Opt
             })
             .ok_or_else(|| {
                 let names: Vec<&str> = LIBRARY.iter().map(|l| l.name).collect();
-                Error::Model(format!(
-                    "{who}: {field} '{name}' is not in the material library ({})",
-                    names.join(", ")
-                ))
+                who.error(
+                    field,
+                    format!("{field} '{name}' is not in the material library ({})", names.join(", ")),
+                )
             }),
         MaterialRef::Custom(mat) => {
             if !(mat.youngs_modulus.is_finite() && mat.youngs_modulus > 0.0) {
-                return Err(Error::Model(format!(
-                    "{who}: {field} youngs_modulus = {} Pa must be positive",
-                    mat.youngs_modulus
-                )));
+                return Err(who.error(
+                    &format!("{field}.youngs_modulus"),
+                    format!("{field} youngs_modulus = {} Pa must be positive", mat.youngs_modulus),
+                ));
             }
             if !(0.0..0.5).contains(&mat.poisson_ratio) {
-                return Err(Error::Model(format!(
-                    "{who}: {field} poisson_ratio = {} must lie in [0, 0.5)",
-                    mat.poisson_ratio
-                )));
+                return Err(who.error(
+                    &format!("{field}.poisson_ratio"),
+                    format!("{field} poisson_ratio = {} must lie in [0, 0.5)", mat.poisson_ratio),
+                ));
             }
             Ok((mat.clone(), None))
         }

@@ -9,7 +9,7 @@ mod state;
 
 pub use state::{ContactState, Mode};
 
-use crate::error::Error;
+use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, BodyState};
@@ -93,11 +93,11 @@ impl ClearanceRevolute {
         journal: Option<usize>,
         res: &Resolver,
     ) -> Result<Self, Error> {
-        let who = format!("joint '{}'", j.name);
+        let who = Named::joint(&j.name);
         let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
             match v {
                 Some(x) if !(x.is_finite() && x > 0.0) => {
-                    Err(Error::Model(format!("{who}: {what} = {x} m must be positive")))
+                    Err(who.error(what, format!("{what} = {x} m must be positive")))
                 }
                 _ => Ok(v),
             }
@@ -113,65 +113,72 @@ impl ClearanceRevolute {
             (None, Some(j), Some(c)) => (j + c, j),
             (Some(b), Some(j), Some(c)) => {
                 if ((b - j) - c).abs() > 1e-9 * b {
-                    return Err(Error::Model(format!(
-                        "{who}: bearing_radius - journal_radius = {} m contradicts clearance = {c} m",
-                        b - j
-                    )));
+                    return Err(who.error(
+                        "clearance",
+                        format!(
+                            "bearing_radius - journal_radius = {} m contradicts clearance = {c} m",
+                            b - j
+                        ),
+                    ));
                 }
                 (b, j)
             }
             _ => {
-                return Err(Error::Model(format!(
-                    "{who}: give two of bearing_radius, journal_radius and clearance"
-                )));
+                return Err(
+                    who.error_of_element("give two of bearing_radius, journal_radius and clearance".into())
+                );
             }
         };
         // Said in the keys the user gave: a clearance that leaves no journal, or a
         // journal that does not fit its bearing.
         if r_journal <= 0.0 {
-            return Err(Error::Model(format!(
-                "{who}: clearance = {} m is not smaller than bearing_radius = {r_bearing} m: \
-                 the clearance is the radial gap between bearing and journal, a small fraction \
-                 of the bearing radius (check the units)",
-                c.clearance.unwrap_or(r_bearing - r_journal)
-            )));
+            return Err(who.error(
+                "clearance",
+                format!(
+                    "clearance = {} m is not smaller than bearing_radius = {r_bearing} m: \
+                     the clearance is the radial gap between bearing and journal, a small fraction \
+                     of the bearing radius (check the units)",
+                    c.clearance.unwrap_or(r_bearing - r_journal)
+                ),
+            ));
         }
         if r_journal >= r_bearing {
-            return Err(Error::Model(format!(
-                "{who}: journal_radius = {r_journal} m must be smaller than bearing_radius = {r_bearing} m"
-            )));
+            return Err(who.error(
+                "journal_radius",
+                format!("journal_radius = {r_journal} m must be smaller than bearing_radius = {r_bearing} m"),
+            ));
         }
         let (stiffness, d_max_default) = match (c.stiffness, &c.bearing_material, &c.journal_material) {
             (Some(k), _, _) => {
                 if !(k.is_finite() && k > 0.0) {
-                    return Err(Error::Model(format!("{who}: stiffness = {k} must be positive")));
+                    return Err(who.error("stiffness", format!("stiffness = {k} must be positive")));
                 }
                 let d_max = match &c.bearing_material {
-                    Some(m) => materials::resolve(&who, "bearing_material", m)?.1,
+                    Some(m) => materials::resolve(who, "bearing_material", m)?.1,
                     None => None,
                 };
                 (k, d_max)
             }
             (None, Some(mb), Some(mj)) => {
-                let (bearing_mat, d_max) = materials::resolve(&who, "bearing_material", mb)?;
-                let (journal_mat, _) = materials::resolve(&who, "journal_material", mj)?;
+                let (bearing_mat, d_max) = materials::resolve(who, "bearing_material", mb)?;
+                let (journal_mat, _) = materials::resolve(who, "journal_material", mj)?;
                 (
                     materials::journal_bearing_stiffness(&journal_mat, &bearing_mat, r_journal, r_bearing),
                     d_max,
                 )
             }
             _ => {
-                return Err(Error::Model(format!(
-                    "{who}: give a stiffness or both bearing_material and journal_material"
-                )));
+                return Err(who.error_of_element(
+                    "give a stiffness or both bearing_material and journal_material".into(),
+                ));
             }
         };
         Ok(ClearanceRevolute {
             name: j.name.clone(),
             bearing,
-            s_bearing: res.point(&who, "point_i", bearing, &j.point_i)?,
+            s_bearing: res.point(who, "point_i", bearing, &j.point_i)?,
             journal,
-            s_journal: res.point(&who, "point_j", journal, &j.point_j)?,
+            s_journal: res.point(who, "point_j", journal, &j.point_j)?,
             r_bearing,
             r_journal,
             clearance: r_bearing - r_journal,
@@ -199,13 +206,12 @@ impl ClearanceRevolute {
             return Ok(());
         }
         let mm = 1e3;
-        Err(Error::Model(format!(
-            "joint '{}': the journal starts {:.4} mm deep in the bearing (its centre {:.4} mm from the \
+        Err(Named::joint(&self.name).error_of_element(format!(
+            "the journal starts {:.4} mm deep in the bearing (its centre {:.4} mm from the \
              bearing centre, radial clearance {:.4} mm), deeper than any elastic contact: this joint's \
              normal law (K = {:.4e} N/m^{}) presses {:.4} mm deep only under {:.0e} N; likely a wrong \
              point (point_i or point_j of this joint, or a point of a joint that places its bodies), \
              a wrong bearing or journal radius, or a length in the wrong unit",
-            self.name,
             mm * k.penetration,
             mm * k.e.norm(),
             mm * self.clearance,

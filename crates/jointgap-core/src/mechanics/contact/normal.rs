@@ -114,7 +114,7 @@ impl NormalForce {
                 let d_max = d_max.or(d_max_default).ok_or_else(|| {
                     ElementError::joint(
                         joint,
-                        None,
+                        Some("normal_law"),
                         "adams_impact needs d_max (or a bearing material from the library)".into(),
                     )
                 })?;
