@@ -35,13 +35,8 @@ pub struct StateShape {
 
 impl StateShape {
     /// Length of the state `y`, `nq + nv`.
-    pub fn len(&self) -> usize {
+    pub fn state_len(&self) -> usize {
         self.nq + self.nv
-    }
-
-    /// A state without coordinates.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
     }
 }
 

@@ -58,7 +58,7 @@ impl Accounts {
         own.profile = None;
         let driver_rows = sys.drivers.iter().map(|d| ws.active.iter().position(|&r| r == d.row)).collect();
         let shape = state_shape(sys);
-        let n = shape.len();
+        let n = shape.state_len();
         Accounts {
             ws: own,
             driver_rows,

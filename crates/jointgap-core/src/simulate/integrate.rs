@@ -42,7 +42,7 @@ pub fn integrate(
     let mut clock = ProgressClock::start(monitor.progress_interval());
     let chunk = monitor.chunk_len();
     let shape = ode.shape();
-    let (n_state, n) = (shape.len(), shape.nq);
+    let (n_state, n) = (shape.state_len(), shape.nq);
     let sys = ode.sys;
     let mut methods = MethodInUse::new(opts.method, shape);
     let mut f = vec![0.0; n_state];
