@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
 use jointgap_core::integrators::ode::hermite5;
-use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::equations::{state_shape, Ode};
 use jointgap_core::simulate::integrate::stepper;
 use jointgap_core::simulate::record::Recorder;
 use jointgap_core::{simulate, Method, Model, SimOptions, SimResult, Status};
@@ -189,7 +189,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         project(sys, t, &mut qp, &mut vp, &mut ode.ws).unwrap();
     });
     let mut sample = vec![0.0; 2 * n];
-    let c_hermite = ns_per_call(|| hermite5(black_box(0.37), 1e-4, &y, &f0, &y, &f0, &mut sample));
+    let c_hermite = ns_per_call(|| hermite5(black_box(0.37), 1e-4, n, &y, &f0, &y, &f0, &mut sample));
     // Recorder::push: batches of one run's 10 001 samples into a fresh recorder.
     let push_cost = |select: Option<&[String]>, ws: &mut Workspace| {
         let mut per = Vec::new();
@@ -213,13 +213,13 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
     };
     let (mut y_new, mut f_new) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
     let tol = ode.tolerances;
-    let mut dp = stepper::<Ode>(Method::Dopri5, 2 * n);
+    let mut dp = stepper::<Ode>(Method::Dopri5, state_shape(sys));
     let h = mean_h(Method::Dopri5);
     let c_dopri = ns_per_call(|| {
         let _ = black_box(dp.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
     let h = mean_h(Method::Sdirk4);
-    let mut sd = stepper::<Ode>(Method::Sdirk4, 2 * n);
+    let mut sd = stepper::<Ode>(Method::Sdirk4, state_shape(sys));
     let c_sdirk_same_h = ns_per_call(|| {
         let _ = black_box(sd.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
@@ -230,11 +230,11 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         let _ = black_box(sd.attempt(&mut ode, tol, t, &y, &f0, hh, &mut y_new, &mut f_new));
     });
     let c_sdirk_fresh = ns_per_call(|| {
-        let mut s = stepper::<Ode>(Method::Sdirk4, 2 * n);
+        let mut s = stepper::<Ode>(Method::Sdirk4, state_shape(sys));
         let _ = black_box(s.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new));
     });
     ode.evaluations = 0;
-    let mut s = stepper::<Ode>(Method::Sdirk4, 2 * n);
+    let mut s = stepper::<Ode>(Method::Sdirk4, state_shape(sys));
     let _ = s.attempt(&mut ode, tol, t, &y, &f0, h, &mut y_new, &mut f_new);
     let rhs_fresh = ode.evaluations;
     ode.evaluations = 0;

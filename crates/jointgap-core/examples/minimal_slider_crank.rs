@@ -23,7 +23,7 @@ use std::f64::consts::PI;
 use std::time::Instant;
 
 use jointgap_core::integrators::ode::Singular;
-use jointgap_core::integrators::ode::{hermite5, Rhs, Tolerances};
+use jointgap_core::integrators::ode::{hermite5, PositionRate, Rhs, StateShape, Tolerances};
 use jointgap_core::integrators::radau5::Radau5;
 use jointgap_core::integrators::stepper::Stepper;
 use jointgap_core::profile::Profile;
@@ -138,6 +138,10 @@ impl SliderCrank {
 }
 
 impl Rhs for SliderCrank {
+    fn shape(&self) -> StateShape {
+        StateShape { nq: 2, nv: 2, rate: PositionRate::Identity }
+    }
+
     fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
         self.evaluations += 1;
         let (phi_dd, x_dd) = self.accelerations(t, y);
@@ -163,7 +167,7 @@ struct Run {
 fn solve(rtol: f64) -> Run {
     let atol = 1e-3 * rtol;
     let mut ode = SliderCrank::new();
-    let mut radau = Radau5::new(4);
+    let mut radau = Radau5::new(2, 2);
     let mut y = vec![0.0, R_CRANK + L_ROD, 0.0, 0.0];
     let (mut f, mut y1, mut f1, mut sample) = (vec![0.0; 4], vec![0.0; 4], vec![0.0; 4], vec![0.0; 4]);
     let n_samples = (T_END * RATE).round() as usize + 1;
@@ -189,7 +193,7 @@ fn solve(rtol: f64) -> Run {
                     let t1 = if last { end } else { t + h };
                     while ax.len() < n_samples && ax.len() as f64 / RATE <= t1 * (1.0 + 1e-14) {
                         let ts = ax.len() as f64 / RATE;
-                        hermite5((ts - t) / h, h, &y, &f, &y1, &f1, &mut sample);
+                        hermite5((ts - t) / h, h, 2, &y, &f, &y1, &f1, &mut sample);
                         ax.push(ode.accelerations(ts, &sample).1);
                     }
                     t = t1;

@@ -6,7 +6,7 @@ mod common;
 
 use jointgap_core::dynamics::{violation, Workspace};
 use jointgap_core::integrators::stepper::Stepper;
-use jointgap_core::simulate::equations::Ode;
+use jointgap_core::simulate::equations::{state_shape, Ode};
 use jointgap_core::simulate::integrate::stepper;
 use jointgap_core::simulate::prepare;
 use jointgap_core::Method;
@@ -18,8 +18,10 @@ fn accepted_attempt_evaluates_last_at_its_end() {
     let prepared = prepare(&common::slider_crank_clearance()).unwrap();
     let sys = &prepared.system;
     let n = sys.layout.nq() + sys.layout.nv();
-    let steppers: Vec<Box<dyn Stepper<Ode>>> =
-        [Method::Dopri5, Method::Radau5, Method::Sdirk4].into_iter().map(|m| stepper(m, n)).collect();
+    let steppers: Vec<Box<dyn Stepper<Ode>>> = [Method::Dopri5, Method::Radau5, Method::Sdirk4]
+        .into_iter()
+        .map(|m| stepper(m, state_shape(sys)))
+        .collect();
     for mut stepper in steppers {
         let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
         let mut fresh = Workspace::new(sys, prepared.initial.active.clone());
@@ -35,7 +37,7 @@ fn accepted_attempt_evaluates_last_at_its_end() {
             let attempt = stepper.attempt(&mut ode, tol, t, &y, &f, h, &mut y_new, &mut f_new);
             match attempt {
                 Ok(a) if a.error <= 1.0 => {
-                    let (q, v) = y_new.split_at(n / 2);
+                    let (q, v) = y_new.split_at(sys.layout.nq());
                     let here = ode.ws.violation_here(v);
                     fresh.t_piece = ode.ws.t_piece;
                     let again = violation(sys, t + h, q, v, &mut fresh);

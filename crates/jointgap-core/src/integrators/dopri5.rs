@@ -20,6 +20,8 @@ const E: [f64; 7] =
 
 /// Stage storage of the explicit method.
 pub struct Dopri5 {
+    /// Position coordinates of the state.
+    nq: usize,
     k: Vec<Vec<f64>>,
     stage: Vec<f64>,
     acc: Vec<f64>,
@@ -27,9 +29,10 @@ pub struct Dopri5 {
 }
 
 impl Dopri5 {
-    /// Allocates for a state of length `n`.
-    pub fn new(n: usize) -> Self {
-        Dopri5 { k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], acc: vec![0.0; n], err: vec![0.0; n] }
+    /// Allocates for a state of `nq` positions and `nv` velocities.
+    pub fn new(nq: usize, nv: usize) -> Self {
+        let n = nq + nv;
+        Dopri5 { nq, k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], acc: vec![0.0; n], err: vec![0.0; n] }
     }
 }
 
@@ -91,7 +94,12 @@ impl<R: Rhs + ?Sized> Stepper<R> for Dopri5 {
         for (err, acc) in self.err.iter_mut().zip(&self.acc) {
             *err = h * acc;
         }
-        Ok(Attempt { error: tol.error_norm(&self.err, y, y_new), stiffness })
+        let error = tol.error_norm(&self.err, y, y_new);
+        // Positions brought back onto their manifold: f at the state handed back.
+        if ode.update_positions(&mut y_new[..self.nq]) {
+            ode.eval(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
+        }
+        Ok(Attempt { error, stiffness })
     }
 }
 

@@ -1,4 +1,4 @@
-//! Forward-difference Jacobian `df/dy` of the equations of motion, shared by the
+//! Forward-difference Jacobian `df/dy` of a right-hand side, shared by the
 //! implicit methods (SDIRK4, Radau IIA).
 
 use nalgebra::DMatrix;
@@ -7,8 +7,10 @@ use super::ode::{Rhs, Singular};
 
 /// Fills `jac` ((n - first) x n, n = `y.len()`) with rows `first..n` of
 /// `(f(t, y + d_j e_j) - f0) / d_j`, one force evaluation per column, increment
-/// `d_j = sqrt(eps) max(|y_j|, 1e-5)`; `f0 = f(t, y)`. `first = n / 2` skips the rows of
-/// `q' = v`, which are `[0 I]` exactly. `work` is scratch of length n.
+/// `d_j = sqrt(eps) max(|y_j|, 1e-5)`; `f0 = f(t, y)`. `first = nq` skips the rows of
+/// `q' = G(q) v`, which a method then takes as `[0 G]` ([`Rhs::rate_jacobian`]: `[0 I]`
+/// exactly for `q' = v`); `first = 0` gives all rows, `d(G(q) v)/d(q)` included. `work`
+/// is scratch of length n.
 pub fn forward_difference<R: Rhs + ?Sized>(
     ode: &mut R,
     t: f64,

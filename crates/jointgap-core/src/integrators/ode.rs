@@ -1,7 +1,8 @@
-//! A first-order ODE `y' = f(t, y)` with `y = (q, v)` and `f = (v, a)` as the methods
-//! see it, the tolerance-weighted error norm they share, and the dense output of a step.
+//! A first-order ODE `y' = f(t, y)` with `y = (q, v)` and `f = (G(q) v, a)` as the
+//! methods see it, the tolerance-weighted error norm they share, and the dense output of
+//! a step.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixViewMut};
 
 use crate::profile::Profile;
 
@@ -10,14 +11,67 @@ use crate::profile::Profile;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Singular;
 
-/// A first-order system `y' = f(t, y)` as the methods see it: the equations of motion
-/// (the simulation loop's `Ode`), or a model problem in their tests.
+/// How the positions of a state `y = (q, v)` move with its velocities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PositionRate {
+    /// `q' = v` (`G = I`, `nq = nv`): planar bodies. The methods use the structure of a
+    /// second-order system exactly (Radau IIA's reduced solve, the quintic dense output).
+    Identity,
+    /// `q' = G(q) v` with `G` given by [`Rhs::position_rate`] and [`Rhs::rate_jacobian`]
+    /// (a unit quaternion moved by an angular velocity: `nq = 4`, `nv = 3`).
+    Mapped,
+}
+
+/// How a state `y = (q, v)` divides: `q = y[..nq]`, `v = y[nq..]`, and how `q` moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StateShape {
+    /// Position coordinates.
+    pub nq: usize,
+    /// Velocity coordinates.
+    pub nv: usize,
+    /// `q' = v` or `q' = G(q) v`.
+    pub rate: PositionRate,
+}
+
+impl StateShape {
+    /// Length of the state `y`, `nq + nv`.
+    pub fn state_len(&self) -> usize {
+        self.nq + self.nv
+    }
+}
+
+/// A first-order system `y' = f(t, y)` with `y = (q, v)` and `f = (q', v')`,
+/// `q' = G(q) v`, as the methods see it: the equations of motion (the simulation loop's
+/// `Ode`), or a model problem in their tests.
 pub trait Rhs {
+    /// The state's sizes (`y.len() == nq + nv`) and how its positions move.
+    fn shape(&self) -> StateShape;
     /// Writes `f(t, y)` into `dy`.
     fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular>;
+    /// Writes the position rate `q' = G(q) v` (`nq` long) into `qdot`: what `eval` writes
+    /// into `dy[..nq]`. The default is `G = I`, a copy of `v` ([`PositionRate::Identity`]).
+    fn position_rate(&self, _q: &[f64], v: &[f64], qdot: &mut [f64]) {
+        qdot.copy_from_slice(v);
+    }
+    /// Writes `d(q')/d(v) = G(q)` (nq x nv) into `g`, the upper right block of the
+    /// implicit methods' Jacobian `df/dy`; the default is the identity. The block beside
+    /// it, `d(q')/d(q) = d(G(q) v)/d(q)`, is zero for `q' = v`; where `G` varies it is of
+    /// the order of the speeds, not of a stiffness, and the methods' Newton matrices leave
+    /// it out (it steers the iterations only, not what they converge to), except the
+    /// forward-difference Jacobian of all rows that SDIRK4 falls back to
+    /// ([`crate::integrators::jacobian`]), which has it.
+    fn rate_jacobian(&self, _q: &[f64], mut g: DMatrixViewMut<'_, f64>) {
+        g.fill_with_identity();
+    }
+    /// Brings the positions of a state a method has just stepped to back onto their
+    /// manifold (renormalises a unit quaternion); returns whether it changed them, so that
+    /// a method evaluates `f` at the state it hands back. Nothing by default.
+    fn update_positions(&mut self, _q: &mut [f64]) -> bool {
+        false
+    }
     /// Where stage times are booked when the run measures them.
     fn profile(&mut self) -> &mut Option<Profile>;
-    /// The acceleration rows of `df/dy` ((n/2) x n) by a cheaper route than forward
+    /// The acceleration rows of `df/dy` (nv x (nq + nv)) by a cheaper route than forward
     /// differences of [`Rhs::eval`], where there is one; `None` where not.
     fn force_jacobian(
         &mut self,
@@ -52,9 +106,11 @@ impl Tolerances {
 }
 
 /// One accepted step's ends, `(y0, f0)` at its start and `(y1, f1)` at its end, `h`
-/// long: what its dense output ([`hermite5`]) is built from.
+/// long: what its dense output is built from.
 #[derive(Debug, Clone, Copy)]
 pub struct DenseStep<'a> {
+    /// How the states divide and how their positions move.
+    pub shape: StateShape,
     /// Step size.
     pub h: f64,
     /// State at the start.
@@ -68,17 +124,34 @@ pub struct DenseStep<'a> {
 }
 
 impl DenseStep<'_> {
-    /// The state at `theta` (0 at the start, 1 at the end) into `out`.
+    /// The state at `theta` (0 at the start, 1 at the end) into `out`: for `q' = v` the
+    /// quintic of [`hermite5`]; for `q' = G(q) v`, whose `q''` needs the derivative of
+    /// `G` that no method is given, the cubic of [`hermite3`] on both halves.
     pub fn at(&self, theta: f64, out: &mut [f64]) {
-        hermite5(theta, self.h, self.y0, self.f0, self.y1, self.f1, out);
+        match self.shape.rate {
+            PositionRate::Identity => {
+                hermite5(theta, self.h, self.shape.nq, self.y0, self.f0, self.y1, self.f1, out)
+            }
+            PositionRate::Mapped => hermite3(theta, self.h, self.y0, self.f0, self.y1, self.f1, out),
+        }
     }
 }
 
-/// Quintic Hermite interpolation of a second-order system over one step: positions from
-/// their values, velocities and accelerations at both ends (6th order), velocities as
-/// its derivative. `y0`, `f0` at the start, `y1`, `f1` at the end, `h` the step.
-pub fn hermite5(theta: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], out: &mut [f64]) {
-    let n = y0.len() / 2;
+/// Quintic Hermite interpolation of a second-order system `q' = v` over one step, `n`
+/// positions and `n` velocities: positions from their values, velocities (their rates)
+/// and accelerations at both ends (6th order), velocities as its derivative. `y0`, `f0`
+/// at the start, `y1`, `f1` at the end, `h` the step.
+#[allow(clippy::too_many_arguments)]
+pub fn hermite5(
+    theta: f64,
+    h: f64,
+    n: usize,
+    y0: &[f64],
+    f0: &[f64],
+    y1: &[f64],
+    f1: &[f64],
+    out: &mut [f64],
+) {
     let s = theta;
     let (s2, s3) = (s * s, s * s * s);
     let (s4, s5) = (s3 * s, s3 * s2);
@@ -103,9 +176,26 @@ pub fn hermite5(theta: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f6
     }
 }
 
+/// Cubic Hermite interpolation of every component of `y` over one step from its values
+/// and rates at both ends (4th order): the dense output where `q' = G(q) v`. There `q''`
+/// is not known (it needs the derivative of `G`), so positions take their values and
+/// rates `q' = f[..nq]`, and velocities, to the same order, their values and
+/// accelerations. `y0`, `f0` at the start, `y1`, `f1` at the end, `h` the step.
+pub fn hermite3(theta: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], out: &mut [f64]) {
+    let s = theta;
+    let (s2, s3) = (s * s, s * s * s);
+    let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+    let h10 = s3 - 2.0 * s2 + s;
+    let h01 = 3.0 * s2 - 2.0 * s3;
+    let h11 = s3 - s2;
+    for i in 0..out.len() {
+        out[i] = h00 * y0[i] + h * h10 * f0[i] + h01 * y1[i] + h * h11 * f1[i];
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::hermite5;
+    use super::{hermite3, hermite5};
 
     /// Exact for quintic positions: q = t^5 - 2 t^3 + t on [0.3, 0.8].
     #[test]
@@ -122,9 +212,27 @@ mod tests {
         for k in 0..=10 {
             let th = k as f64 / 10.0;
             let t = ta + th * (tb - ta);
-            hermite5(th, tb - ta, &y0, &f0, &y1, &f1, &mut out);
+            hermite5(th, tb - ta, 1, &y0, &f0, &y1, &f1, &mut out);
             assert!((out[0] - q(t)).abs() < 1e-14, "q at {t}");
             assert!((out[1] - v(t)).abs() < 1e-13, "v at {t}");
+        }
+    }
+
+    /// Exact for cubics in each component, whatever its rate: y = (t^3 - t, 2 t^3 + t^2)
+    /// on [0.3, 0.8], with rates (3 t^2 - 1, 6 t^2 + 2 t).
+    #[test]
+    fn hermite3_reproduces_a_cubic() {
+        let y = |t: f64| [t.powi(3) - t, 2.0 * t.powi(3) + t * t];
+        let f = |t: f64| [3.0 * t * t - 1.0, 6.0 * t * t + 2.0 * t];
+        let (ta, tb) = (0.3, 0.8);
+        let mut out = [0.0; 2];
+        for k in 0..=10 {
+            let th = k as f64 / 10.0;
+            let t = ta + th * (tb - ta);
+            hermite3(th, tb - ta, &y(ta), &f(ta), &y(tb), &f(tb), &mut out);
+            for i in 0..2 {
+                assert!((out[i] - y(t)[i]).abs() < 1e-14, "y{i} at {t}");
+            }
         }
     }
 }

@@ -40,7 +40,7 @@
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::jacobian;
-use super::ode::{Rhs, Singular, Tolerances};
+use super::ode::{PositionRate, Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
 use crate::profile;
 
@@ -84,11 +84,15 @@ const SAFE: f64 = 0.9;
 const RATIO: (f64, f64) = (0.2, 8.0);
 
 /// LU factors of the iteration matrices `s I - J` for one step size, `s = gamma/h` and
-/// `s = (alpha + i beta)/h`. With `J = [0 I; Jq Jv]` (the state is `(q, v)`, `q' = v`)
-/// the system `(s I - J) x = b` reduces to its lower half,
-/// `(s I - Jv - Jq / s) x2 = b2 + Jq b1 / s` and `x1 = (b1 + x2) / s` (the structure
-/// RADAU5 exploits for second-order systems, its option M1), so only `n/2 x n/2`
-/// matrices are factored.
+/// `s = (alpha + i beta)/h`. With `J = [0 G; Jq Jv]` (the state is `(q, v)`,
+/// `q' = G(q) v`, `G = I` for `q' = v`) the system `(s I - J) x = b` reduces to its
+/// lower half, `(s I - Jv - Jq G / s) x2 = b2 + Jq b1 / s` and `x1 = (b1 + G x2) / s`
+/// (the structure RADAU5 exploits for second-order systems, its option M1), so only
+/// `nv x nv` matrices are factored. The block `d(q')/d(q) = d(G(q) v)/d(q)` is taken as
+/// zero: it is zero for `q' = v`, and where `G` varies it is of the order of the speeds,
+/// small against `s` at the steps of an accurate run; keeping it would cost a factor of
+/// `s I - d(q')/d(q)` besides, and the iteration matrix steers Newton's iterations only,
+/// not the stages they converge to.
 struct Factors {
     real: LU<f64, Dyn, Dyn>,
     complex: LU<Complex<f64>, Dyn, Dyn>,
@@ -98,54 +102,99 @@ struct Factors {
 }
 
 impl Factors {
-    /// Factors both matrices for step `h`; `jac` is `[Jq Jv]`. `None` when singular.
-    fn new(jac: &DMatrix<f64>, h: f64) -> Option<Self> {
-        let m = jac.nrows();
+    /// Factors both matrices for step `h`; `jac` is `[Jq Jv]` (nv x (nq + nv)), `g` is `G`
+    /// (nq x nv; `None`: the identity). `None` when singular.
+    fn new(jac: &DMatrix<f64>, g: Option<&DMatrix<f64>>, h: f64) -> Option<Self> {
+        let (m, nq) = (jac.nrows(), jac.ncols() - jac.nrows());
+        // `Jq G`: `Jq` itself for `G = I`.
+        let product: DMatrix<f64>;
+        let coupling = match g {
+            Some(g) => {
+                product = jac.columns(0, nq) * g;
+                product.columns(0, m)
+            }
+            None => jac.columns(0, m),
+        };
         let s = GAMMA / h;
-        let real =
-            DMatrix::from_fn(m, m, |i, j| if i == j { s } else { 0.0 } - jac[(i, m + j)] - jac[(i, j)] / s);
+        let real = DMatrix::from_fn(m, m, |i, j| {
+            let d = if i == j { s } else { 0.0 };
+            d - jac[(i, nq + j)] - coupling[(i, j)] / s
+        });
         let sigma = Complex::new(ALPHA / h, BETA / h);
         let inv = sigma.inv();
         let complex = DMatrix::from_fn(m, m, |i, j| {
             let d = if i == j { sigma } else { Complex::new(0.0, 0.0) };
-            d - inv * jac[(i, j)] - jac[(i, m + j)]
+            d - inv * coupling[(i, j)] - jac[(i, nq + j)]
         });
         let (real, complex) = (real.lu(), complex.lu());
         (real.is_invertible() && complex.is_invertible()).then_some(Factors { real, complex, s, sigma, h })
     }
 
-    /// Solves `(s I - J) x = b` in place for the real shift; `tmp` is scratch of n/2.
-    fn solve_real(&self, jac: &DMatrix<f64>, b: &mut [f64], tmp: &mut DVector<f64>) {
-        let m = tmp.len();
+    /// Solves `(s I - J) x = b` in place for the real shift; `g` as in [`Factors::new`],
+    /// `tmp` is scratch of nv.
+    fn solve_real(
+        &self,
+        jac: &DMatrix<f64>,
+        g: Option<&DMatrix<f64>>,
+        b: &mut [f64],
+        tmp: &mut DVector<f64>,
+    ) {
+        let (m, nq) = (tmp.len(), jac.ncols() - tmp.len());
         for i in 0..m {
             let mut acc = 0.0;
-            for j in 0..m {
+            for j in 0..nq {
                 acc += jac[(i, j)] * b[j];
             }
-            tmp[i] = b[m + i] + acc / self.s;
+            tmp[i] = b[nq + i] + acc / self.s;
         }
         self.real.solve_mut(tmp);
-        for j in 0..m {
-            b[j] = (b[j] + tmp[j]) / self.s;
-            b[m + j] = tmp[j];
+        match g {
+            None => {
+                for j in 0..nq {
+                    b[j] = (b[j] + tmp[j]) / self.s;
+                }
+            }
+            Some(g) => {
+                for j in 0..nq {
+                    let gx: f64 = (0..m).map(|k| g[(j, k)] * tmp[k]).sum();
+                    b[j] = (b[j] + gx) / self.s;
+                }
+            }
         }
+        b[nq..].copy_from_slice(tmp.as_slice());
     }
 
     /// As [`Factors::solve_real`] for the complex shift.
-    fn solve_complex(&self, jac: &DMatrix<f64>, b: &mut [Complex<f64>], tmp: &mut DVector<Complex<f64>>) {
-        let m = tmp.len();
+    fn solve_complex(
+        &self,
+        jac: &DMatrix<f64>,
+        g: Option<&DMatrix<f64>>,
+        b: &mut [Complex<f64>],
+        tmp: &mut DVector<Complex<f64>>,
+    ) {
+        let (m, nq) = (tmp.len(), jac.ncols() - tmp.len());
         for i in 0..m {
             let mut acc = Complex::new(0.0, 0.0);
-            for j in 0..m {
+            for j in 0..nq {
                 acc += b[j] * jac[(i, j)];
             }
-            tmp[i] = b[m + i] + acc / self.sigma;
+            tmp[i] = b[nq + i] + acc / self.sigma;
         }
         self.complex.solve_mut(tmp);
-        for j in 0..m {
-            b[j] = (b[j] + tmp[j]) / self.sigma;
-            b[m + j] = tmp[j];
+        match g {
+            None => {
+                for j in 0..nq {
+                    b[j] = (b[j] + tmp[j]) / self.sigma;
+                }
+            }
+            Some(g) => {
+                for j in 0..nq {
+                    let gx: Complex<f64> = (0..m).map(|k| tmp[k] * g[(j, k)]).sum();
+                    b[j] = (b[j] + gx) / self.sigma;
+                }
+            }
         }
+        b[nq..].copy_from_slice(tmp.as_slice());
     }
 }
 
@@ -167,8 +216,12 @@ impl Polynomial {
 
 /// Newton state, Jacobian and step history of the Radau IIA method.
 pub struct Radau5 {
-    /// Rows `n/2..n` of the Jacobian, `[Jq Jv]`; (n/2 x n).
+    /// Position coordinates of the state.
+    nq: usize,
+    /// Rows `nq..n` of the Jacobian, `[Jq Jv]`; (nv x n).
     jac: DMatrix<f64>,
+    /// `G = d(q')/d(v)` (nq x nv) with `J`, where `q' = G(q) v`; `None` for `q' = v`.
+    rate: Option<DMatrix<f64>>,
     jac_evals: usize,
     /// `J` was evaluated at the start of the step being attempted (RADAU5's CALJAC).
     jac_current: bool,
@@ -227,12 +280,14 @@ fn wrms(x: &[f64], scal: &[f64]) -> f64 {
 }
 
 impl Radau5 {
-    /// Allocates for a state `(q, v)` of length `n` (even).
-    pub fn new(n: usize) -> Self {
+    /// Allocates for a state `(q, v)` of `nq` positions and `nv` velocities.
+    pub fn new(nq: usize, nv: usize) -> Self {
+        let n = nq + nv;
         let v = || vec![0.0; n];
-        let m = n / 2;
         Radau5 {
-            jac: DMatrix::zeros(m, n),
+            nq,
+            jac: DMatrix::zeros(nv, n),
+            rate: None,
             jac_evals: 0,
             jac_current: false,
             need_jac: true,
@@ -257,8 +312,8 @@ impl Radau5 {
             work: v(),
             rr: v(),
             rc: vec![Complex::new(0.0, 0.0); n],
-            tmp_r: DVector::zeros(m),
-            tmp_c: DVector::zeros(m),
+            tmp_r: DVector::zeros(nv),
+            tmp_c: DVector::zeros(nv),
             #[cfg(test)]
             fixed: false,
         }
@@ -327,12 +382,21 @@ impl Radau5 {
         let lap = profile::start(rhs.profile());
         let mut result = Ok(());
         if self.need_jac {
-            let n = y.len();
+            let nq = self.nq;
             let cheap = if self.full_jacobian { None } else { rhs.force_jacobian(t, y, &mut self.jac) };
             self.jac_from_forces = cheap.is_some();
             let done = cheap.unwrap_or_else(|| {
-                jacobian::forward_difference(rhs, t, y, f0, n / 2, &mut self.jac, &mut self.work)
+                jacobian::forward_difference(rhs, t, y, f0, nq, &mut self.jac, &mut self.work)
             });
+            self.rate = match rhs.shape().rate {
+                PositionRate::Identity => None,
+                PositionRate::Mapped => {
+                    let nv = self.jac.nrows();
+                    let mut g = self.rate.take().unwrap_or_else(|| DMatrix::zeros(nq, nv));
+                    rhs.rate_jacobian(&y[..nq], g.view_mut((0, 0), (nq, nv)));
+                    Some(g)
+                }
+            };
             if done.is_err() {
                 result = Err(StepFailure::Singular);
             } else {
@@ -343,7 +407,7 @@ impl Radau5 {
             }
         }
         if result.is_ok() && self.factors.as_ref().is_none_or(|f| f.h != h) {
-            self.factors = Factors::new(&self.jac, h);
+            self.factors = Factors::new(&self.jac, self.rate.as_ref(), h);
             if self.factors.is_none() {
                 result = Err(self.fail(0.5));
             }
@@ -381,8 +445,8 @@ impl Radau5 {
                 self.rc[i] = Complex::new(tf(1) - a * w2 + b * w3, tf(2) - a * w3 - b * w2);
             }
             let factors = self.factors.as_ref().expect("factored before Newton");
-            factors.solve_real(&self.jac, &mut self.rr, &mut self.tmp_r);
-            factors.solve_complex(&self.jac, &mut self.rc, &mut self.tmp_c);
+            factors.solve_real(&self.jac, self.rate.as_ref(), &mut self.rr, &mut self.tmp_r);
+            factors.solve_complex(&self.jac, self.rate.as_ref(), &mut self.rc, &mut self.tmp_c);
             let mut sum = 0.0;
             for i in 0..n {
                 let s = self.scal[i];
@@ -442,7 +506,7 @@ impl Radau5 {
             self.rr[i] = f0[i] + self.work[i];
         }
         let factors = self.factors.as_ref().expect("factored before the estimate");
-        factors.solve_real(&self.jac, &mut self.rr, &mut self.tmp_r);
+        factors.solve_real(&self.jac, self.rate.as_ref(), &mut self.rr, &mut self.tmp_r);
         let err = error_of(wrms(&self.rr, &self.scal));
         if err < 1.0 || !(self.first || self.last_rejected) {
             return Ok(err);
@@ -454,13 +518,13 @@ impl Radau5 {
         for i in 0..n {
             self.rr[i] = self.fz[0][i] + self.work[i];
         }
-        factors.solve_real(&self.jac, &mut self.rr, &mut self.tmp_r);
+        factors.solve_real(&self.jac, self.rate.as_ref(), &mut self.rr, &mut self.tmp_r);
         Ok(error_of(wrms(&self.rr, &self.scal)))
     }
 
     /// One step of size `h` from `(t, y)` of `rhs` (`f0 = f(t, y)`, tolerances `tol`):
     /// [`Stepper::attempt`] for any right-hand side of the form `y = (q, v)`,
-    /// `f = (v, a(t, q, v))`.
+    /// `f = (G(q) v, a(t, q, v))`.
     #[allow(clippy::too_many_arguments)]
     pub fn step<R: Rhs + ?Sized>(
         &mut self,
@@ -498,6 +562,7 @@ impl Radau5 {
         for i in 0..y.len() {
             y_new[i] = y[i] + self.z[2][i];
         }
+        rhs.update_positions(&mut y_new[..self.nq]);
         rhs.eval(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
         self.accepted += 1;
         if self.accepted > 1 {
@@ -560,21 +625,27 @@ impl<R: Rhs + ?Sized> Stepper<R> for Radau5 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrators::ode::StateShape;
     use crate::profile::Profile;
 
-    /// A model problem `y = (q, v)`, `y' = (v, a(t, q, v))`.
+    /// A model problem `y = (q, v)`, `y' = (v, a(t, q, v))`, `n` positions.
     struct Problem<F: FnMut(f64, &[f64], &[f64], &mut [f64])> {
+        n: usize,
         accel: F,
         evaluations: usize,
         profile: Option<Profile>,
     }
 
     impl<F: FnMut(f64, &[f64], &[f64], &mut [f64])> Rhs for Problem<F> {
+        fn shape(&self) -> StateShape {
+            StateShape { nq: self.n, nv: self.n, rate: PositionRate::Identity }
+        }
+
         fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
             self.evaluations += 1;
-            let m = y.len() / 2;
-            dy[..m].copy_from_slice(&y[m..]);
-            (self.accel)(t, &y[..m], &y[m..], &mut dy[m..]);
+            let (q, v) = y.split_at(self.n);
+            self.position_rate(q, v, &mut dy[..self.n]);
+            (self.accel)(t, q, v, &mut dy[self.n..]);
             Ok(())
         }
 
@@ -583,14 +654,15 @@ mod tests {
         }
     }
 
-    fn problem<F: FnMut(f64, &[f64], &[f64], &mut [f64])>(accel: F) -> Problem<F> {
-        Problem { accel, evaluations: 0, profile: None }
+    fn problem<F: FnMut(f64, &[f64], &[f64], &mut [f64])>(n: usize, accel: F) -> Problem<F> {
+        Problem { n, accel, evaluations: 0, profile: None }
     }
 
     /// `steps` steps of size `t_end / steps` from `y0` at t = 0; Newton to `tol`.
     fn fixed_steps<R: Rhs>(rhs: &mut R, y0: &[f64], t_end: f64, steps: usize, tol: f64) -> Vec<f64> {
-        let n = y0.len();
-        let mut radau = Radau5::new(n);
+        let StateShape { nq, nv, .. } = rhs.shape();
+        let n = nq + nv;
+        let mut radau = Radau5::new(nq, nv);
         radau.fixed = true;
         radau.max_newton = 40;
         let (mut y, mut f) = (y0.to_vec(), vec![0.0; n]);
@@ -688,7 +760,7 @@ mod tests {
         let errors: Vec<f64> = [80, 160, 320, 640]
             .iter()
             .map(|&steps| {
-                let y = fixed_steps(&mut problem(kepler), &orbit(0.0), t_end, steps, 1e-13);
+                let y = fixed_steps(&mut problem(2, kepler), &orbit(0.0), t_end, steps, 1e-13);
                 y.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max)
             })
             .collect();
@@ -706,7 +778,7 @@ mod tests {
     #[test]
     fn stiff_decay_is_stable_at_large_steps() {
         let (k, c) = (1e6, 1e6 + 1.0);
-        let mut p = problem(|_t: f64, q: &[f64], v: &[f64], a: &mut [f64]| a[0] = -k * q[0] - c * v[0]);
+        let mut p = problem(1, |_t: f64, q: &[f64], v: &[f64], a: &mut [f64]| a[0] = -k * q[0] - c * v[0]);
         for (steps, bound) in [(20, 1e-10), (40, 5e-12)] {
             let y = fixed_steps(&mut p, &[1.0, 0.0], 1.0, steps, 1e-12);
             let u = (1e6 * (-1f64).exp()) / (1e6 - 1.0);
@@ -719,45 +791,43 @@ mod tests {
     }
 
     /// The reduced solve of the second-order structure equals a dense solve of
-    /// `(s I - J) x = b` with the full Jacobian `[0 I; Jq Jv]`, for both shifts.
+    /// `(s I - J) x = b` with the full Jacobian `[0 G; Jq Jv]`, for both shifts: with
+    /// `G = I` (nq = nv = 3) and with a `G` of 4 positions and 3 velocities.
     #[test]
     fn reduced_solve_matches_the_full_system() {
-        let m = 3;
-        let jac = DMatrix::from_fn(m, 2 * m, |i, j| {
-            ((3 * i + 5 * j) % 7) as f64 - 3.0 + if j == m + i { -40.0 } else { 0.0 }
-        });
-        let full = DMatrix::from_fn(2 * m, 2 * m, |i, j| {
-            if i < m {
-                if j == m + i {
-                    1.0
-                } else {
-                    0.0
-                }
-            } else {
-                jac[(i - m, j)]
-            }
-        });
-        let h = 0.01;
-        let f = Factors::new(&jac, h).unwrap();
-        let b: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.7).sin()).collect();
-        let mut x = b.clone();
-        f.solve_real(&jac, &mut x, &mut DVector::zeros(m));
-        let dense = (DMatrix::identity(2 * m, 2 * m) * (GAMMA / h) - &full)
-            .lu()
-            .solve(&DVector::from_row_slice(&b))
-            .unwrap();
-        assert!((DVector::from_row_slice(&x) - dense).amax() < 1e-12);
-        let bc: Vec<Complex<f64>> =
-            b.iter().enumerate().map(|(i, &r)| Complex::new(r, 0.3 * i as f64)).collect();
-        let mut xc = bc.clone();
-        f.solve_complex(&jac, &mut xc, &mut DVector::zeros(m));
-        let shift = Complex::new(ALPHA / h, BETA / h);
-        let fullc = DMatrix::from_fn(
-            2 * m,
-            2 * m,
-            |i, j| if i == j { shift } else { Complex::new(0.0, 0.0) } - Complex::new(full[(i, j)], 0.0),
-        );
-        let densec = fullc.lu().solve(&DVector::from_row_slice(&bc)).unwrap();
-        assert!((DVector::from_row_slice(&xc) - densec).camax() < 1e-12);
+        let mapped = DMatrix::from_fn(4, 3, |i, j| ((2 * i + 3 * j) % 5) as f64 * 0.4 - 0.6);
+        for (nq, g) in [(3, None), (4, Some(&mapped))] {
+            let (m, n) = (3, nq + 3);
+            let jac = DMatrix::from_fn(m, n, |i, j| {
+                ((3 * i + 5 * j) % 7) as f64 - 3.0 + if j == nq + i { -40.0 } else { 0.0 }
+            });
+            let upper = g.cloned().unwrap_or_else(|| DMatrix::identity(m, m));
+            let full = DMatrix::from_fn(n, n, |i, j| match (i < nq, j < nq) {
+                (true, true) => 0.0,
+                (true, false) => upper[(i, j - nq)],
+                (false, _) => jac[(i - nq, j)],
+            });
+            let h = 0.01;
+            let f = Factors::new(&jac, g, h).unwrap();
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+            let mut x = b.clone();
+            f.solve_real(&jac, g, &mut x, &mut DVector::zeros(m));
+            let dense = (DMatrix::identity(n, n) * (GAMMA / h) - &full)
+                .lu()
+                .solve(&DVector::from_row_slice(&b))
+                .unwrap();
+            assert!((DVector::from_row_slice(&x) - dense).amax() < 1e-12, "nq = {nq}");
+            let bc: Vec<Complex<f64>> =
+                b.iter().enumerate().map(|(i, &r)| Complex::new(r, 0.3 * i as f64)).collect();
+            let mut xc = bc.clone();
+            f.solve_complex(&jac, g, &mut xc, &mut DVector::zeros(m));
+            let shift = Complex::new(ALPHA / h, BETA / h);
+            let fullc = DMatrix::from_fn(n, n, |i, j| {
+                let d = if i == j { shift } else { Complex::new(0.0, 0.0) };
+                d - Complex::new(full[(i, j)], 0.0)
+            });
+            let densec = fullc.lu().solve(&DVector::from_row_slice(&bc)).unwrap();
+            assert!((DVector::from_row_slice(&xc) - densec).camax() < 1e-12, "nq = {nq}");
+        }
     }
 }

@@ -1,8 +1,10 @@
 //! L-stable SDIRK of order 4 with an embedded order-3 estimate, gamma = 1/4 (Hairer and
 //! Wanner, Solving ODEs II, Table IV.6.5). Stages are solved by simplified Newton with a
-//! Jacobian reused across steps while Newton converges fast: the force Jacobian
-//! (`dynamics::force_jacobian`), or forward differences of the whole right-hand side
-//! after Newton fails with a fresh force Jacobian, until Newton converges again.
+//! Jacobian reused across steps while Newton converges fast: `[0 G; force Jacobian]`,
+//! with `G = d(q')/d(v)` from [`Rhs::rate_jacobian`] and the acceleration rows from
+//! [`Rhs::force_jacobian`], or forward differences of the whole right-hand side (every
+//! row, `d(q')/d(q)` included) where it has no force Jacobian or after Newton fails with
+//! a fresh one, until Newton converges again.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -25,6 +27,8 @@ const B_HAT: [f64; 5] = [59.0 / 48.0, -17.0 / 96.0, 225.0 / 32.0, -85.0 / 12.0, 
 
 /// Newton state of the implicit method.
 pub struct Sdirk4 {
+    /// Position coordinates of the state.
+    nq: usize,
     jac: DMatrix<f64>,
     jac_fresh: bool,
     jac_valid: bool,
@@ -32,7 +36,7 @@ pub struct Sdirk4 {
     jac_from_forces: bool,
     /// Newton failed with a fresh force Jacobian: forward differences until it converges.
     full_jacobian: bool,
-    /// The force Jacobian's rows `[dqdd/dq dqdd/dv]`; (n/2 x n).
+    /// The force Jacobian's rows `[dv'/dq dv'/dv]`; (nv x n).
     lower: DMatrix<f64>,
     jac_evals: usize,
     lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
@@ -45,15 +49,17 @@ pub struct Sdirk4 {
 }
 
 impl Sdirk4 {
-    /// Allocates for a state of length `n`.
-    pub fn new(n: usize) -> Self {
+    /// Allocates for a state of `nq` positions and `nv` velocities.
+    pub fn new(nq: usize, nv: usize) -> Self {
+        let n = nq + nv;
         Sdirk4 {
+            nq,
             jac: DMatrix::zeros(n, n),
             jac_fresh: false,
             jac_valid: false,
             jac_from_forces: false,
             full_jacobian: false,
-            lower: DMatrix::zeros(n / 2, n),
+            lower: DMatrix::zeros(nv, n),
             jac_evals: 0,
             lu: None,
             lu_h: 0.0,
@@ -65,7 +71,7 @@ impl Sdirk4 {
         }
     }
 
-    /// Jacobian of f at (t, y): `[0 I; force Jacobian]`, or forward differences.
+    /// Jacobian of f at (t, y): `[0 G; force Jacobian]`, or forward differences.
     fn jacobian<R: Rhs + ?Sized>(
         &mut self,
         ode: &mut R,
@@ -73,17 +79,17 @@ impl Sdirk4 {
         y: &[f64],
         f0: &[f64],
     ) -> Result<(), Singular> {
-        self.jac_from_forces = !self.full_jacobian;
-        if self.full_jacobian {
-            jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?;
-        } else {
-            let m = y.len() / 2;
-            ode.force_jacobian(t, y, &mut self.lower).unwrap_or(Err(Singular))?;
-            self.jac.fill(0.0);
-            for i in 0..m {
-                self.jac[(i, m + i)] = 1.0;
+        let cheap = if self.full_jacobian { None } else { ode.force_jacobian(t, y, &mut self.lower) };
+        self.jac_from_forces = cheap.is_some();
+        match cheap {
+            Some(done) => {
+                done?;
+                let (nq, nv) = (self.nq, self.lower.nrows());
+                self.jac.fill(0.0);
+                ode.rate_jacobian(&y[..nq], self.jac.view_mut((0, nq), (nq, nv)));
+                self.jac.rows_mut(nq, nv).copy_from(&self.lower);
             }
-            self.jac.rows_mut(m, m).copy_from(&self.lower);
+            None => jacobian::forward_difference(ode, t, y, f0, 0, &mut self.jac, &mut self.work)?,
         }
         self.jac_evals += 1;
         self.jac_fresh = true;
@@ -224,6 +230,7 @@ impl<R: Rhs + ?Sized> Stepper<R> for Sdirk4 {
         self.full_jacobian = false;
         // Stiffly accurate: the last stage is the solution.
         y_new.copy_from_slice(&self.stage);
+        ode.update_positions(&mut y_new[..self.nq]);
         ode.eval(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
         let mut err = DVector::from_fn(n, |i, _| {
             let mut e = 0.0;

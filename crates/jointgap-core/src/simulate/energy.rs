@@ -5,17 +5,18 @@
 //!
 //! With them the energy balance `T + V - W_in + D` is a conserved quantity of every run,
 //! which a plot of `system.energy_balance` checks. Each integral is summed step by step
-//! by 3-point Gauss-Legendre quadrature along the step's dense output (the same quintic
-//! Hermite interpolant that gives the output samples), so it does not depend on the
-//! output rate, and a sample inside a step adds the part of the step up to its time.
+//! by 3-point Gauss-Legendre quadrature along the step's dense output (the same
+//! interpolant that gives the output samples), so it does not depend on the output rate,
+//! and a sample inside a step adds the part of the step up to its time.
 //! The powers need the multipliers (a driver's power is `lambda ct` of its row), so
 //! every node is a full evaluation of the equations of motion: the accounts cost about
 //! three evaluations per step and per sample, and are computed only when a run asks
 //! for them. The evaluations use their own workspace, so that a run with accounts
 //! steps exactly as one without.
 
+use super::equations::state_shape;
 use crate::dynamics::{accelerations, Singular, Workspace};
-use crate::integrators::ode::{hermite5, DenseStep};
+use crate::integrators::ode::{DenseStep, StateShape};
 use crate::mechanics::contact::ContactState;
 use crate::system::System;
 
@@ -44,6 +45,7 @@ pub struct Accounts {
     t0: f64,
     t1: f64,
     h: f64,
+    shape: StateShape,
     ends: Vec<f64>,
     /// The state at a node.
     y: Vec<f64>,
@@ -55,7 +57,8 @@ impl Accounts {
         let mut own = ws.clone();
         own.profile = None;
         let driver_rows = sys.drivers.iter().map(|d| ws.active.iter().position(|&r| r == d.row)).collect();
-        let n = sys.layout.nq() + sys.layout.nv();
+        let shape = state_shape(sys);
+        let n = shape.state_len();
         Accounts {
             ws: own,
             driver_rows,
@@ -64,6 +67,7 @@ impl Accounts {
             t0: 0.0,
             t1: 0.0,
             h: 0.0,
+            shape,
             ends: vec![0.0; 4 * n],
             y: vec![0.0; n],
         }
@@ -84,7 +88,7 @@ impl Accounts {
         for (k, part) in [step.y0, step.f0, step.y1, step.f1].iter().enumerate() {
             self.ends[k * n..(k + 1) * n].copy_from_slice(part);
         }
-        (self.t0, self.t1, self.h) = (t0, t1, step.h);
+        (self.t0, self.t1, self.h, self.shape) = (t0, t1, step.h, step.shape);
         self.ws.contacts.copy_from_slice(contacts);
         self.ws.t_piece = 0.5 * (t0 + t1);
         self.start = self.end;
@@ -113,10 +117,10 @@ impl Accounts {
             return Ok(sum);
         }
         let n = self.y.len();
-        let (nq, mut y) = (n / 2, std::mem::take(&mut self.y));
+        let (nq, mut y) = (self.shape.nq, std::mem::take(&mut self.y));
         for (x, w) in NODES.iter().zip(WEIGHTS) {
             let [y0, f0, y1, f1] = [0, 1, 2, 3].map(|k| &self.ends[k * n..(k + 1) * n]);
-            hermite5(x * span / self.h, self.h, y0, f0, y1, f1, &mut y);
+            DenseStep { shape: self.shape, h: self.h, y0, f0, y1, f1 }.at(x * span / self.h, &mut y);
             let power = self.powers(sys, self.t0 + x * span, &y[..nq], &y[nq..]);
             match power {
                 Ok(p) => sum.iter_mut().zip(p).for_each(|(s, p)| *s += w * span * p),

@@ -1,14 +1,21 @@
 //! The equations of motion as the first-order ODE the integrators step: `y = (q, v)`,
-//! `f = (v, qdd)` with `qdd` from the augmented solve of [`crate::dynamics`]. This is
-//! where the mechanics meets the generic methods, through their [`Rhs`] trait: the
-//! methods never see a body or a constraint, and the dynamics never sees a method.
+//! `f = (q', qdd)` with `q' = G(q) v` (`v` itself for planar bodies) and `qdd` from the
+//! augmented solve of [`crate::dynamics`]. This is where the mechanics meets the generic
+//! methods, through their [`Rhs`] trait: the methods never see a body or a constraint,
+//! and the dynamics never sees a method.
 
 use nalgebra::DMatrix;
 
 use crate::dynamics::{self, accelerations_for_integration, force_jacobian, Workspace};
-use crate::integrators::ode::{Rhs, Singular, Tolerances};
+use crate::integrators::ode::{PositionRate, Rhs, Singular, StateShape, Tolerances};
 use crate::profile::Profile;
 use crate::system::System;
+
+/// How the state of `sys` divides: the layout's sizes. Every body kind today is planar,
+/// whose positions (x, y, phi) move as `q' = v`.
+pub fn state_shape(sys: &System) -> StateShape {
+    StateShape { nq: sys.layout.nq(), nv: sys.layout.nv(), rate: PositionRate::Identity }
+}
 
 /// One run's ODE: system, scratch and counters.
 pub struct Ode<'a> {
@@ -28,24 +35,25 @@ impl<'a> Ode<'a> {
         Ode { sys, ws: Workspace::new(sys, active), evaluations: 0, tolerances: Tolerances { rtol, atol } }
     }
 
-    /// State length `2 n_coords`.
-    pub fn state_len(&self) -> usize {
-        self.sys.layout.nq() + self.sys.layout.nv()
-    }
-
     /// Writes `f(t, y)` into `dy`.
     pub fn rhs(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), dynamics::Singular> {
         self.evaluations += 1;
         let n = self.sys.layout.nq();
         let (q, v) = y.split_at(n);
         accelerations_for_integration(self.sys, t, q, v, &mut self.ws)?;
-        dy[..n].copy_from_slice(v);
+        self.position_rate(q, v, &mut dy[..n]);
         dy[n..].copy_from_slice(&self.ws.qdd);
         Ok(())
     }
 }
 
 impl Rhs for Ode<'_> {
+    /// [`state_shape`]: `G`, its Jacobian and the position update are the trait's
+    /// defaults (the identity and nothing).
+    fn shape(&self) -> StateShape {
+        state_shape(self.sys)
+    }
+
     fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {
         self.rhs(t, y, dy).map_err(|dynamics::Singular| Singular)
     }

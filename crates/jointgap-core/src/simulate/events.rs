@@ -33,7 +33,7 @@ pub fn locate(
     if sys.clearances.is_empty() || screen(sys, states, log, step, scratch) {
         return None;
     }
-    let n = step.y0.len() / 2;
+    let n = sys.layout.nq();
     let differs = |k: usize, d: f64| if states[k].in_contact { d < 0.0 } else { d > 0.0 };
     let mut points = std::mem::take(&mut log.points);
     points.extend((1..=PROBES).map(|p| p as f64 / PROBES as f64));
@@ -105,7 +105,7 @@ fn screen(
     step: &DenseStep,
     scratch: &mut [f64],
 ) -> bool {
-    let n = step.y0.len() / 2;
+    let n = sys.layout.nq();
     let mut models = std::mem::take(&mut log.models);
     models.clear();
     let mut quiet = true;

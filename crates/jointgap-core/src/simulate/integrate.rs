@@ -1,6 +1,6 @@
 //! The integration loop shared by all methods: steps between input corners, error
 //! control, switching to the implicit method when the problem turns stiff, projection
-//! onto the constraints, and output at sample times by quintic Hermite interpolation.
+//! onto the constraints, and output at sample times from each step's dense output.
 
 use super::equations::Ode;
 use super::events::{self, ImpactLog};
@@ -10,20 +10,21 @@ use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
 use super::switching::AutoSwitch;
 use crate::dynamics::{friction_rate, project, violation};
 use crate::integrators::dopri5::Dopri5;
-use crate::integrators::ode::{DenseStep, Rhs};
+use crate::integrators::ode::{DenseStep, Rhs, StateShape};
 use crate::integrators::radau5::Radau5;
 use crate::integrators::sdirk4::Sdirk4;
 use crate::integrators::stepper::{StepFailure, Stepper};
 use crate::output::{RunStats, Status};
 use crate::profile;
 
-/// The stepper of `method` for a state of length `n_state`: the one place where a
-/// method becomes a stepper (`auto` starts with DOPRI5).
-pub fn stepper<R: Rhs + ?Sized>(method: Method, n_state: usize) -> Box<dyn Stepper<R>> {
+/// The stepper of `method` for a state of shape `shape`: the one place where a method
+/// becomes a stepper (`auto` starts with DOPRI5).
+pub fn stepper<R: Rhs + ?Sized>(method: Method, shape: StateShape) -> Box<dyn Stepper<R>> {
+    let StateShape { nq, nv, .. } = shape;
     match method {
-        Method::Sdirk4 => Box::new(Sdirk4::new(n_state)),
-        Method::Radau5 => Box::new(Radau5::new(n_state)),
-        Method::Dopri5 | Method::Auto => Box::new(Dopri5::new(n_state)),
+        Method::Sdirk4 => Box::new(Sdirk4::new(nq, nv)),
+        Method::Radau5 => Box::new(Radau5::new(nq, nv)),
+        Method::Dopri5 | Method::Auto => Box::new(Dopri5::new(nq, nv)),
     }
 }
 
@@ -40,10 +41,10 @@ pub fn integrate(
 ) -> Status {
     let mut clock = ProgressClock::start(monitor.progress_interval());
     let chunk = monitor.chunk_len();
-    let n_state = ode.state_len();
-    let n = n_state / 2;
+    let shape = ode.shape();
+    let (n_state, n) = (shape.state_len(), shape.nq);
     let sys = ode.sys;
-    let mut methods = MethodInUse::new(opts.method, n_state);
+    let mut methods = MethodInUse::new(opts.method, shape);
     let mut f = vec![0.0; n_state];
     let mut y_new = vec![0.0; n_state];
     let mut f_new = vec![0.0; n_state];
@@ -117,7 +118,7 @@ pub fn integrate(
                         let drift_at_end =
                             (ode.ws.violation_here(&y_new[n..]), ode.ws.rounding(&y_new[..n], &y_new[n..]));
                         // A contact onset or separation inside the step ends the step there.
-                        let step = DenseStep { h, y0: y, f0: &f, y1: &y_new, f1: &f_new };
+                        let step = DenseStep { shape, h, y0: y, f0: &f, y1: &y_new, f1: &f_new };
                         let event = locate_event(ode, log, &step, &mut sample);
                         let (t_new, last) = match event {
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),
@@ -134,6 +135,7 @@ pub fn integrate(
                             if theta < 1.0 {
                                 step.at(theta, &mut sample);
                                 y_new.copy_from_slice(&sample);
+                                ode.update_positions(&mut y_new[..n]);
                             }
                             let (q, v) = y_new.split_at(n);
                             log.switch(sys, &mut ode.ws.contacts, k, t_new, q, v);
@@ -220,9 +222,9 @@ struct MethodInUse<'a> {
 
 impl<'a> MethodInUse<'a> {
     /// The first method of a run of `requested` (`auto` starts with DOPRI5).
-    fn new(requested: Method, n_state: usize) -> Self {
+    fn new(requested: Method, shape: StateShape) -> Self {
         let method = if requested == Method::Auto { Method::Dopri5 } else { requested };
-        MethodInUse { method, stepper: stepper(method, n_state), switch: AutoSwitch::default() }
+        MethodInUse { method, stepper: stepper(method, shape), switch: AutoSwitch::default() }
     }
 
     /// Under `auto`, after an accepted step of `h_taken` to `(t, y)` with `f = f(t, y)`
@@ -242,7 +244,7 @@ impl<'a> MethodInUse<'a> {
         } else {
             None
         };
-        let (q, v) = y.split_at(y.len() / 2);
+        let (q, v) = y.split_at(ode.sys.layout.nq());
         let friction = friction_rate(ode.sys, q, v, &mut ode.ws);
         let next = self.switch.after_step(
             self.method,
@@ -254,7 +256,7 @@ impl<'a> MethodInUse<'a> {
         if let Some(next) = next {
             self.method = next;
             stats.jacobian_evaluations += self.stepper.jacobian_evaluations();
-            self.stepper = stepper(next, y.len());
+            self.stepper = stepper(next, ode.shape());
         }
     }
 }
@@ -420,7 +422,7 @@ fn record_samples_inside(
     sample: &mut [f64],
 ) -> Result<(), Status> {
     let sys = ode.sys;
-    let n = sample.len() / 2;
+    let n = sys.layout.nq();
     let t_end = grid.t_end;
     let lap = profile::start(&ode.ws.profile);
     if rec.begin_step(sys, &ode.ws.contacts, step, t, t_new).is_err() {
@@ -467,7 +469,7 @@ fn keep_on_constraints(
     stats: &mut RunStats,
 ) -> Result<bool, Status> {
     let sys = ode.sys;
-    let n = y.len() / 2;
+    let n = sys.layout.nq();
     let lap = profile::start(&ode.ws.profile);
     let ((pos, vel), rounding) = match drift {
         Some(drift) => drift,
@@ -499,7 +501,7 @@ fn record_step_end(
     y: &[f64],
 ) -> Result<(), Status> {
     let sys = ode.sys;
-    let (q, v) = y.split_at(y.len() / 2);
+    let (q, v) = y.split_at(sys.layout.nq());
     let lap = profile::start(&ode.ws.profile);
     if grid.every_step && rec.last_time.is_none_or(|tl| tl < t) {
         rec.push(sys, &mut ode.ws, t, q, v).map_err(|error| sample_failed(t, error))?;
