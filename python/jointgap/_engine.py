@@ -19,7 +19,7 @@ from . import units as u
 from ._output_size import OUTPUT_MEMORY_FRACTION, OutputSize
 from ._schema import ENGINE_DEFAULTS
 from .errors import OutputTooLarge, RunWarning
-from .results import Result, RunStats
+from .results import Result, RunStats, contact_name
 
 __all__ = [
     "DEFAULT_OPTIONS",
@@ -296,7 +296,7 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         impacts=summary.get("impacts", []),
         clearances=summary.get("clearances", []),
         samples=summary.get("samples"),
-        mode_time={j["joint"]: j["mode_time"] for j in summary.get("impacts", [])},
+        mode_time={contact_name(j): j["mode_time"] for j in summary.get("impacts", [])},
         peaks=summary.get("peaks", []),
     )
     note = impacts_between_samples(result)

@@ -134,13 +134,20 @@ class Impact:
         )
 
 
+def contact_name(entry: Mapping[str, Any]) -> str:
+    """The name of an entry of the engine's impact lists: its joint's, or ``joint.p<i>``
+    for point ``i`` of a joint of several contact points (as its channels are named)."""
+    point = entry.get("point")
+    return str(entry["joint"]) if point is None else f"{entry['joint']}.p{point}"
+
+
 def _impacts(value: Any) -> dict[str, list[Impact]]:
-    """The engine's ``[{joint, impacts: [...]}]`` (or a dict joint -> list) as a dict
-    joint -> list of Impact."""
+    """The engine's ``[{joint, point, impacts: [...]}]`` (or a dict name -> list) as a
+    dict name -> list of Impact, named by :func:`contact_name`."""
     if isinstance(value, Mapping):
         items = list(value.items())
     else:
-        items = [(entry["joint"], entry.get("impacts", [])) for entry in value or []]
+        items = [(contact_name(entry), entry.get("impacts", [])) for entry in value or []]
     out: dict[str, list[Impact]] = {}
     for joint, impacts in items:
         out[str(joint)] = [

@@ -60,11 +60,15 @@ pub struct Impact {
     pub duration: Option<f64>,
 }
 
-/// The impacts of one clearance joint, in time order.
+/// The impacts of one contact point of a clearance joint, in time order.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct JointImpacts {
     /// Joint name.
     pub joint: String,
+    /// The contact point, numbered from 1, of a joint whose geometry has several (whose
+    /// channels are `<joint>.p<point>.<quantity>`); `None` for a joint of one point,
+    /// whose impacts are the joint's.
+    pub point: Option<usize>,
     /// Its impacts.
     pub impacts: Vec<Impact>,
     /// Time spent in free flight, impact and continuous contact [s], summed over the
@@ -113,7 +117,8 @@ pub struct SimResult {
     pub status: Status,
     /// Non-fatal notes (e.g. redundant constraints removed).
     pub warnings: Vec<String>,
-    /// Impacts of each clearance joint, in model order.
+    /// Impacts of each contact point of the clearance joints, joint after joint in model
+    /// order.
     pub impacts: Vec<JointImpacts>,
     /// Contact data of each clearance joint, in model order.
     pub clearances: Vec<ClearanceData>,

@@ -14,8 +14,7 @@ pub mod schur;
 
 pub use schur::Singular;
 
-use crate::math::perp;
-use crate::mechanics::contact::ContactState;
+use crate::mechanics::contact::{self, ContactState};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::layout::Layout;
 use crate::mechanics::layout::Loads;
@@ -62,7 +61,8 @@ pub struct Workspace {
     pub qdd: Vec<f64>,
     /// Time inside the current step, selecting the driver profiles' pieces.
     pub t_piece: f64,
-    /// Discrete state of each clearance joint; forces filled by [`applied_forces`].
+    /// Discrete state of each contact point of the clearance joints, joint after joint
+    /// ([`contact::slots`]); forces filled by [`applied_forces`].
     pub contacts: Vec<ContactState>,
     /// Time per stage, when measured.
     pub profile: Option<Profile>,
@@ -135,7 +135,7 @@ impl Workspace {
             lambda: DVector::zeros(m),
             qdd: vec![0.0; n],
             t_piece: 0.0,
-            contacts: vec![ContactState::default(); sys.clearances.len()],
+            contacts: vec![ContactState::default(); contact::point_count(&sys.clearances)],
             profile: None,
             bodies: vec![BodyState::default(); sys.bodies.len()],
             scratch: vec![0.0; n],
@@ -312,8 +312,9 @@ fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
     for f in &sys.forces {
         f.add_to(t, |b| *body_of(bodies, b), &mut loads);
     }
-    for (c, contact) in sys.clearances.iter().zip(&ws.contacts) {
-        c.add_to(body_of(bodies, c.bearing), body_of(bodies, c.journal), contact, &mut loads);
+    for (_, c, points) in contact::slots(&sys.clearances) {
+        let g = &c.geometry;
+        c.add_to(body_of(bodies, g.bearing), body_of(bodies, g.journal), &ws.contacts[points], &mut loads);
     }
 }
 
@@ -490,45 +491,49 @@ fn settled(ws: &Workspace, q: &[f64], v: &[f64]) -> f64 {
     POSITION_TOL.max(ws.rounding(q, v).0)
 }
 
-/// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`:
-/// `|dF_T/dv_t|` times the slip's inverse mass through the constraints,
-/// `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the slip's direction in coordinates.
+/// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`,
+/// over its contact points and their tangents: `|dF_T/dv_t|` times the slip's inverse
+/// mass through the constraints, `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the
+/// slip's direction in coordinates.
 /// An explicit step is stable only below about 3.3 divided by it, so this is the
 /// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
 /// evaluation.
 pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
     let mut rate = 0.0f64;
-    for (k, c) in sys.clearances.iter().enumerate() {
-        let contact = ws.contacts[k];
-        let (bearing, journal) = (sys.body_state(c.bearing, q, v), sys.body_state(c.journal, q, v));
-        let kin = c.kinematics(&bearing, &journal);
-        let (f_n, _) = c.contact_force(&kin, contact.onset_for(kin.penetration_rate));
-        let damping = if f_n > 0.0 { c.friction.damping(kin.slip, f_n) } else { 0.0 };
-        if damping == 0.0 {
-            continue;
-        }
-        // Slip = g . qdot: each body's point velocity along the tangent.
-        let t = perp(kin.n);
-        let mut g = vec![0.0; ws.m_inv.len()];
-        let mut slip = Loads::new(&sys.layout, &mut g);
-        for (body, state, point, sign) in
-            [(c.journal, &journal, kin.point_journal, 1.0), (c.bearing, &bearing, kin.point_bearing, -1.0)]
-        {
-            if let Some(g) = slip.body(body) {
-                planar::add_force(g, point - state.r, t * sign);
+    for (_, c, points) in contact::slots(&sys.clearances) {
+        let (bearing, journal) =
+            (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
+        for (kin, (slip, t)) in c.contacts(&bearing, &journal, f64::INFINITY).iter().flat_map(|kin| {
+            kin.slip.iter().zip(contact::point::tangents(kin.normal)).map(move |tangent| (kin, tangent))
+        }) {
+            let contact = ws.contacts[points.start + kin.index];
+            let (f_n, _) = c.force(kin, contact.onset_for(kin.penetration_rate));
+            let damping = if f_n > 0.0 { c.friction.damping(*slip, f_n) } else { 0.0 };
+            if damping == 0.0 {
+                continue;
             }
-        }
-        let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
-        let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
-        let mut inverse_mass = free;
-        if ws.dynamic > 0 {
-            let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
-            let r = mu.clone();
-            if ws.schur_solve(&mut mu).is_ok() {
-                inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
+            // Slip = g . qdot: each body's point velocity along the tangent.
+            let mut g = vec![0.0; ws.m_inv.len()];
+            let mut along = Loads::new(&sys.layout, &mut g);
+            for (body, state, point, sign) in
+                [(kin.on_j.body, &journal, kin.on_j.at, 1.0), (kin.on_i.body, &bearing, kin.on_i.at, -1.0)]
+            {
+                if let Some(g) = along.body(body) {
+                    planar::add_force(g, point - state.r, t * sign);
+                }
             }
+            let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
+            let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
+            let mut inverse_mass = free;
+            if ws.dynamic > 0 {
+                let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
+                let r = mu.clone();
+                if ws.schur_solve(&mut mu).is_ok() {
+                    inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
+                }
+            }
+            rate = rate.max(damping * inverse_mass.clamp(0.0, free));
         }
-        rate = rate.max(damping * inverse_mass.clamp(0.0, free));
     }
     rate
 }

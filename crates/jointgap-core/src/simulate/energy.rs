@@ -17,7 +17,7 @@
 use super::equations::state_shape;
 use crate::dynamics::{accelerations, Singular, Workspace};
 use crate::integrators::ode::{DenseStep, StateShape};
-use crate::mechanics::contact::ContactState;
+use crate::mechanics::contact::{self, ContactState};
 use crate::system::System;
 
 /// The accounts, in channel order (`system.<name>`) [J].
@@ -149,10 +149,12 @@ impl Accounts {
             p[1] += load;
             p[2] += loss;
         }
-        for (k, c) in sys.clearances.iter().enumerate() {
-            let (normal, friction) = c.losses(&sys.contact_kinematics(k, q, v), &self.ws.contacts[k]);
-            p[3] += normal;
-            p[4] += friction;
+        for (k, c, points) in contact::slots(&sys.clearances) {
+            for point in sys.contact_points(k, q, v).iter() {
+                let (normal, friction) = c.losses(point, &self.ws.contacts[points.start + point.index]);
+                p[3] += normal;
+                p[4] += friction;
+            }
         }
         Ok(p)
     }

@@ -1,22 +1,24 @@
 //! Contact events of clearance joints during a run: onsets and separations located by
-//! root finding on the penetration inside each step, which change the joints'
-//! discrete state ([`ContactState`]), and the impact list they build.
+//! root finding on the penetration inside each step, which change the discrete state
+//! ([`ContactState`]) of each contact point, and the impact list they build. Contact
+//! states, impact lists and mode times are kept per contact point, joint after joint
+//! ([`contact::slots`]): a point's place in that order is its slot.
 
 use crate::integrators::ode::DenseStep;
-use crate::mechanics::contact::{ContactKinematics, ContactState, Mode};
-use crate::output::Impact;
+use crate::mechanics::contact::{self, ContactPoint, ContactState, Mode};
+use crate::output::{Impact, JointImpacts};
 use crate::system::System;
 
 /// Interior points at which a step is searched for a contact change, so that a brief
 /// contact inside one step is not missed.
 const PROBES: usize = 8;
 
-/// Earliest contact change inside a step: `(theta, joint)` with theta in (0, 1], the
-/// first point where a joint's penetration sign disagrees with its contact flag.
+/// Earliest contact change inside a step: `(theta, slot)` with theta in (0, 1], the
+/// first point where a contact point's penetration sign disagrees with its contact flag.
 /// Located by bisection to a relative width of 1e-12 of the step.
 ///
 /// The search probes the dense output at 8 equally spaced points and at the interior
-/// extreme of each joint's end-point model of its penetration where that model crosses
+/// extreme of each contact point's end-point model of its penetration where that model crosses
 /// zero ([`screen`]), so a graze between two equally spaced points is still found. A
 /// step that [`screen`] shows quiet is not searched.
 ///
@@ -34,7 +36,7 @@ pub fn locate(
         return None;
     }
     let n = sys.layout.nq();
-    let differs = |k: usize, d: f64| if states[k].in_contact { d < 0.0 } else { d > 0.0 };
+    let differs = |s: usize, d: f64| if states[s].in_contact { d < 0.0 } else { d > 0.0 };
     let mut points = std::mem::take(&mut log.points);
     points.extend((1..=PROBES).map(|p| p as f64 / PROBES as f64));
     points.sort_by(f64::total_cmp);
@@ -44,14 +46,13 @@ pub fn locate(
     for &hi in &points {
         step.at(hi, scratch);
         let (q, v) = scratch.split_at(n);
-        // Each joint's kinematics once per probe: the search and the peaks both use them.
+        // Each point's kinematics once per probe: the search and the peaks both use them.
         let mut probed = std::mem::take(&mut log.probed);
-        probed.clear();
-        probed.extend((0..states.len()).map(|k| sys.contact_kinematics(k, q, v)));
-        let change = probed.iter().enumerate().position(|(k, kin)| differs(k, kin.penetration));
+        points_at(sys, q, v, &mut probed);
+        let change = probed.iter().enumerate().position(|(s, p)| differs(s, p.penetration));
         if change.is_none() {
-            for k in (0..states.len()).filter(|&k| states[k].in_contact) {
-                log.raise_peak(sys, k, &states[k], &probed[k]);
+            for s in (0..states.len()).filter(|&s| states[s].in_contact) {
+                log.raise_peak(sys, s, &states[s], &probed[s]);
             }
         }
         log.probed = probed;
@@ -63,30 +64,39 @@ pub fn locate(
     }
     points.clear();
     log.points = points;
-    // Bisect on joint k in (lo, hi]; an earlier change of another joint inside the
+    // Bisect on point s in (lo, hi]; an earlier change of another point inside the
     // bracket is caught by the next step's search.
-    let (mut a, mut b, k) = found?;
+    let (mut a, mut b, s) = found?;
+    let (k, i) = log.owners[s];
     while b - a > 1e-12 {
         let mid = 0.5 * (a + b);
         step.at(mid, scratch);
-        let d = sys.contact_kinematics(k, &scratch[..n], &scratch[n..]).penetration;
-        if differs(k, d) {
+        let d = sys.contact_points(k, &scratch[..n], &scratch[n..])[i].penetration;
+        if differs(s, d) {
             b = mid;
         } else {
             a = mid;
         }
     }
-    Some((b, k))
+    Some((b, s))
+}
+
+/// Every contact point of the mechanism at `(q, v)`, by slot, into `out`.
+fn points_at(sys: &System, q: &[f64], v: &[f64], out: &mut Vec<ContactPoint>) {
+    out.clear();
+    for k in 0..sys.clearances.len() {
+        out.extend_from_slice(&sys.contact_points(k, q, v));
+    }
 }
 
 /// Interior points at which a step's penetration is compared with its end-point model.
 const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 
-/// Whether the search of [`locate`] can be skipped: no joint changes contact inside the
-/// step and no joint in contact can raise its impact's peaks there. Where not, leaves in
-/// `log.points` the extra points to search.
+/// Whether the search of [`locate`] can be skipped: no contact point changes contact
+/// inside the step and no point in contact can raise its impact's peaks there. Where not,
+/// leaves in `log.points` the extra points to search.
 ///
-/// Contact: each joint's penetration over the step is modelled by the cubic through its
+/// Contact: each point's penetration over the step is modelled by the cubic through its
 /// values and rates at the ends (the dense output matches both there; in free flight
 /// under constant forces it is exact). Where the cubic crosses zero, its interior extreme
 /// is searched. Otherwise the dense output's penetration at [`CHECKS`] fits the model's
@@ -94,7 +104,7 @@ const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 /// step is clear when the cubic keeps its sign with twice that margin and the checks
 /// agree.
 ///
-/// Peaks: a joint in contact needs the search unless it restitutes at both ends (the
+/// Peaks: a point in contact needs the search unless it restitutes at both ends (the
 /// force and penetration fall from the start) or, past its first restitution, the
 /// larger force at the ends is below half the impact's peak: an accurate step cannot
 /// double the force and back inside itself.
@@ -109,9 +119,14 @@ fn screen(
     let mut models = std::mem::take(&mut log.models);
     models.clear();
     let mut quiet = true;
-    for (k, state) in states.iter().enumerate() {
-        let a = sys.contact_kinematics(k, &step.y0[..n], &step.y0[n..]);
-        let b = sys.contact_kinematics(k, &step.y1[..n], &step.y1[n..]);
+    let mut ends = std::mem::take(&mut log.probed);
+    points_at(sys, &step.y0[..n], &step.y0[n..], &mut ends);
+    let starts = ends.len();
+    for k in 0..sys.clearances.len() {
+        ends.extend_from_slice(&sys.contact_points(k, &step.y1[..n], &step.y1[n..]));
+    }
+    for (s, state) in states.iter().enumerate() {
+        let (a, b) = (ends[s], ends[starts + s]);
         let model = Cubic {
             d0: a.penetration,
             r0: step.h * a.penetration_rate,
@@ -126,9 +141,9 @@ fn screen(
             }
         }
         if state.in_contact && (a.penetration_rate > 0.0 || b.penetration_rate > 0.0) {
-            let c = &sys.clearances[k];
-            let force = |kin| c.contact_force(kin, state.onset_speed).0;
-            let peak = log.impacts[k].last().map_or(0.0, |i| i.peak_force);
+            let c = &sys.clearances[log.owners[s].0];
+            let force = |p| c.force(p, state.onset_speed).0;
+            let peak = log.impacts[s].last().map_or(0.0, |i| i.peak_force);
             quiet &= state.mode == Mode::Continuous && 2.0 * force(&a).max(force(&b)) < peak;
         }
         models.push((model, [0.0; 2]));
@@ -137,8 +152,9 @@ fn screen(
         for (i, &theta) in CHECKS.iter().enumerate() {
             step.at(theta, scratch);
             let (q, v) = scratch.split_at(n);
-            for (k, (_, checked)) in models.iter_mut().enumerate() {
-                checked[i] = sys.contact_kinematics(k, q, v).penetration;
+            points_at(sys, q, v, &mut ends);
+            for ((_, checked), p) in models.iter_mut().zip(&ends) {
+                checked[i] = p.penetration;
             }
         }
         quiet = models.iter().zip(states).all(|((model, checked), state)| {
@@ -152,10 +168,11 @@ fn screen(
         });
     }
     log.models = models;
+    log.probed = ends;
     quiet
 }
 
-/// The sign that a joint's penetration keeps while its contact state holds: + in
+/// The sign that a point's penetration keeps while its contact state holds: + in
 /// contact, - in free flight.
 fn side(state: &ContactState) -> f64 {
     if state.in_contact {
@@ -215,16 +232,20 @@ impl Cubic {
 
 /// Impact lists being built during a run.
 pub struct ImpactLog {
-    /// One list per clearance joint.
+    /// One list per contact point, by slot.
     pub impacts: Vec<Vec<Impact>>,
-    /// Each joint's kinematics at the current probe of [`locate`] (kept to reuse its
+    /// The clearance joint of each slot and the point's index in it.
+    owners: Vec<(usize, usize)>,
+    /// Whether each slot is the only point of its joint.
+    alone: Vec<bool>,
+    /// Each point's kinematics at the current probe of [`locate`] (kept to reuse its
     /// allocation).
-    probed: Vec<ContactKinematics>,
-    /// Each joint's penetration model and checks in [`screen`] (kept for its allocation).
+    probed: Vec<ContactPoint>,
+    /// Each point's penetration model and checks in [`screen`] (kept for its allocation).
     models: Vec<(Cubic, [f64; 2])>,
     /// Extra points for [`locate`] to search, from [`screen`].
     points: Vec<f64>,
-    /// Time each joint spent in free flight, impact and continuous contact [s] (indexed
+    /// Time each point spent in free flight, impact and continuous contact [s] (indexed
     /// by [`Mode`]), summed over the accepted steps by [`ImpactLog::dwell`].
     pub mode_time: Vec<[f64; 3]>,
 }
@@ -232,16 +253,52 @@ pub struct ImpactLog {
 impl ImpactLog {
     /// Empty lists for a system.
     pub fn new(sys: &System) -> Self {
+        Self::for_points(sys.clearances.iter().map(|c| c.points()))
+    }
+
+    /// Empty lists for clearance joints of `counts` contact points each.
+    fn for_points(counts: impl IntoIterator<Item = usize>) -> Self {
+        let (mut owners, mut alone) = (Vec::new(), Vec::new());
+        for (k, range) in contact::point_ranges(counts).enumerate() {
+            owners.extend((0..range.len()).map(|i| (k, i)));
+            alone.extend(range.clone().map(|_| range.len() == 1));
+        }
+        let slots = owners.len();
         ImpactLog {
-            impacts: vec![Vec::new(); sys.clearances.len()],
+            impacts: vec![Vec::new(); slots],
+            owners,
+            alone,
             probed: Vec::new(),
             models: Vec::new(),
             points: Vec::new(),
-            mode_time: vec![[0.0; 3]; sys.clearances.len()],
+            mode_time: vec![[0.0; 3]; slots],
         }
     }
 
-    /// Adds a step of length `dt` to the time of each joint's mode at the step's start.
+    /// The impacts and mode times of each contact point, joint after joint: a joint of
+    /// one point under its own name, the points of a joint of several numbered from 1.
+    pub fn joint_impacts(self, sys: &System) -> Vec<JointImpacts> {
+        let numbers: Vec<_> = (0..self.owners.len()).map(|slot| self.point_number(slot)).collect();
+        self.impacts
+            .into_iter()
+            .zip(self.mode_time)
+            .zip(self.owners.iter().zip(numbers))
+            .map(|((impacts, mode_time), (&(k, _), point))| JointImpacts {
+                joint: sys.clearances[k].name.clone(),
+                point,
+                impacts,
+                mode_time,
+            })
+            .collect()
+    }
+
+    /// The number from 1 of the point in slot `slot` in its joint, `None` when the joint
+    /// has that one point.
+    fn point_number(&self, slot: usize) -> Option<usize> {
+        (!self.alone[slot]).then_some(self.owners[slot].1 + 1)
+    }
+
+    /// Adds a step of length `dt` to the time of each point's mode at the step's start.
     /// Onsets and separations end steps, so contact and free flight are exact; the change
     /// from impact to continuous contact is resolved to the step that sees it.
     pub fn dwell(&mut self, states: &[ContactState], dt: f64) {
@@ -251,26 +308,28 @@ impl ImpactLog {
         }
     }
 
-    /// Switches joint `k` at time `t` and state `(q, v)`: onset or separation.
+    /// Switches the contact point in slot `slot` at time `t` and state `(q, v)`: onset or
+    /// separation.
     pub fn switch(
         &mut self,
         sys: &System,
         states: &mut [ContactState],
-        k: usize,
+        slot: usize,
         t: f64,
         q: &[f64],
         v: &[f64],
     ) {
-        let rate = sys.contact_kinematics(k, q, v).penetration_rate;
-        let s = &mut states[k];
+        let (k, i) = self.owners[slot];
+        let rate = sys.contact_points(k, q, v)[i].penetration_rate;
+        let s = &mut states[slot];
         if s.in_contact {
             s.separate();
-            if let Some(last) = self.impacts[k].last_mut() {
+            if let Some(last) = self.impacts[slot].last_mut() {
                 last.duration = Some(t - last.onset_time);
             }
         } else {
             s.touch(rate);
-            self.impacts[k].push(Impact {
+            self.impacts[slot].push(Impact {
                 onset_time: t,
                 onset_speed: rate,
                 peak_force: 0.0,
@@ -280,34 +339,56 @@ impl ImpactLog {
         }
     }
 
-    /// Raises joint `k`'s running impact peak force and penetration to those of a state
-    /// in contact (its kinematics given).
-    fn raise_peak(&mut self, sys: &System, k: usize, state: &ContactState, kin: &ContactKinematics) {
-        let (f_n, _) = sys.clearances[k].contact_force(kin, state.onset_speed);
-        if let Some(last) = self.impacts[k].last_mut() {
+    /// Raises the running impact peak force and penetration of the point in slot `slot`
+    /// to those of a state in contact (the point given).
+    fn raise_peak(&mut self, sys: &System, slot: usize, state: &ContactState, p: &ContactPoint) {
+        let (f_n, _) = sys.clearances[self.owners[slot].0].force(p, state.onset_speed);
+        if let Some(last) = self.impacts[slot].last_mut() {
             last.peak_force = last.peak_force.max(f_n);
-            last.max_penetration = last.max_penetration.max(kin.penetration);
+            last.max_penetration = last.max_penetration.max(p.penetration);
         }
     }
 
     /// At an accepted state (step end or output sample): the mode from the penetration
     /// rate, and the peaks of the current impact.
     pub fn update(&mut self, sys: &System, states: &mut [ContactState], q: &[f64], v: &[f64]) {
-        for k in 0..states.len() {
-            let s = &mut states[k];
-            if !s.in_contact {
+        for (k, _, range) in contact::slots(&sys.clearances) {
+            if !states[range.clone()].iter().any(|s| s.in_contact) {
                 continue;
             }
-            let kin = sys.contact_kinematics(k, q, v);
-            s.follow(kin.penetration_rate);
-            self.raise_peak(sys, k, s, &kin);
+            for p in sys.contact_points(k, q, v).iter() {
+                let slot = range.start + p.index;
+                let s = &mut states[slot];
+                if s.in_contact {
+                    s.follow(p.penetration_rate);
+                    self.raise_peak(sys, slot, s, p);
+                }
+            }
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::Cubic;
+    use super::{Cubic, ImpactLog};
+
+    /// Joints of 1, 3 and 2 contact points: each slot knows its joint and point, a
+    /// joint's one point goes by the joint's name, the points of the others by number, and
+    /// each slot has its own impact list and mode times.
+    #[test]
+    fn impact_log_is_kept_per_joint_and_point() {
+        let log = ImpactLog::for_points([1, 3, 2]);
+        assert_eq!(log.owners, vec![(0, 0), (1, 0), (1, 1), (1, 2), (2, 0), (2, 1)]);
+        let numbers: Vec<_> = (0..6).map(|s| log.point_number(s)).collect();
+        assert_eq!(numbers, vec![None, Some(1), Some(2), Some(3), Some(1), Some(2)]);
+        assert_eq!((log.impacts.len(), log.mode_time.len()), (6, 6));
+        let mut log = log;
+        let mut states = vec![crate::mechanics::contact::ContactState::default(); 6];
+        states[2].touch(0.1);
+        log.dwell(&states, 0.5);
+        let contact: Vec<_> = log.mode_time.iter().map(|t| t[1]).collect();
+        assert_eq!(contact, vec![0.0, 0.0, 0.5, 0.0, 0.0, 0.0]);
+    }
 
     /// The lowest value and its place agree with a fine sampling, for cubics, a parabola
     /// whose cubic coefficient is rounding noise, and lines.

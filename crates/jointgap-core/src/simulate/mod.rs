@@ -39,8 +39,12 @@ pub fn prepare(model: &Model) -> Result<Prepared, Error> {
     system.warnings = crate::system::magnitudes::warnings(model, &system);
     check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
-    for (k, c) in system.clearances.iter().enumerate() {
-        c.check_initial_penetration(&system.contact_kinematics(k, &initial.q, &initial.v))?;
+    for c in &system.clearances {
+        let (q, v) = (&initial.q, &initial.v);
+        c.check_initial_penetration(
+            &system.body_state(c.geometry.bearing, q, v),
+            &system.body_state(c.geometry.journal, q, v),
+        )?;
     }
     system.warnings.extend(initial.warnings.iter().cloned());
     Ok(Prepared { system, initial })
@@ -281,17 +285,7 @@ fn run_prepared(
     stats.rhs_evaluations = ode.evaluations;
     stats.profile = ode.ws.profile.take();
     stats.wall_time = started.elapsed().as_secs_f64();
-    let impacts = system
-        .clearances
-        .iter()
-        .zip(log.impacts)
-        .zip(log.mode_time)
-        .map(|((c, impacts), mode_time)| crate::output::JointImpacts {
-            joint: c.name.clone(),
-            impacts,
-            mode_time,
-        })
-        .collect();
+    let impacts = log.joint_impacts(system);
     let clearances = system.clearances.iter().map(ClearanceRevolute::data).collect();
     Ok(SimResult {
         names: rec.names(),

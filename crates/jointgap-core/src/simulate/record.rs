@@ -7,7 +7,7 @@ use crate::dynamics::{accelerations, Singular, Workspace};
 use crate::error::Error;
 use crate::integrators::ode::DenseStep;
 use crate::math::{cross, rotate, Vec2};
-use crate::mechanics::contact::{ClearanceRevolute, ContactState, Mode};
+use crate::mechanics::contact::{self, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS};
 use crate::mechanics::planar;
 use crate::model::JointKind;
 use crate::system::System;
@@ -16,15 +16,62 @@ use crate::system::System;
 /// contact force on the journal body), then the kind's own.
 const REVOLUTE_QUANTITIES: [&str; 2] = ["fx", "fy"];
 const PRISMATIC_QUANTITIES: [&str; 3] = ["fx", "fy", "moment"];
-const CLEARANCE_QUANTITIES: [&str; 10] =
-    ["fx", "fy", "fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
+/// A clearance joint's channels: the joint's own (`fx fy`: the resultant contact force
+/// on the journal body; `ex ey`: the eccentricity in the bearing body's frame) and each
+/// contact point's (`true`). A joint of one point names them all `<joint>.<quantity>`; a
+/// joint of several writes each point's quantity for every point in turn, named
+/// `<joint>.p<i>.<quantity>` with `i` from 1 (docs/outputs.md).
+const CLEARANCE_QUANTITIES: [(&str, bool); 10] = [
+    ("fx", false),
+    ("fy", false),
+    ("fn", true),
+    ("ft", true),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("ex", false),
+    ("ey", false),
+    ("slip", true),
+    ("mode", true),
+];
 
-/// The channels of a joint of kind `kind`, in the order a sample writes them.
+/// The force channels of a joint of kind `kind` other than a clearance joint, in the
+/// order a sample writes them.
 fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
     match kind {
         JointKind::Revolute => &REVOLUTE_QUANTITIES,
-        JointKind::ClearanceRevolute => &CLEARANCE_QUANTITIES,
         JointKind::Prismatic | JointKind::Fixed => &PRISMATIC_QUANTITIES,
+        JointKind::ClearanceRevolute => unreachable!("a clearance joint's channels depend on its points"),
+    }
+}
+
+/// The force channels of joint `j` as `(quantity, point)`, in the order a sample writes
+/// them: `point` is the contact point's number from 1 in a joint of several points.
+fn joint_channels(sys: &System, j: &crate::system::JointInfo) -> Vec<(&'static str, Option<usize>)> {
+    let Some(k) = j.clearance else {
+        return joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
+    };
+    clearance_channels(sys.clearances[k].points())
+}
+
+/// The channels of a clearance joint of `points` contact points ([`CLEARANCE_QUANTITIES`]).
+fn clearance_channels(points: usize) -> Vec<(&'static str, Option<usize>)> {
+    let mut out = Vec::new();
+    for (quantity, of_point) in CLEARANCE_QUANTITIES {
+        match (of_point, points) {
+            (true, 1) | (false, _) => out.push((quantity, None)),
+            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
+        }
+    }
+    out
+}
+
+/// How many force channels joint `j` has ([`joint_channels`]).
+fn joint_channel_count(sys: &System, j: &crate::system::JointInfo) -> usize {
+    match j.clearance {
+        Some(k) => {
+            CLEARANCE_QUANTITIES.iter().map(|&(_, p)| if p { sys.clearances[k].points() } else { 1 }).sum()
+        }
+        None => joint_quantities(j.kind).len(),
     }
 }
 
@@ -114,7 +161,10 @@ pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
         names.extend(planar::CHANNELS.iter().map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
-        names.extend(joint_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
+        names.extend(joint_channels(sys, j).into_iter().map(|(q, point)| match point {
+            None => format!("{}.{q}", j.name),
+            Some(i) => format!("{}.p{i}.{q}", j.name),
+        }));
         names.extend(coordinate_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
     }
     for d in &sys.drivers {
@@ -347,7 +397,7 @@ impl Recorder {
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
             let (bi, bj) = (sys.body_state(j.body_i, q, v), sys.body_state(j.body_j, q, v));
-            if !out.skipped(joint_quantities(j.kind).len()) {
+            if !out.skipped(joint_channel_count(sys, j)) {
                 put_joint_forces(&mut out, sys, ws, j, (&bi, &bj), (q, v), &lambda_of);
             }
             let coordinates = coordinate_quantities(j.kind).len();
@@ -444,19 +494,43 @@ fn put_joint_forces(
     let mut put = |x: f64| out.put(x);
     if let Some(k) = j.clearance {
         let c = &sys.clearances[k];
-        let kin = sys.contact_kinematics(k, q, v);
-        let state = &ws.contacts[k];
-        let (f_n, f_t) = c.contact_force(&kin, state.onset_for(kin.penetration_rate));
-        let f = ClearanceRevolute::journal_force(&kin, f_n, f_t);
-        let bearing_angle = sys.body_state(c.bearing, q, v).phi();
-        let e_local = rotate(-bearing_angle, kin.e);
+        let (bearing, journal) =
+            (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
+        let points = c.contacts(&bearing, &journal, f64::INFINITY);
+        let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
+        let states = &ws.contacts[first..first + c.points()];
+        let mut forces = [(0.0, Tangential::zeros()); MAX_POINTS];
+        for (p, force) in points.iter().zip(&mut forces) {
+            *force = c.force(p, states[p.index].onset_for(p.penetration_rate));
+        }
+        let forces = &forces[..points.len()];
+        let f = points
+            .iter()
+            .zip(forces)
+            .map(|(p, (f_n, f_t))| p.force_on_j(*f_n, f_t))
+            .reduce(|a, b| a + b)
+            .unwrap_or_else(Vec2::zeros);
+        let e_local = rotate(-bearing.phi(), c.geometry.eccentricity(&bearing, &journal));
         // The located state decides, not the sign of the penetration: right after
         // an onset, projection may leave the penetration a hair below zero.
-        let mode = if state.in_contact { state.mode } else { Mode::FreeFlight };
-        for x in [f.x, f.y, f_n, f_t, kin.penetration, kin.penetration_rate, e_local.x, e_local.y, kin.slip] {
-            put(x);
-        }
-        put(mode as u8 as f64);
+        let mode = |p: &ContactPoint| {
+            let state = &states[p.index];
+            if state.in_contact {
+                state.mode
+            } else {
+                Mode::FreeFlight
+            }
+        };
+        put(f.x);
+        put(f.y);
+        forces.iter().for_each(|(f_n, _)| put(*f_n));
+        forces.iter().for_each(|(_, f_t)| put(f_t[0]));
+        points.iter().for_each(|p| put(p.penetration));
+        points.iter().for_each(|p| put(p.penetration_rate));
+        put(e_local.x);
+        put(e_local.y);
+        points.iter().for_each(|p| put(p.slip[0]));
+        points.iter().for_each(|p| put(mode(p) as u8 as f64));
         return;
     }
     let (mut f, mut m) = (Vec2::zeros(), 0.0);
@@ -522,7 +596,9 @@ impl Cursor<'_> {
             potential += f.potential_energy(|b| sys.body_state(b, q, v));
         }
         for (k, c) in sys.clearances.iter().enumerate() {
-            potential += c.normal.elastic_energy(sys.contact_kinematics(k, q, v).penetration);
+            for p in sys.contact_points(k, q, v).iter() {
+                potential += c.normal.elastic_energy(p.penetration);
+            }
         }
         self.put(kinetic);
         self.put(potential);
@@ -537,5 +613,29 @@ impl Cursor<'_> {
             Some(None) => self.next += ACCOUNTS.len() + 1,
             None => {}
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::clearance_channels;
+
+    /// One point: the joint's ten channels as they have always been; two points: each
+    /// point quantity once per point, numbered from 1, in the same places.
+    #[test]
+    fn clearance_channels_by_point() {
+        let names = |points| -> Vec<String> {
+            clearance_channels(points)
+                .into_iter()
+                .map(|(q, p)| p.map_or(format!("gap.{q}"), |i| format!("gap.p{i}.{q}")))
+                .collect()
+        };
+        let one = ["fx", "fy", "fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
+        assert_eq!(names(1), one.map(|q| format!("gap.{q}")));
+        let two = names(2);
+        assert_eq!(two.len(), 16);
+        assert_eq!(two[..6], ["gap.fx", "gap.fy", "gap.p1.fn", "gap.p2.fn", "gap.p1.ft", "gap.p2.ft"]);
+        assert_eq!(two[10..14], ["gap.ex", "gap.ey", "gap.p1.slip", "gap.p2.slip"]);
+        assert_eq!(two[15], "gap.p2.mode");
     }
 }

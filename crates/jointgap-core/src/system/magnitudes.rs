@@ -57,7 +57,7 @@ pub(crate) fn warnings(model: &Model, sys: &System) -> Vec<String> {
         .collect();
     for j in &sys.joints {
         let (s_i, s_j) = match j.clearance {
-            Some(c) => (sys.clearances[c].s_bearing, sys.clearances[c].s_journal),
+            Some(c) => (sys.clearances[c].geometry.s_bearing, sys.clearances[c].geometry.s_journal),
             None => (j.s_i, j.s_j),
         };
         for (body, s) in [(j.body_i, s_i), (j.body_j, s_j)] {
@@ -129,20 +129,21 @@ pub(crate) fn warnings(model: &Model, sys: &System) -> Vec<String> {
     for (j, info) in model.joints.iter().zip(&sys.joints) {
         let who = format!("joint '{}'", j.name);
         if let Some(c) = info.clearance.map(|c| &sys.clearances[c]) {
-            if longest > 0.0 && c.r_bearing > longest {
+            let g = &c.geometry;
+            if longest > 0.0 && g.r_bearing > longest {
                 out.push(format!(
                     "{who}: bearing_radius = {} m is {} times {scale}; a plain number is in metres: \
                      check the unit",
-                    given(c.r_bearing),
-                    sig(c.r_bearing / longest)
+                    given(g.r_bearing),
+                    sig(g.r_bearing / longest)
                 ));
-            } else if c.clearance > CLEARANCE_RATIO * c.r_bearing {
+            } else if g.clearance > CLEARANCE_RATIO * g.r_bearing {
                 out.push(format!(
                     "{who}: clearance = {} m is {} % of the bearing radius ({} m); radial clearances \
                      are usually below 1 %: check the unit",
-                    given(c.clearance),
-                    sig(100.0 * c.clearance / c.r_bearing),
-                    given(c.r_bearing)
+                    given(g.clearance),
+                    sig(100.0 * g.clearance / g.r_bearing),
+                    given(g.r_bearing)
                 ));
             }
             if let FrictionSpec::Coulomb { mu_s, mu_d, .. } = c.friction {

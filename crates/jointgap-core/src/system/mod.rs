@@ -9,7 +9,7 @@ use std::collections::HashMap;
 
 use crate::error::{ElementError, Error, Named};
 use crate::math::Vec2;
-use crate::mechanics::contact::{ClearanceRevolute, ContactKinematics};
+use crate::mechanics::contact::{ClearanceRevolute, ContactPoints};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::layout::Layout;
@@ -671,10 +671,14 @@ impl System {
         })
     }
 
-    /// Kinematics of clearance joint `k` at state `(q, v)`.
-    pub fn contact_kinematics(&self, k: usize, q: &[f64], v: &[f64]) -> ContactKinematics {
-        let c = &self.clearances[k];
-        c.kinematics(&self.body_state(c.bearing, q, v), &self.body_state(c.journal, q, v))
+    /// Every contact point of clearance joint `k` at state `(q, v)`, apart or touching.
+    pub fn contact_points(&self, k: usize, q: &[f64], v: &[f64]) -> ContactPoints {
+        let g = &self.clearances[k].geometry;
+        self.clearances[k].contacts(
+            &self.body_state(g.bearing, q, v),
+            &self.body_state(g.journal, q, v),
+            f64::INFINITY,
+        )
     }
 
     /// Moves the positions `q` by `dv`, a displacement in velocity coordinates, body

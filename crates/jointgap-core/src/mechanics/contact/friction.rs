@@ -6,6 +6,7 @@ use super::normal::{step, step_slope};
 use crate::error::ElementError;
 use crate::error::Error;
 use crate::model::FrictionSpec;
+use nalgebra::SVector;
 
 /// Checks a friction law's values of clearance joint `joint`; its errors name the law's
 /// key (`friction.mu_s`).
@@ -90,6 +91,24 @@ impl FrictionSpec {
         }
     }
 
+    /// Friction force [N] for the slip `slip` [m/s], both by their components along a
+    /// contact point's tangents, for a normal force `f_n` >= 0 [N]: opposite to the slip,
+    /// `F_T = -F(|s|) s / |s|` with `F` the law's magnitude at the slip speed [`Self::force`].
+    /// With one tangent (the plane) the law takes the slip's signed component as it is,
+    /// which is the same force, so a planar run computes exactly what the scalar law does.
+    #[inline]
+    pub fn force_on_slip<const N: usize>(&self, slip: &SVector<f64, N>, f_n: f64) -> SVector<f64, N> {
+        if N == 1 {
+            return SVector::repeat(self.force(slip[0], f_n));
+        }
+        let speed = slip.norm();
+        if speed > 0.0 {
+            slip * (self.force(speed, f_n) / speed)
+        } else {
+            SVector::zeros()
+        }
+    }
+
     /// `|dF_T / dv_t|` [N s/m] at slip `v_t` and normal force `f_n`: the damping the law
     /// puts on the slip. Near sticking it is large (`mu_s f_n / v_s` and more), and it is
     /// what makes an explicit step unstable there.
@@ -160,6 +179,37 @@ mod tests {
         // Sticking: the peak rate of the ADAMS law is 1.5 mu_s f_n / v_s, at zero slip.
         let adams = &laws[0];
         assert!((adams.damping(0.0, f_n) - 1.5 * 0.08 * f_n / 1e-4).abs() < 1e-6);
+    }
+
+    /// On a slip vector of two tangents: the force opposes the slip, with the law's
+    /// magnitude at the slip speed; on one tangent it is the scalar law itself.
+    #[test]
+    fn friction_opposes_a_vector_slip() {
+        let laws = [
+            FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 },
+            FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 },
+            FrictionSpec::ViscousCoulomb { mu: 0.1, v_s: 1e-3, viscous: 2.0 },
+        ];
+        let f_n = 150.0;
+        for law in &laws {
+            for (sx, sy) in [(3e-5, -4e-5), (-6e-4, 8e-4), (0.3, 0.4), (-2e-3, 0.0)] {
+                let slip = SVector::<f64, 2>::new(sx, sy);
+                let speed = slip.norm();
+                let f = law.force_on_slip(&slip, f_n);
+                // Magnitude: the law at the speed (a negative force along the slip).
+                assert!((f.norm() + law.force(speed, f_n)).abs() <= 1e-12 * f.norm().max(1e-9), "{law:?}");
+                // Direction: opposite to the slip.
+                assert!((f.dot(&slip) + f.norm() * speed).abs() <= 1e-12 * f.norm() * speed, "{law:?}");
+                if law.force(speed, f_n) != 0.0 {
+                    assert!(f.dot(&slip) < 0.0, "{law:?}: {f:?} against {slip:?}");
+                }
+            }
+            assert_eq!(law.force_on_slip(&SVector::<f64, 2>::zeros(), f_n), SVector::<f64, 2>::zeros());
+            for s in [-0.3, -4e-5, 0.0, 7e-5, 2e-3] {
+                let one = law.force_on_slip(&SVector::<f64, 1>::new(s), f_n)[0];
+                assert_eq!(one.to_bits(), law.force(s, f_n).to_bits(), "{law:?} at {s}");
+            }
+        }
     }
 
     #[test]

@@ -1,65 +1,42 @@
 //! Clearance revolute joints: the journal (pin on body j) moves freely inside the
 //! bearing (hole on body i) and a contact force acts when it reaches the wall
-//! (docs/physics.md section 2).
+//! (docs/physics.md section 2). A clearance joint is a contact geometry
+//! ([`geometry`]: where its parts touch, as contact points) and the laws ([`normal`],
+//! [`friction`]) that turn one contact point into forces.
 
 pub mod friction;
+pub mod geometry;
 pub mod materials;
 pub mod normal;
+pub mod point;
 mod state;
 
+pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};
 pub use state::{ContactState, Mode};
 
+use std::ops::Range;
+
 use crate::error::{Error, Named};
-use crate::math::{perp, Vec2};
+use crate::math::Vec2;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
+use geometry::{contact_journal_bearing, JournalBearing};
 use normal::NormalForce;
 
-/// A checked clearance joint.
+/// A checked clearance joint: its contact geometry and its laws.
 #[derive(Debug, Clone)]
 pub struct ClearanceRevolute {
     /// Joint name.
     pub name: String,
-    /// Bearing body (`None`: ground).
-    pub bearing: Option<usize>,
-    /// Bearing centre in the bearing body frame [m].
-    pub s_bearing: Vec2,
-    /// Journal body.
-    pub journal: Option<usize>,
-    /// Journal centre in the journal body frame [m].
-    pub s_journal: Vec2,
-    /// Bearing radius [m].
-    pub r_bearing: f64,
-    /// Journal radius [m].
-    pub r_journal: f64,
-    /// Radial clearance [m].
-    pub clearance: f64,
+    /// Where its parts are and their shape: a journal in its bearing.
+    pub geometry: JournalBearing,
     /// Normal law with its stiffness.
     pub normal: NormalForce,
     /// Friction law (checked).
     pub friction: FrictionSpec,
-}
-
-/// Where the journal is in its bearing, and how fast it moves.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactKinematics {
-    /// Eccentricity `r_J - r_B`, global axes [m].
-    pub e: Vec2,
-    /// Penetration `|e| - c` [m]; negative in free flight.
-    pub penetration: f64,
-    /// Penetration rate `v . n` [m/s].
-    pub penetration_rate: f64,
-    /// Tangential slip `v . t` [m/s].
-    pub slip: f64,
-    /// Unit normal `e / |e|`, from bearing centre towards the journal.
-    pub n: Vec2,
-    /// Contact point on the journal, global [m].
-    pub point_journal: Vec2,
-    /// Contact point on the bearing, global [m].
-    pub point_bearing: Vec2,
 }
 
 /// The largest normal force [N] an initial penetration may stand for: a journal that
@@ -67,19 +44,14 @@ pub struct ContactKinematics {
 /// modelling error, not a preloaded contact.
 pub const MAX_INITIAL_CONTACT_FORCE: f64 = 1e6;
 
-/// Velocity of a global point `p` of a body.
-fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
-    b.v + perp(p - b.r) * b.omega
-}
-
 impl ClearanceRevolute {
     /// The resolved contact data reported with a run's result.
     pub fn data(&self) -> ClearanceData {
         ClearanceData {
             joint: self.name.clone(),
-            bearing_radius: self.r_bearing,
-            journal_radius: self.r_journal,
-            clearance: self.clearance,
+            bearing_radius: self.geometry.r_bearing,
+            journal_radius: self.geometry.r_journal,
+            clearance: self.geometry.clearance,
             stiffness: self.normal.stiffness,
             exponent: self.normal.exponent,
         }
@@ -175,13 +147,15 @@ impl ClearanceRevolute {
         };
         Ok(ClearanceRevolute {
             name: j.name.clone(),
-            bearing,
-            s_bearing: res.point(who, "point_i", bearing, &j.point_i)?,
-            journal,
-            s_journal: res.point(who, "point_j", journal, &j.point_j)?,
-            r_bearing,
-            r_journal,
-            clearance: r_bearing - r_journal,
+            geometry: JournalBearing {
+                bearing,
+                s_bearing: res.point(who, "point_i", bearing, &j.point_i)?,
+                journal,
+                s_journal: res.point(who, "point_j", journal, &j.point_j)?,
+                r_bearing,
+                r_journal,
+                clearance: r_bearing - r_journal,
+            },
             normal: NormalForce::new(&j.name, &c.normal_law, stiffness, d_max_default)?,
             friction: {
                 friction::check(&j.name, &c.friction)?;
@@ -197,94 +171,154 @@ impl ClearanceRevolute {
         (MAX_INITIAL_CONTACT_FORCE / self.normal.stiffness).powf(1.0 / self.normal.exponent)
     }
 
-    /// Rejects an initial state (`k`, the kinematics after assembly) whose penetration no
-    /// elastic contact can have ([`Self::max_initial_penetration`]); the error names the
-    /// joint, the penetration and the likely causes.
-    pub fn check_initial_penetration(&self, k: &ContactKinematics) -> Result<(), Error> {
+    /// Rejects an initial state (`bearing`, `journal`: the body states after assembly)
+    /// with a contact point deeper than any elastic contact can be
+    /// ([`Self::max_initial_penetration`]); the error names the joint, the penetration and
+    /// the likely causes.
+    pub fn check_initial_penetration(&self, bearing: &BodyState, journal: &BodyState) -> Result<(), Error> {
         let limit = self.max_initial_penetration();
-        if k.penetration <= limit {
-            return Ok(());
-        }
-        let mm = 1e3;
-        Err(Named::joint(&self.name).error_of_element(format!(
-            "the journal starts {:.4} mm deep in the bearing (its centre {:.4} mm from the \
+        let e = self.geometry.eccentricity(bearing, journal);
+        for k in self.contacts(bearing, journal, f64::INFINITY).iter() {
+            if k.penetration <= limit {
+                continue;
+            }
+            let mm = 1e3;
+            return Err(Named::joint(&self.name).error_of_element(format!(
+                "the journal starts {:.4} mm deep in the bearing (its centre {:.4} mm from the \
              bearing centre, radial clearance {:.4} mm), deeper than any elastic contact: this joint's \
              normal law (K = {:.4e} N/m^{}) presses {:.4} mm deep only under {:.0e} N; likely a wrong \
              point (point_i or point_j of this joint, or a point of a joint that places its bodies), \
              a wrong bearing or journal radius, or a length in the wrong unit",
-            mm * k.penetration,
-            mm * k.e.norm(),
-            mm * self.clearance,
-            self.normal.stiffness,
-            self.normal.exponent,
-            mm * limit,
-            MAX_INITIAL_CONTACT_FORCE,
-        )))
-    }
-
-    /// Journal-in-bearing geometry and relative motion (`contact_journal_bearing`).
-    pub fn kinematics(&self, bearing: &BodyState, journal: &BodyState) -> ContactKinematics {
-        let centre_b = bearing.r + bearing.rotate(self.s_bearing);
-        let centre_j = journal.r + journal.rotate(self.s_journal);
-        let e = centre_j - centre_b;
-        let ecc = e.norm();
-        // Concentric: any normal will do; the force is zero there.
-        let n = if ecc > 1e-15 { e / ecc } else { Vec2::new(1.0, 0.0) };
-        let point_journal = centre_j + n * self.r_journal;
-        let point_bearing = centre_b + n * self.r_bearing;
-        let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
-        ContactKinematics {
-            e,
-            penetration: ecc - self.clearance,
-            penetration_rate: v.dot(&n),
-            slip: v.dot(&perp(n)),
-            n,
-            point_journal,
-            point_bearing,
+                mm * k.penetration,
+                mm * e.norm(),
+                mm * self.geometry.clearance,
+                self.normal.stiffness,
+                self.normal.exponent,
+                mm * limit,
+                MAX_INITIAL_CONTACT_FORCE,
+            )));
         }
+        Ok(())
     }
 
-    /// Normal and tangential force [N] for given kinematics and impact onset speed.
-    pub fn contact_force(&self, k: &ContactKinematics, onset_speed: f64) -> (f64, f64) {
-        let f_n = self.normal.force(k.penetration, k.penetration_rate, onset_speed);
-        let f_t = if f_n > 0.0 { self.friction.force(k.slip, f_n) } else { 0.0 };
+    /// Contact points the joint's geometry can have (each keeps its own contact state).
+    pub fn points(&self) -> usize {
+        JournalBearing::POINTS
+    }
+
+    /// The gap [m] within which the laws act: a contact point farther apart takes no
+    /// force, so the geometry need not return it to [`Self::add_to`].
+    pub fn reach(&self) -> f64 {
+        self.normal.reach()
+    }
+
+    /// The contact points of the joint's geometry whose gap is below `reach` [m]
+    /// (`f64::INFINITY`: all of them, in the order of their index).
+    #[inline]
+    pub fn contacts(&self, bearing: &BodyState, journal: &BodyState, reach: f64) -> ContactPoints {
+        let mut out = ContactPoints::new();
+        contact_journal_bearing(&self.geometry, bearing, journal, reach, &mut out);
+        out
+    }
+
+    /// Normal force [N] and friction force along the tangents [N] at contact point `p`
+    /// for the impact onset speed `onset_speed` [m/s]: friction opposes the slip, and
+    /// acts only under a pressing normal force.
+    #[inline]
+    pub fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
+        let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed);
+        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
         (f_n, f_t)
     }
 
-    /// Power [W] the contact dissipates, as `(normal, friction)`. The contact force does
-    /// work at the rate `-F_N delta_dot + F_T v_t` on the two bodies (the journal force
-    /// at the journal's contact point, its opposite at the bearing's, and `delta_dot`,
-    /// `v_t` the relative velocity of those points along `n` and `t`); of it,
-    /// `-K delta^n delta_dot` is the rate of the elastic energy counted as potential
-    /// energy. The rest is lost: `(F_N - K delta^n) delta_dot` by the normal law's
-    /// damping (and by clipping, which drops the elastic force a pulling force would
-    /// return), `-F_T v_t >= 0` by friction.
-    pub fn losses(&self, k: &ContactKinematics, state: &ContactState) -> (f64, f64) {
-        let (f_n, f_t) = self.contact_force(k, state.onset_for(k.penetration_rate));
-        ((f_n - self.normal.elastic_force(k.penetration)) * k.penetration_rate, -f_t * k.slip)
+    /// Power [W] contact point `p` dissipates, as `(normal, friction)`. The contact force
+    /// does work at the rate `-F_N delta_dot + F_T . v_t` on the two bodies (body j's force
+    /// at its point, its opposite at body i's, and `delta_dot`, `v_t` the relative
+    /// velocity of those points along `n` and the tangents); of it, `-K delta^n
+    /// delta_dot` is the rate of the elastic energy counted as potential energy. The rest
+    /// is lost: `(F_N - K delta^n) delta_dot` by the normal law's damping (and by
+    /// clipping, which drops the elastic force a pulling force would return),
+    /// `-F_T . v_t >= 0` by friction.
+    pub fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64) {
+        let (f_n, f_t) = self.force(p, state.onset_for(p.penetration_rate));
+        ((f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate, -point::dot(&f_t, &p.slip))
     }
 
-    /// Force on the journal, global axes: `-F_N n + F_T t` [N].
-    pub fn journal_force(k: &ContactKinematics, f_n: f64, f_t: f64) -> Vec2 {
-        -k.n * f_n + perp(k.n) * f_t
-    }
-
-    /// Adds the contact forces to the loads: the journal force at the journal's contact
-    /// point, the opposite on the bearing at its own.
-    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, state: &ContactState, qe: &mut Loads) {
-        let k = self.kinematics(bearing, journal);
-        let (f_n, f_t) = self.contact_force(&k, state.onset_for(k.penetration_rate));
-        if f_n != 0.0 || f_t != 0.0 {
-            let f = Self::journal_force(&k, f_n, f_t);
-            add_force_at(qe, self.journal, journal, k.point_journal, f);
-            add_force_at(qe, self.bearing, bearing, k.point_bearing, -f);
+    /// Adds the contact forces to the loads, each contact point's with its own state in
+    /// `states` (the joint's, by point index): body j's force at its material point, the
+    /// opposite on body i at its own.
+    #[inline]
+    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
+        for p in self.contacts(bearing, journal, self.reach()).iter() {
+            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
+            if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
+                let f = p.force_on_j(f_n, &f_t);
+                add_force_at(qe, p.on_j.body, journal, p.on_j.at, f);
+                add_force_at(qe, p.on_i.body, bearing, p.on_i.at, -f);
+            }
         }
     }
 }
 
 /// Adds a force at a global point of a body.
+#[inline]
 fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
     if let Some(qe) = loads.body(b) {
         planar::add_force(qe, p - state.r, f);
+    }
+}
+
+/// Each clearance joint of `clearances` with the range of its contact points among all
+/// of them, in order: joint `k`'s points are laid out one after the other, as the
+/// contact states and impact lists of a run keep them.
+pub fn slots(
+    clearances: &[ClearanceRevolute],
+) -> impl Iterator<Item = (usize, &ClearanceRevolute, Range<usize>)> {
+    let ranges = point_ranges(clearances.iter().map(ClearanceRevolute::points));
+    clearances.iter().zip(ranges).enumerate().map(|(k, (c, range))| (k, c, range))
+}
+
+/// The ranges of groups of `counts` points laid out one after the other.
+pub fn point_ranges(counts: impl IntoIterator<Item = usize>) -> impl Iterator<Item = Range<usize>> {
+    counts.into_iter().scan(0, |first, count| {
+        let range = *first..*first + count;
+        *first = range.end;
+        Some(range)
+    })
+}
+
+/// Contact points of all of `clearances` together.
+pub fn point_count(clearances: &[ClearanceRevolute]) -> usize {
+    clearances.iter().map(ClearanceRevolute::points).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A force on body j's point along `-n F_N + t F_T` of the point's own tangent.
+    #[test]
+    fn point_force_splits_along_normal_and_tangent() {
+        let n = Vec2::new(0.6, 0.8);
+        let none = point::MaterialPoint { body: None, at: Vec2::zeros() };
+        let p = ContactPoint {
+            index: 0,
+            normal: n,
+            penetration: 1e-5,
+            penetration_rate: 0.0,
+            slip: Tangential::zeros(),
+            on_i: none,
+            on_j: none,
+        };
+        let f = p.force_on_j(100.0, &Tangential::repeat(-7.0));
+        assert!((f - (-n * 100.0 + crate::math::perp(n) * -7.0)).norm() < 1e-12, "{f:?}");
+        assert!((f.dot(&n) + 100.0).abs() < 1e-12);
+    }
+
+    /// Joints of 1, 3 and 2 points: their points follow each other.
+    #[test]
+    fn points_are_laid_out_joint_after_joint() {
+        let ranges: Vec<_> = point_ranges([1, 3, 2]).collect();
+        assert_eq!(ranges, vec![0..1, 1..4, 4..6]);
     }
 }

@@ -165,6 +165,15 @@ impl NormalForce {
         }
     }
 
+    /// The gap [m] within which the law acts: zero, for a contact law presses only at
+    /// positive penetration. A law that acts apart (a lubricated bearing's fluid film, at
+    /// any eccentricity) says infinity, and its geometry then returns the contact point
+    /// at every gap.
+    #[inline]
+    pub fn reach(&self) -> f64 {
+        0.0
+    }
+
     /// Normal force [N] (compressive positive) at penetration `delta` [m], rate
     /// `delta_dot` [m/s], with `onset_speed` the approach speed of the current impact.
     pub fn force(&self, delta: f64, delta_dot: f64, onset_speed: f64) -> f64 {

@@ -1,7 +1,8 @@
-//! The discrete contact state of one clearance joint: whether its journal touches its
-//! bearing, the approach speed of the current impact, and the contact mode. The
-//! hysteresis laws read the onset speed; the run's event location changes the state
-//! at onsets and separations.
+//! The discrete contact state of one contact point of a clearance joint: whether its
+//! two parts touch there (the journal its bearing), the approach speed of the current
+//! impact, and the contact mode. The hysteresis laws read the onset speed; the run's
+//! event location changes the state at onsets and separations. A run keeps one state per
+//! contact point, joint after joint ([`super::slots`]).
 
 /// Contact mode reported in the `mode` channel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,7 +15,7 @@ pub enum Mode {
     Continuous = 2,
 }
 
-/// State of one clearance joint, kept in the workspace.
+/// State of one contact point, kept in the workspace.
 #[derive(Debug, Clone, Copy)]
 pub struct ContactState {
     /// True between a located onset and the next separation.

@@ -1,0 +1,12 @@
+//! Contact geometries: where a clearance joint's two parts touch, as contact points
+//! ([`super::point`]), apart from the laws that turn a point into forces. Each kernel is
+//! named after its operands, as parry's `contact_ball_ball`: `contact_journal_bearing`
+//! for a round journal in a round bearing. A kernel writes its points into the caller's
+//! list ([`super::ContactPoints`]) and returns every point nearer than `reach` (the
+//! laws' reach, [`super::ClearanceRevolute::reach`]: zero for a contact law, infinite
+//! for whoever needs the gap itself, such as event location and the output), so a law
+//! that acts apart (a fluid film) still gets its point.
+
+mod journal_bearing;
+
+pub use journal_bearing::{contact_journal_bearing, JournalBearing};
