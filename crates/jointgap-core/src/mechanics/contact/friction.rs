@@ -158,15 +158,20 @@ mod tests {
         );
     }
 
+    /// One law of each kind, with the founding case's Coulomb parameters.
+    fn three_laws() -> [FrictionSpec; 3] {
+        [
+            FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 },
+            FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 },
+            FrictionSpec::ViscousCoulomb { mu: 0.1, v_s: 1e-3, viscous: 2.0 },
+        ]
+    }
+
     /// The damping rate is |dF_T/dv_t| of each law, by central differences, at slips in
     /// every zone of each law (sticking, transition, sliding, both signs).
     #[test]
     fn damping_is_the_slope_of_the_force() {
-        let laws = [
-            FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 },
-            FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 },
-            FrictionSpec::ViscousCoulomb { mu: 0.1, v_s: 1e-3, viscous: 2.0 },
-        ];
+        let laws = three_laws();
         let f_n = 150.0;
         for law in &laws {
             for v_t in [-0.3, -5e-3, -3e-4, -6e-5, 0.0, 2e-5, 7e-5, 4e-4, 2e-3, 9e-3, 0.2] {
@@ -185,11 +190,7 @@ mod tests {
     /// magnitude at the slip speed; on one tangent it is the scalar law itself.
     #[test]
     fn friction_opposes_a_vector_slip() {
-        let laws = [
-            FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 },
-            FrictionSpec::ModifiedCoulomb { mu: 0.1, v_0: 1e-4, v_1: 1e-3 },
-            FrictionSpec::ViscousCoulomb { mu: 0.1, v_s: 1e-3, viscous: 2.0 },
-        ];
+        let laws = three_laws();
         let f_n = 150.0;
         for law in &laws {
             for (sx, sy) in [(3e-5, -4e-5), (-6e-4, 8e-4), (0.3, 0.4), (-2e-3, 0.0)] {
