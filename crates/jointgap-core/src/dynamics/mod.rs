@@ -51,13 +51,13 @@ pub struct Workspace {
     pub ct: DVector<f64>,
     /// Filled by [`constraints`]: acceleration right-hand side; (n_active).
     pub gamma: DVector<f64>,
-    /// Filled by [`applied_forces`]: generalised applied forces; (n_coords).
+    /// Filled by [`applied_forces`]: generalised applied forces; (nv).
     pub qe: Vec<f64>,
     /// The Schur complement `Cq M^-1 Cq^T` and its solver.
     pub schur: Schur,
     /// Filled by [`accelerations`]: multipliers, one per active row; (n_active).
     pub lambda: DVector<f64>,
-    /// Filled by [`accelerations`]: accelerations; (n_coords).
+    /// Filled by [`accelerations`]: accelerations; (nv).
     pub qdd: Vec<f64>,
     /// Time inside the current step, selecting the driver profiles' pieces.
     pub t_piece: f64,
@@ -69,7 +69,7 @@ pub struct Workspace {
     /// Each body's state at the last evaluation, its rotation computed once for all rows
     /// and forces; (n_bodies).
     bodies: Vec<BodyState>,
-    /// Scratch of length n_coords.
+    /// Scratch of length nv.
     scratch: Vec<f64>,
 }
 
@@ -388,7 +388,7 @@ fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
 }
 
 /// The acceleration rows of `df/dy` for the implicit methods, `jac = [dqdd/dq dqdd/dv]`
-/// (n_coords x 2 n_coords), taken through the applied forces alone: column `j` is
+/// (nv x (nq + nv)), taken through the applied forces alone: column `j` is
 /// `P dQe/dy_j` with `P = M^-1 - M^-1 Cq^T S^-1 Cq M^-1`, the constrained inverse mass
 /// at `(t, q, v)`, and `dQe/dy_j` a forward difference of the forces only (increment as
 /// the methods' own forward-difference Jacobian). What it leaves out is the derivative of
