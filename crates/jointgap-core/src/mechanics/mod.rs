@@ -8,4 +8,5 @@ pub mod drivers;
 pub mod forces;
 pub mod layout;
 pub mod planar;
+pub mod spatial;
 pub(crate) mod resolve;
