@@ -6,6 +6,9 @@
 /// model file without `gravity` has always meant.
 pub const GRAVITY: [f64; 2] = [0.0, -9.81];
 
+/// Uniform gravity of a spatial model that gives none [m/s^2]: z up.
+pub const GRAVITY_3D: [f64; 3] = [0.0, 0.0, -9.81];
+
 /// Exponent n of a normal contact law that gives none: Hertz's 3/2 of two elastic bodies
 /// in contact, the value for metal contacts (docs/physics.md section 3).
 pub const CONTACT_EXPONENT: f64 = 1.5;

@@ -6,6 +6,8 @@
 
 use serde::{Deserialize, Serialize};
 
+pub mod spatial;
+
 /// The name by which joints, forces and drivers refer to the fixed frame.
 pub const GROUND: &str = "ground";
 

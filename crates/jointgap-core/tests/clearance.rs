@@ -186,7 +186,9 @@ fn failed_run_reports_its_counters() {
 /// `cross(P - A, t)^2 / I_A` (P the contact point, t the tangent, I_A the inertia about A).
 #[test]
 fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
-    use jointgap_core::dynamics::{accelerations, friction_rate, Workspace};
+    use jointgap_core::dynamics::{accelerations, Contacts, Workspace};
+    use jointgap_core::mechanics::contact::ClearanceJoint;
+    use jointgap_core::mechanics::planar::Planar;
     let (length, mass, inertia) = (0.3, 0.72, 0.0069);
     let (clearance, depth, angle) = (CLEARANCE, 2e-6, 30f64.to_radians());
     let n = [angle.cos(), angle.sin()];
@@ -232,7 +234,7 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
         assert!((kin.slip[0] - slip).abs() < 1e-9 * slip.abs().max(1e-3), "slip {} vs {slip}", kin.slip[0]);
         let (f_n, _) = gap.force(&kin, kin.penetration_rate);
         let expected = gap.friction.damping(slip, f_n) * lever * lever / i_a;
-        let rate = friction_rate(sys, &q, &v, &mut ws);
+        let rate = Planar::friction_rate(sys, &q, &v, &mut ws);
         assert!((rate - expected).abs() <= 1e-9 * expected.max(1e-300), "slip {slip}: {rate} vs {expected}");
         if slip.abs() > 0.01016 {
             assert_eq!(rate, 0.0, "no damping while sliding");

@@ -94,8 +94,11 @@ fn rows_out_of_topological_order_get_the_sparse_factor() {
     let link = |k: usize| [if k == 0 { None } else { Some(k - 1) }, Some(k)];
     let in_order: Vec<_> = (0..n).flat_map(|k| [link(k), link(k)]).collect();
     let scrambled: Vec<_> = (0..n).flat_map(|k| [link(37 * k % n), link(37 * k % n)]).collect();
-    assert_eq!(Schur::new(&in_order, Factorisation::Auto).factorisation(), Factorisation::Dense);
-    assert_eq!(Schur::new(&scrambled, Factorisation::Auto).factorisation(), Factorisation::Sparse);
+    assert_eq!(Schur::<[f64; 3]>::new(&in_order, Factorisation::Auto).factorisation(), Factorisation::Dense);
+    assert_eq!(
+        Schur::<[f64; 3]>::new(&scrambled, Factorisation::Auto).factorisation(),
+        Factorisation::Sparse
+    );
 }
 
 /// The envelope factor of a scrambled pattern, whose envelope holds entries that stay

@@ -4,10 +4,10 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{constraints, Workspace};
+use super::{constraints, Contacts, Workspace};
 use crate::error::{ElementError, Error};
 use crate::mechanics::drivers::Motion;
-use crate::mechanics::planar::RowEval;
+use crate::mechanics::kind::RowEval;
 use crate::system::{InitialCondition, Owner, System};
 
 /// Residual that counts as assembled [m or rad].
@@ -39,11 +39,11 @@ fn min_norm_solve(a: &DMatrix<f64>, b: &DVector<f64>) -> DVector<f64> {
 /// Assembles the mechanism at t = 0: the joints, the drivers and the joint coordinates
 /// given as initial conditions hold exactly; the placement and the bodies' velocities
 /// change as little as they must (a warning names each given velocity that changes).
-pub fn assemble(sys: &System) -> Result<Assembled, Error> {
+pub fn assemble<K: Contacts>(sys: &System<K>) -> Result<Assembled, Error> {
     let mut q = sys.q_guess.clone();
     let v0 = sys.v_guess.clone();
     let t = 0.0;
-    let placing: Vec<&InitialCondition> = sys.initial_conditions.iter().filter(|ic| ic.placed).collect();
+    let placing: Vec<&InitialCondition<K>> = sys.initial_conditions.iter().filter(|ic| ic.placed).collect();
     if let Err(fit) = solve_positions(sys, t, &mut q, &v0, &placing) {
         if !placing.is_empty() {
             check_initial_conditions(sys, &q, &v0)?; // over-specified: say so
@@ -98,13 +98,13 @@ pub fn assemble(sys: &System) -> Result<Assembled, Error> {
 
 /// Residuals and Jacobian at `(t, q)` of the joints and drivers, then of the given
 /// joint coordinates `placing`.
-fn residuals(
-    sys: &System,
+fn residuals<K: Contacts>(
+    sys: &System<K>,
     t: f64,
     q: &[f64],
     v: &[f64],
-    placing: &[&InitialCondition],
-    ws: &mut Workspace,
+    placing: &[&InitialCondition<K>],
+    ws: &mut Workspace<K>,
 ) -> (DVector<f64>, DMatrix<f64>) {
     constraints(sys, t, q, v, ws);
     let m = ws.c.len();
@@ -119,12 +119,12 @@ fn residuals(
 /// Damped Newton from `q` on the joints, drivers (at time `t`) and the given joint
 /// coordinates `placing`, each step the minimum-norm one; `Err` with the residuals where
 /// it stalls above [`ASSEMBLY_TOL`].
-fn solve_positions(
-    sys: &System,
+fn solve_positions<K: Contacts>(
+    sys: &System<K>,
     t: f64,
     q: &mut [f64],
     v: &[f64],
-    placing: &[&InitialCondition],
+    placing: &[&InitialCondition<K>],
 ) -> Result<(), DVector<f64>> {
     let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
     let mut fit = residuals(sys, t, q, v, placing, &mut ws);
@@ -167,7 +167,7 @@ type Checked = (Vec<usize>, Vec<String>, DMatrix<f64>);
 /// The independent rows of the joints and drivers at `q` (and their warnings), and the
 /// Jacobian rows of the given joint coordinates, each of which must move a coordinate the
 /// joints and drivers leave free, and not one another's.
-fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
+fn check_initial_conditions<K: Contacts>(sys: &System<K>, q: &[f64], v: &[f64]) -> Result<Checked, Error> {
     let at = generic_configuration(sys, q, v);
     let (active, warnings, mut basis) = independent_rows(sys, &jacobian(sys, 0.0, &at, v))?;
     let mut given = DMatrix::zeros(sys.initial_conditions.len(), sys.layout.nv());
@@ -190,7 +190,7 @@ fn check_initial_conditions(sys: &System, q: &[f64], v: &[f64]) -> Result<Checke
 }
 
 /// The Jacobian of every joint and driver row at `(t, q)`.
-fn jacobian(sys: &System, t: f64, q: &[f64], v: &[f64]) -> DMatrix<f64> {
+fn jacobian<K: Contacts>(sys: &System<K>, t: f64, q: &[f64], v: &[f64]) -> DMatrix<f64> {
     let mut ws = Workspace::in_order(sys, (0..sys.rows.len()).collect());
     constraints(sys, t, q, v, &mut ws);
     ws.dense_jacobian()
@@ -213,7 +213,7 @@ fn jacobian(sys: &System, t: f64, q: &[f64], v: &[f64]) -> DMatrix<f64> {
 /// driver is fixed by the joints: that configuration is not taken). Rows of a truly
 /// redundant mechanism (a third parallel rocker, a joint given twice) depend on the
 /// others there too and are dropped as before.
-fn generic_configuration(sys: &System, q: &[f64], v: &[f64]) -> Vec<f64> {
+fn generic_configuration<K: Contacts>(sys: &System<K>, q: &[f64], v: &[f64]) -> Vec<f64> {
     let cq = jacobian(sys, 0.0, q, v);
     let rank = |cq: &DMatrix<f64>| {
         let mut basis = Basis::new();
@@ -299,21 +299,21 @@ fn free_direction(cq: &DMatrix<f64>) -> DVector<f64> {
 
 /// Evaluates a given joint coordinate's row at `(q, v)` and writes its Jacobian into row
 /// `a` of `cq`.
-fn initial_row(
-    sys: &System,
-    ic: &InitialCondition,
+fn initial_row<K: Contacts>(
+    sys: &System<K>,
+    ic: &InitialCondition<K>,
     q: &[f64],
     v: &[f64],
     cq: &mut DMatrix<f64>,
     a: usize,
-) -> RowEval {
+) -> RowEval<K::Row> {
     let (bi, bj) = (sys.body_state(ic.body_i, q, v), sys.body_state(ic.body_j, q, v));
-    let ev = ic.kind.eval(&bi, &bj, Motion { position: 0.0, speed: 0.0, acceleration: 0.0 });
+    let ev = K::eval(&ic.kind, &bi, &bj, Motion { position: 0.0, speed: 0.0, acceleration: 0.0 });
     cq.row_mut(a).fill(0.0);
     for (body, entries) in [(ic.body_i, ev.jac_i), (ic.body_j, ev.jac_j)] {
         if let Some(k) = body {
             let at = sys.layout.slot(k).v_at;
-            for (d, e) in entries.iter().enumerate() {
+            for (d, e) in entries.as_ref().iter().enumerate() {
                 cq[(a, at + d)] += e;
             }
         }
@@ -322,7 +322,7 @@ fn initial_row(
 }
 
 /// A warning for each body velocity the user gave (non-zero) that assembly changed.
-fn changed_velocities(sys: &System, given: &[f64], used: &[f64]) -> Vec<String> {
+fn changed_velocities<K: Contacts>(sys: &System<K>, given: &[f64], used: &[f64]) -> Vec<String> {
     let mut out = Vec::new();
     let why = "assembly changed it to satisfy the joints and drivers; give a joint's \
                initial_rate to set a velocity that assembly keeps";
@@ -347,7 +347,7 @@ fn changed_velocities(sys: &System, given: &[f64], used: &[f64]) -> Vec<String> 
 }
 
 /// `joint 'name'` or `driver 'name'`.
-pub fn element_name(sys: &System, owner: Owner) -> String {
+pub fn element_name<K: Contacts>(sys: &System<K>, owner: Owner) -> String {
     match owner {
         Owner::Joint(k) => format!("joint '{}'", sys.joints[k].name),
         Owner::Driver(k) => format!("driver '{}'", sys.drivers[k].name),
@@ -358,7 +358,10 @@ pub fn element_name(sys: &System, owner: Owner) -> String {
 /// ones is redundant and dropped (a warning names it); a redundant driver is an error,
 /// since it would fight the joints.
 /// Returns the active rows, the warnings and the orthonormal basis of the active rows.
-fn independent_rows(sys: &System, cq: &DMatrix<f64>) -> Result<(Vec<usize>, Vec<String>, Basis), Error> {
+fn independent_rows<K: Contacts>(
+    sys: &System<K>,
+    cq: &DMatrix<f64>,
+) -> Result<(Vec<usize>, Vec<String>, Basis), Error> {
     let mut basis: Basis = Vec::new();
     let mut active = Vec::new();
     let mut warnings = Vec::new();

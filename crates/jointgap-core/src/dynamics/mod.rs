@@ -14,11 +14,12 @@ pub mod schur;
 
 pub use schur::Singular;
 
-use crate::mechanics::contact::{self, ContactState};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactState};
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::{self, BodyState};
+use crate::mechanics::planar::{self, Planar};
 use crate::profile::{self, Profile};
 use crate::system::System;
 use prescribed::PrescribedBody;
@@ -28,7 +29,7 @@ const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 
 
 /// Scratch space of one run, filled by the functions of this module.
 #[derive(Debug, Clone)]
-pub struct Workspace {
+pub struct Workspace<K: BodyKind = Planar> {
     /// Indices of the active rows in `System::rows`, in solve order: the rows of the
     /// Schur complement, then the prescribed bodies' own ([`prescribed`]).
     pub active: Vec<usize>,
@@ -46,7 +47,7 @@ pub struct Workspace {
     /// Filled by [`constraints`]: residuals; (n_active).
     pub c: DVector<f64>,
     /// Filled by [`constraints`]: the Jacobian `Cq`, one entry per active row.
-    pub jac: Vec<RowJacobian>,
+    pub jac: Vec<RowJacobian<K::Row>>,
     /// Filled by [`constraints`]: `dC/dt`; (n_active).
     pub ct: DVector<f64>,
     /// Filled by [`constraints`]: acceleration right-hand side; (n_active).
@@ -54,7 +55,7 @@ pub struct Workspace {
     /// Filled by [`applied_forces`]: generalised applied forces; (nv).
     pub qe: Vec<f64>,
     /// The Schur complement `Cq M^-1 Cq^T` and its solver.
-    pub schur: Schur,
+    pub schur: Schur<K::Row>,
     /// Filled by [`accelerations`]: multipliers, one per active row; (n_active).
     pub lambda: DVector<f64>,
     /// Filled by [`accelerations`]: accelerations; (nv).
@@ -68,34 +69,36 @@ pub struct Workspace {
     pub profile: Option<Profile>,
     /// Each body's state at the last evaluation, its rotation computed once for all rows
     /// and forces; (n_bodies).
-    bodies: Vec<BodyState>,
+    bodies: Vec<K::State>,
+    /// The ground's state, which rows and forces on the ground read.
+    ground: K::State,
     /// Scratch of length nv.
     scratch: Vec<f64>,
 }
 
-impl Workspace {
+impl<K: Contacts> Workspace<K> {
     /// Allocates for a system whose active rows are `active` (reordered into solve
     /// order), factoring the Schur complement over its envelope or sparse by its pattern
     /// ([`Factorisation::Auto`]).
-    pub fn new(sys: &System, active: Vec<usize>) -> Self {
+    pub fn new(sys: &System<K>, active: Vec<usize>) -> Self {
         Self::with_factorisation(sys, active, Factorisation::Auto)
     }
 
     /// As [`Workspace::new`] with the factorisation chosen by the caller (tests compare
     /// both on one system).
-    pub fn with_factorisation(sys: &System, active: Vec<usize>, factorisation: Factorisation) -> Self {
+    pub fn with_factorisation(sys: &System<K>, active: Vec<usize>, factorisation: Factorisation) -> Self {
         let split = prescribed::split(sys, &active);
         Self::build(sys, split.order, split.dynamic, split.bodies, factorisation)
     }
 
     /// For assembly: the rows `rows` in the order given, all in the Schur complement.
-    pub fn in_order(sys: &System, rows: Vec<usize>) -> Self {
+    pub fn in_order(sys: &System<K>, rows: Vec<usize>) -> Self {
         let m = rows.len();
         Self::build(sys, rows, m, Vec::new(), Factorisation::Auto)
     }
 
     fn build(
-        sys: &System,
+        sys: &System<K>,
         active: Vec<usize>,
         dynamic: usize,
         prescribed: Vec<PrescribedBody>,
@@ -106,7 +109,7 @@ impl Workspace {
         let m = active.len();
         let mut m_inv = vec![0.0; n];
         for (b, slot) in sys.bodies.iter().zip(layout.slots()) {
-            m_inv[slot.v()].copy_from_slice(&planar::inverse_mass(b.mass, b.inertia));
+            m_inv[slot.v()].copy_from_slice(K::inverse_mass(b.mass, &b.inertia).as_ref());
         }
         for p in &prescribed {
             m_inv[p.own.clone()].fill(0.0);
@@ -135,9 +138,10 @@ impl Workspace {
             lambda: DVector::zeros(m),
             qdd: vec![0.0; n],
             t_piece: 0.0,
-            contacts: vec![ContactState::default(); contact::point_count(&sys.clearances)],
+            contacts: vec![ContactState::default(); K::contact_point_count(sys)],
             profile: None,
-            bodies: vec![BodyState::default(); sys.bodies.len()],
+            bodies: vec![K::ground(); sys.bodies.len()],
+            ground: K::ground(),
             scratch: vec![0.0; n],
             layout,
         }
@@ -154,7 +158,7 @@ impl Workspace {
         let mut cq = DMatrix::zeros(self.jac.len(), self.m_inv.len());
         for (a, row) in self.jac.iter().enumerate() {
             for (at, entries) in row.placed_blocks() {
-                for (d, e) in entries.iter().enumerate() {
+                for (d, e) in entries.as_ref().iter().enumerate() {
                     cq[(a, at + d)] += e;
                 }
             }
@@ -162,8 +166,14 @@ impl Workspace {
         cq
     }
 
+    /// The loaded state of body `b` (the ground for `None`).
+    #[inline]
+    fn body(&self, b: Option<usize>) -> &K::State {
+        b.map_or(&self.ground, |k| &self.bodies[k])
+    }
+
     /// Loads every body's state at `(q, v)`.
-    fn load_bodies(&mut self, sys: &System, q: &[f64], v: &[f64]) {
+    fn load_bodies(&mut self, sys: &System<K>, q: &[f64], v: &[f64]) {
         for (k, state) in self.bodies.iter_mut().enumerate() {
             *state = sys.body_state(Some(k), q, v);
         }
@@ -197,7 +207,7 @@ impl Workspace {
         for row in &self.jac {
             for (k, entries) in row.blocks() {
                 let slot = self.layout.slot(k);
-                if let Some((moved, changed)) = planar::rotation_reach(entries, &q[slot.q()], &v[slot.v()]) {
+                if let Some((moved, changed)) = K::rotation_reach(entries, &q[slot.q()], &v[slot.v()]) {
                     position = position.max(moved);
                     velocity = velocity.max(changed);
                 }
@@ -269,20 +279,21 @@ impl Workspace {
 }
 
 /// Evaluates the active constraint rows at `(t, q, v)`: fills `c`, `jac`, `ct`, `gamma`.
-pub fn constraints(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) {
+pub fn constraints<K: Contacts>(sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace<K>) {
     ws.load_bodies(sys, q, v);
     constraint_rows(sys, t, ws);
 }
 
 /// [`constraints`] at the loaded body states.
-fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
+fn constraint_rows<K: Contacts>(sys: &System<K>, t: f64, ws: &mut Workspace<K>) {
     for (a, &r) in ws.active.iter().enumerate() {
         let row = &sys.rows[r];
         let motion = match row.driver {
             Some(d) => sys.drivers[d].profile.motion_on(t, ws.t_piece),
             None => NO_MOTION,
         };
-        let ev = row.kind.eval(body_of(&ws.bodies, row.body_i), body_of(&ws.bodies, row.body_j), motion);
+        let (bi, bj) = (ws.body(row.body_i), ws.body(row.body_j));
+        let ev = K::eval(&row.kind, bi, bj, motion);
         ws.c[a] = ev.c;
         ws.ct[a] = ev.ct;
         ws.gamma[a] = ev.gamma;
@@ -290,36 +301,37 @@ fn constraint_rows(sys: &System, t: f64, ws: &mut Workspace) {
     }
 }
 
-/// The loaded state of body `b` (the ground for `None`).
-fn body_of(bodies: &[BodyState], b: Option<usize>) -> &BodyState {
-    b.map_or(&BodyState::GROUND, |k| &bodies[k])
-}
-
 /// Fills `qe` with gravity and every force element at `(t, q, v)`.
-pub fn applied_forces(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) {
+pub fn applied_forces<K: Contacts>(sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace<K>) {
     ws.load_bodies(sys, q, v);
     forces_at_bodies(sys, t, ws);
 }
 
 /// [`applied_forces`] at the loaded body states.
-fn forces_at_bodies(sys: &System, t: f64, ws: &mut Workspace) {
+fn forces_at_bodies<K: Contacts>(sys: &System<K>, t: f64, ws: &mut Workspace<K>) {
     ws.qe.fill(0.0);
-    for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
-        planar::add_weight(&mut ws.qe[slot.v()], b.mass, sys.gravity);
+    for ((b, slot), state) in sys.bodies.iter().zip(sys.layout.slots()).zip(&ws.bodies) {
+        let qe = &mut ws.qe[slot.v()];
+        K::add_weight(qe, b.mass, &sys.gravity);
+        K::add_inertial(qe, &b.inertia, state);
     }
-    let bodies = &ws.bodies;
+    let (bodies, ground) = (&ws.bodies, &ws.ground);
+    let state = |b: Option<usize>| b.map_or(ground, |k| &bodies[k]);
     let mut loads = Loads::new(&sys.layout, &mut ws.qe);
     for f in &sys.forces {
-        f.add_to(t, |b| *body_of(bodies, b), &mut loads);
+        f.add_to(t, |b| *state(b), &mut loads);
     }
-    for (_, c, points) in contact::slots(&sys.clearances) {
-        let g = &c.geometry;
-        c.add_to(body_of(bodies, g.bearing), body_of(bodies, g.journal), &ws.contacts[points], &mut loads);
-    }
+    K::add_contact_loads(sys, state, &ws.contacts, &mut loads);
 }
 
 /// Accelerations and multipliers at `(t, q, v)`: fills everything in the workspace.
-pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> Result<(), Singular> {
+pub fn accelerations<K: Contacts>(
+    sys: &System<K>,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    ws: &mut Workspace<K>,
+) -> Result<(), Singular> {
     accelerations_for_integration(sys, t, q, v, ws)?;
     prescribed_multipliers(sys, ws);
     Ok(())
@@ -328,12 +340,12 @@ pub fn accelerations(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Worksp
 /// [`accelerations`] without the prescribed rows' multipliers (the driving torques and
 /// their pins' reactions): the motion does not depend on them, so the integrator's
 /// evaluations leave them out and only recorded samples compute them.
-pub fn accelerations_for_integration(
-    sys: &System,
+pub fn accelerations_for_integration<K: Contacts>(
+    sys: &System<K>,
     t: f64,
     q: &[f64],
     v: &[f64],
-    ws: &mut Workspace,
+    ws: &mut Workspace<K>,
 ) -> Result<(), Singular> {
     let lap = profile::start(&ws.profile);
     ws.load_bodies(sys, q, v);
@@ -377,12 +389,12 @@ pub fn accelerations_for_integration(
 /// The prescribed rows' multipliers (driving torque, pin reactions) after
 /// [`accelerations_for_integration`], outermost body first: its rows act on the bodies
 /// it rests on.
-fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
+fn prescribed_multipliers<K: Contacts>(sys: &System<K>, ws: &mut Workspace<K>) {
     let mut lambda = std::mem::take(&mut ws.lambda);
     for (p, b_inv) in ws.prescribed.iter().zip(&ws.prescribed_inverse).rev() {
         let b = &sys.bodies[p.body];
-        let mass = planar::mass_diagonal(b.mass, b.inertia);
-        p.multipliers(&ws.jac, b_inv, mass, &ws.qe, &ws.qdd, lambda.as_mut_slice());
+        let mass = K::mass_diagonal(b.mass, &b.inertia);
+        p.multipliers(&ws.jac, b_inv, &mass, &ws.qe, &ws.qdd, lambda.as_mut_slice());
     }
     ws.lambda = lambda;
 }
@@ -398,12 +410,12 @@ fn prescribed_multipliers(sys: &System, ws: &mut Workspace) {
 /// needs. It costs a force evaluation per coordinate and one solve with the factor
 /// already in hand per column that is not zero, against a full evaluation (forces,
 /// constraints, factor and solve) per column for forward differences.
-pub fn force_jacobian(
-    sys: &System,
+pub fn force_jacobian<K: Contacts>(
+    sys: &System<K>,
     t: f64,
     q: &[f64],
     v: &[f64],
-    ws: &mut Workspace,
+    ws: &mut Workspace<K>,
     jac: &mut DMatrix<f64>,
 ) -> Result<(), Singular> {
     let layout = &sys.layout;
@@ -427,7 +439,7 @@ pub fn force_jacobian(
         let dy = f64::EPSILON.sqrt() * y.abs().max(1e-5);
         bumped[i] += dy;
         let slot = layout.slot(k);
-        ws.bodies[k] = BodyState::read(planar::block(&q_body, slot.q_at), planar::block(&v_body, slot.v_at));
+        ws.bodies[k] = K::read(&q_body[slot.q()], &v_body[slot.v()]);
         let bumped = if velocity { &mut v_body } else { &mut q_body };
         bumped[i] = y;
         forces_at_bodies(sys, t, ws);
@@ -454,12 +466,12 @@ pub fn force_jacobian(
 
 /// Mass-weighted projection of `q` onto `C(q, t) = 0` (a few Newton steps) and of `v`
 /// onto `Cq v + Ct = 0`; `Singular` when the constraints cannot be met.
-pub fn project(
-    sys: &System,
+pub fn project<K: Contacts>(
+    sys: &System<K>,
     t: f64,
     q: &mut [f64],
     v: &mut [f64],
-    ws: &mut Workspace,
+    ws: &mut Workspace<K>,
 ) -> Result<(), Singular> {
     if ws.active.is_empty() {
         return Ok(());
@@ -487,55 +499,8 @@ pub fn project(
 /// The position residual at which [`project`] stops away from singular positions:
 /// [`POSITION_TOL`], or what the rounding of `(q, v)` leaves if that is more (a crank
 /// angle of 1900 rad rounds at 2.3e-13 rad, and its driver's row with it).
-fn settled(ws: &Workspace, q: &[f64], v: &[f64]) -> f64 {
+fn settled<K: Contacts>(ws: &Workspace<K>, q: &[f64], v: &[f64]) -> f64 {
     POSITION_TOL.max(ws.rounding(q, v).0)
-}
-
-/// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`,
-/// over its contact points and their tangents: `|dF_T/dv_t|` times the slip's inverse
-/// mass through the constraints, `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the
-/// slip's direction in coordinates.
-/// An explicit step is stable only below about 3.3 divided by it, so this is the
-/// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
-/// evaluation.
-pub fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
-    let mut rate = 0.0f64;
-    for (_, c, points) in contact::slots(&sys.clearances) {
-        let (bearing, journal) =
-            (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
-        for (kin, (slip, t)) in c.contacts(&bearing, &journal, f64::INFINITY).iter().flat_map(|kin| {
-            kin.slip.iter().zip(contact::point::tangents(kin.normal)).map(move |tangent| (kin, tangent))
-        }) {
-            let contact = ws.contacts[points.start + kin.index];
-            let (f_n, _) = c.force(kin, contact.onset_for(kin.penetration_rate));
-            let damping = if f_n > 0.0 { c.friction.damping(*slip, f_n) } else { 0.0 };
-            if damping == 0.0 {
-                continue;
-            }
-            // Slip = g . qdot: each body's point velocity along the tangent.
-            let mut g = vec![0.0; ws.m_inv.len()];
-            let mut along = Loads::new(&sys.layout, &mut g);
-            for (body, state, point, sign) in
-                [(kin.on_j.body, &journal, kin.on_j.at, 1.0), (kin.on_i.body, &bearing, kin.on_i.at, -1.0)]
-            {
-                if let Some(g) = along.body(body) {
-                    planar::add_force(g, point - state.r, t * sign);
-                }
-            }
-            let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
-            let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
-            let mut inverse_mass = free;
-            if ws.dynamic > 0 {
-                let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
-                let r = mu.clone();
-                if ws.schur_solve(&mut mu).is_ok() {
-                    inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
-                }
-            }
-            rate = rate.max(damping * inverse_mass.clamp(0.0, free));
-        }
-    }
-    rate
 }
 
 /// Position residual below which projection stops [m or rad], or the rounding of the
@@ -551,10 +516,109 @@ pub const ROUNDING_ULPS: f64 = 16.0;
 pub const NEAR_SINGULAR_POSITION_TOL: f64 = 1e-16;
 
 /// Largest position residual and velocity residual of the active rows at `(t, q, v)`.
-pub fn violation(sys: &System, t: f64, q: &[f64], v: &[f64], ws: &mut Workspace) -> (f64, f64) {
+pub fn violation<K: Contacts>(
+    sys: &System<K>,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    ws: &mut Workspace<K>,
+) -> (f64, f64) {
     if ws.active.is_empty() {
         return (0.0, 0.0);
     }
     constraints(sys, t, q, v, ws);
     ws.violation_here(v)
+}
+
+/// What the dynamics needs of a body kind's clearance joints: their contact points'
+/// count, their loads, and the stiffness their friction brings.
+pub trait Contacts: BodyKind {
+    /// Contact points of all the clearance joints ([`contact::slots`]).
+    fn contact_point_count(sys: &System<Self>) -> usize;
+
+    /// Adds every clearance joint's contact loads, the bodies' states given by `state`
+    /// and the contact points' discrete states by `contacts`.
+    fn add_contact_loads<'a>(
+        sys: &System<Self>,
+        state: impl Fn(Option<usize>) -> &'a Self::State,
+        contacts: &[ContactState],
+        loads: &mut Loads,
+    ) where
+        Self::State: 'a;
+
+    /// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`,
+    /// over its contact points and their tangents: `|dF_T/dv_t|` times the slip's inverse
+    /// mass through the constraints, `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the
+    /// slip's direction in coordinates.
+    /// An explicit step is stable only below about 3.3 divided by it, so this is the
+    /// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
+    /// evaluation.
+    fn friction_rate(sys: &System<Self>, q: &[f64], v: &[f64], ws: &mut Workspace<Self>) -> f64;
+}
+
+impl Contacts for Planar {
+    fn contact_point_count(sys: &System) -> usize {
+        contact::point_count(&sys.clearances)
+    }
+
+    #[inline]
+    fn add_contact_loads<'a>(
+        sys: &System,
+        state: impl Fn(Option<usize>) -> &'a planar::BodyState,
+        contacts: &[ContactState],
+        loads: &mut Loads,
+    ) {
+        for (_, c, points) in contact::slots(&sys.clearances) {
+            let g = &c.geometry;
+            c.add_to(state(g.bearing), state(g.journal), &contacts[points], loads);
+        }
+    }
+
+    /// Largest rate [1/s] at which a clearance joint's friction damps its slip at `(q, v)`,
+    /// over its contact points and their tangents: `|dF_T/dv_t|` times the slip's inverse
+    /// mass through the constraints, `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g` with `g` the
+    /// slip's direction in coordinates.
+    /// An explicit step is stable only below about 3.3 divided by it, so this is the
+    /// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
+    /// evaluation.
+    fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
+        let mut rate = 0.0f64;
+        for (_, c, points) in contact::slots(&sys.clearances) {
+            let (bearing, journal) =
+                (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
+            for (kin, (slip, t)) in c.contacts(&bearing, &journal, f64::INFINITY).iter().flat_map(|kin| {
+                kin.slip.iter().zip(contact::point::tangents(kin.normal)).map(move |tangent| (kin, tangent))
+            }) {
+                let contact = ws.contacts[points.start + kin.index];
+                let (f_n, _) = c.force(kin, contact.onset_for(kin.penetration_rate));
+                let damping = if f_n > 0.0 { c.friction.damping(*slip, f_n) } else { 0.0 };
+                if damping == 0.0 {
+                    continue;
+                }
+                // Slip = g . qdot: each body's point velocity along the tangent.
+                let mut g = vec![0.0; ws.m_inv.len()];
+                let mut along = Loads::new(&sys.layout, &mut g);
+                for (body, state, point, sign) in [
+                    (kin.on_j.body, &journal, kin.on_j.at, 1.0),
+                    (kin.on_i.body, &bearing, kin.on_i.at, -1.0),
+                ] {
+                    if let Some(g) = along.body(body) {
+                        planar::add_force(g, point - state.r, t * sign);
+                    }
+                }
+                let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
+                let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
+                let mut inverse_mass = free;
+                if ws.dynamic > 0 {
+                    let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
+                    let r = mu.clone();
+                    if ws.schur_solve(&mut mu).is_ok() {
+                        inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
+                    }
+                }
+                rate = rate.max(damping * inverse_mass.clamp(0.0, free));
+            }
+        }
+        rate
+    }
 }

@@ -9,7 +9,8 @@
 //! founding slider-crank 4 of 7.
 
 use super::schur::{RowJacobian, Singular};
-use crate::mechanics::planar::{BodyRow, NV};
+use crate::mechanics::kind::{Block, BodyKind};
+use crate::mechanics::planar::{BodyRow, NV, PLANAR_BODY};
 use crate::system::System;
 
 /// A square block over one body's velocities: `B` of its own rows, and its inverse.
@@ -44,9 +45,10 @@ pub struct Split {
 /// Finds the prescribed bodies among the active rows `active` (model order kept within
 /// each group). A body is prescribed when exactly three active rows touch it and only
 /// the ground or bodies found before; assembly has already dropped dependent rows, so
-/// the three are independent.
-pub fn split(sys: &System, active: &[usize]) -> Split {
-    let n = sys.bodies.len();
+/// the three are independent. The block solve is written for a planar body's three
+/// rows: a spatial body's six go through the Schur complement.
+pub fn split<K: BodyKind>(sys: &System<K>, active: &[usize]) -> Split {
+    let n = if K::SHAPE == PLANAR_BODY { sys.bodies.len() } else { 0 };
     let mut fixed = vec![false; n];
     let mut taken = vec![false; active.len()];
     let mut groups: Vec<(usize, [usize; NV])> = Vec::new();
@@ -103,16 +105,16 @@ pub fn split(sys: &System, active: &[usize]) -> Split {
 impl PrescribedBody {
     /// `B^-1`, with `B` its own rows' entries for its coordinates (one row per
     /// equation); `Singular` where `B` is.
-    pub fn inverse(&self, jac: &[RowJacobian]) -> Result<BodyBlock, Singular> {
-        inverse3(self.rows.map(|(a, side)| jac[a].entries[side]))
+    pub fn inverse<R: Block>(&self, jac: &[RowJacobian<R>]) -> Result<BodyBlock, Singular> {
+        inverse3(self.rows.map(|(a, side)| planar_row(&jac[a].entries[side])))
     }
 
     /// Sets its coordinates' part of `x` so that its own rows give `rhs`:
     /// `x_p = B^-1 (rhs_p - the rows' terms in every other coordinate of x)`. Callers set
     /// the bodies in order, so the earlier ones are in place.
-    pub fn solve_rows(
+    pub fn solve_rows<R: Block>(
         &self,
-        jac: &[RowJacobian],
+        jac: &[RowJacobian<R>],
         b_inv: &BodyBlock,
         rhs: impl Fn(usize) -> f64,
         x: &mut [f64],
@@ -127,19 +129,20 @@ impl PrescribedBody {
     /// Multipliers of its own rows from its Newton-Euler equations
     /// `M_p qdd_p + Cq_p^T lambda = Qe_p`, given the other rows' multipliers:
     /// `lambda_own = B^-T (Qe_p - M_p qdd_p - others' Cq_p^T lambda)`.
-    pub fn multipliers(
+    pub fn multipliers<R: Block>(
         &self,
-        jac: &[RowJacobian],
+        jac: &[RowJacobian<R>],
         b_inv: &BodyBlock,
-        mass: BodyRow,
+        mass: &R,
         qe: &[f64],
         qdd: &[f64],
         lambda: &mut [f64],
     ) {
         let (qe, qdd) = (&qe[self.own.clone()], &qdd[self.own.clone()]);
+        let mass = planar_row(mass);
         let mut r: BodyRow = std::array::from_fn(|d| qe[d] - mass[d] * qdd[d]);
         for &(a, side) in &self.others {
-            for (r, e) in r.iter_mut().zip(&jac[a].entries[side]) {
+            for (r, e) in r.iter_mut().zip(jac[a].entries[side].as_ref()) {
                 *r -= e * lambda[a];
             }
         }
@@ -147,6 +150,12 @@ impl PrescribedBody {
             lambda[a] = b_inv[0][i] * r[0] + b_inv[1][i] * r[1] + b_inv[2][i] * r[2];
         }
     }
+}
+
+/// A planar body's block: only planar bodies are prescribed ([`split`]).
+#[inline]
+fn planar_row<R: Block>(r: &R) -> BodyRow {
+    *<&BodyRow>::try_from(r.as_ref()).expect("prescribed bodies are planar")
 }
 
 /// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes

@@ -28,8 +28,9 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, Par};
 
+use crate::mechanics::kind::Block;
 use crate::mechanics::layout::Layout;
-use crate::mechanics::planar::{block, block_mut, BodyRow};
+use crate::mechanics::planar::BodyRow;
 
 /// The augmented system is singular: the mechanism locks up or passes a singular
 /// configuration (e.g. a four-bar at a change point). Kept with the Schur complement,
@@ -58,16 +59,16 @@ pub enum Factorisation {
 /// One active row's Jacobian `Cq_a`: at most two bodies, a block over each one's
 /// velocities.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct RowJacobian {
+pub struct RowJacobian<R: Block = BodyRow> {
     /// The bodies i and j (`None`: the ground).
     pub bodies: [Option<usize>; 2],
     /// Where each body's velocities start in `v` (the layout's; unused for the ground).
     pub at: [usize; 2],
     /// The block of body i, then of body j.
-    pub entries: [BodyRow; 2],
+    pub entries: [R; 2],
 }
 
-impl RowJacobian {
+impl<R: Block> RowJacobian<R> {
     /// The row of bodies `bodies`, entries zero, placed by `layout`.
     pub fn new(bodies: [Option<usize>; 2], layout: &Layout) -> Self {
         let at = bodies.map(|b| b.map_or(0, |k| layout.slot(k).v_at));
@@ -75,12 +76,12 @@ impl RowJacobian {
     }
 
     /// `(body, entries)` of each body the row touches.
-    pub fn blocks(&self) -> impl Iterator<Item = (usize, &BodyRow)> {
+    pub fn blocks(&self) -> impl Iterator<Item = (usize, &R)> {
         self.bodies.iter().zip(&self.entries).filter_map(|(k, jac)| k.map(|k| (k, jac)))
     }
 
     /// `(velocity address, entries)` of each body the row touches.
-    pub fn placed_blocks(&self) -> impl Iterator<Item = (usize, &BodyRow)> {
+    pub fn placed_blocks(&self) -> impl Iterator<Item = (usize, &R)> {
         (0..2).filter(|&side| self.bodies[side].is_some()).map(|side| (self.at[side], &self.entries[side]))
     }
 
@@ -90,7 +91,7 @@ impl RowJacobian {
         // Body i's products, then body j's, in the order the sum has always been taken.
         let part = |side: usize| {
             self.bodies[side].map(|_| {
-                let (jac, x) = (&self.entries[side], block(x, self.at[side]));
+                let (jac, x) = (self.entries[side].as_ref(), R::of(x, self.at[side]).as_ref());
                 jac[1..].iter().zip(&x[1..]).fold(jac[0] * x[0], |sum, (j, x)| sum + j * x)
             })
         };
@@ -106,8 +107,8 @@ impl RowJacobian {
     pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
         for side in 0..2 {
             if self.bodies[side].is_some() {
-                let (jac, y) = (&self.entries[side], block_mut(y, self.at[side]));
-                for (y, e) in y.iter_mut().zip(jac) {
+                let (jac, y) = (&self.entries[side], R::of_mut(y, self.at[side]));
+                for (y, e) in y.as_mut().iter_mut().zip(jac.as_ref()) {
                     *y += s * e;
                 }
             }
@@ -118,7 +119,7 @@ impl RowJacobian {
 /// The lower triangle of `S` (diagonal included) in compressed columns, its values, and
 /// the factorisation that solves with it.
 #[derive(Debug, Clone)]
-pub struct Schur {
+pub struct Schur<R: Block = BodyRow> {
     /// `(row, column)` of each stored entry, row >= column, column-major.
     entries: Vec<(usize, usize)>,
     /// Position in `entries` of each diagonal entry.
@@ -130,8 +131,8 @@ pub struct Schur {
     shared: Vec<SharedBody>,
     /// Each row's entries for its first and second body (`2 row + side`), as they are
     /// and times that body's inverse mass: an update's products are then one lookup each.
-    plain: Vec<BodyRow>,
-    scaled: Vec<BodyRow>,
+    plain: Vec<R>,
+    scaled: Vec<R>,
     /// Values of `S`, as `entries`; computed from `plain` and `scaled` when a path
     /// needs them (the plain dense factor sums straight into its buffer).
     values: Vec<f64>,
@@ -348,7 +349,7 @@ fn sparse_pivots(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> (f64, f6
     }
 }
 
-impl Schur {
+impl<R: Block> Schur<R> {
     /// The pattern of `S` for rows touching the bodies `bodies[a]`.
     pub fn new(bodies: &[[Option<usize>; 2]], factorisation: Factorisation) -> Self {
         let m = bodies.len();
@@ -432,8 +433,8 @@ impl Schur {
             diagonal,
             envelope,
             shared,
-            plain: vec![BodyRow::default(); 2 * m],
-            scaled: vec![BodyRow::default(); 2 * m],
+            plain: vec![R::default(); 2 * m],
+            scaled: vec![R::default(); 2 * m],
             values: vec![0.0; k],
             values_current: false,
             regularised: vec![0.0; k],
@@ -461,15 +462,18 @@ impl Schur {
     }
 
     /// Takes the rows' Jacobians and `M^-1` from which `S` is computed.
-    pub fn update(&mut self, jac: &[RowJacobian], m_inv: &[f64]) {
+    pub fn update(&mut self, jac: &[RowJacobian<R>], m_inv: &[f64]) {
         self.plain_factor = false;
         self.values_current = false;
         for (a, row) in jac.iter().enumerate() {
             for (side, k) in row.bodies.iter().enumerate() {
                 if k.is_some() {
-                    let (e, w) = (row.entries[side], block(m_inv, row.at[side]));
+                    let (e, w) = (row.entries[side], R::of(m_inv, row.at[side]));
                     self.plain[2 * a + side] = e;
-                    self.scaled[2 * a + side] = std::array::from_fn(|d| e[d] * w[d]);
+                    let scaled = &mut self.scaled[2 * a + side];
+                    for ((s, e), w) in scaled.as_mut().iter_mut().zip(e.as_ref()).zip(w.as_ref()) {
+                        *s = e * w;
+                    }
                 }
             }
         }
@@ -668,7 +672,7 @@ impl Schur {
     }
 }
 
-impl Schur {
+impl<R: Block> Schur<R> {
     /// Solves `S x = rhs` in place for another right-hand side with the same values:
     /// with the factor already in hand where the last [`Schur::solve`] used the plain
     /// dense one, else as [`Schur::solve`].
@@ -688,8 +692,8 @@ impl Schur {
 /// Adds one shared body's part of an entry of `S`, `(Cq_a,d / m_d) Cq_b,d`, to `value`
 /// term by term in the order `d` = x, y, angle, as every path of the factor sums it.
 #[inline]
-fn add_shared(value: &mut f64, scaled: &BodyRow, plain: &BodyRow) {
-    for (s, p) in scaled.iter().zip(plain) {
+fn add_shared<R: Block>(value: &mut f64, scaled: &R, plain: &R) {
+    for (s, p) in scaled.as_ref().iter().zip(plain.as_ref()) {
         *value += s * p;
     }
 }

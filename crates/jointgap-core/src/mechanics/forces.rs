@@ -3,6 +3,7 @@
 
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
+use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
@@ -239,9 +240,11 @@ impl ForceElement {
             }
         })
     }
+}
 
+impl ForceLaw<BodyState> for ForceElement {
     /// Table times, where the load's slope jumps.
-    pub fn corners(&self) -> Vec<f64> {
+    fn corners(&self) -> Vec<f64> {
         match self {
             ForceElement::AppliedForce { force, .. } => force.time.clone(),
             ForceElement::AppliedTorque { torque, .. } => torque.time.clone(),
@@ -250,7 +253,7 @@ impl ForceElement {
     }
 
     /// Adds this element's generalised force at time `t` to the loads.
-    pub fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut Loads) {
+    fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut Loads) {
         match self {
             ForceElement::SpringDamper {
                 body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
@@ -284,7 +287,7 @@ impl ForceElement {
     /// the rate at which a damper dissipates, `c rate^2 >= 0` (its force `-c rate` along
     /// the rate). A spring's elastic power is the rate of its potential energy and is in
     /// neither.
-    pub fn power(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState) -> (f64, f64) {
+    fn power(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState) -> (f64, f64) {
         match self {
             ForceElement::SpringDamper { body_i, s_i, body_j, s_j, damping, .. } => {
                 match line(&state(*body_i), *s_i, &state(*body_j), *s_j) {
@@ -306,7 +309,7 @@ impl ForceElement {
     }
 
     /// Stored elastic energy [J] (springs only; applied loads are non-conservative).
-    pub fn potential_energy(&self, state: impl Fn(Option<usize>) -> BodyState) -> f64 {
+    fn potential_energy(&self, state: impl Fn(Option<usize>) -> BodyState) -> f64 {
         match self {
             ForceElement::SpringDamper { body_i, s_i, body_j, s_j, stiffness, free_length, .. } => {
                 let (bi, bj) = (state(*body_i), state(*body_j));

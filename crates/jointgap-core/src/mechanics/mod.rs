@@ -6,7 +6,8 @@
 pub mod contact;
 pub mod drivers;
 pub mod forces;
+pub mod kind;
 pub mod layout;
 pub mod planar;
-pub mod spatial;
 pub(crate) mod resolve;
+pub mod spatial;

@@ -5,7 +5,10 @@
 //! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
 
 use crate::math::{cross, perp, Vec2};
+use crate::mechanics::contact::ClearanceRevolute;
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::forces::ForceElement;
+use crate::mechanics::kind::{self, BodyKind};
 use crate::mechanics::layout::BodyShape;
 use crate::model::Body;
 
@@ -179,6 +182,91 @@ pub fn add_torque(qe: &mut [f64], tau: f64) {
     qe[2] += tau;
 }
 
+/// The planar body kind ([`BodyKind`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Planar;
+
+impl BodyKind for Planar {
+    const SHAPE: BodyShape = PLANAR_BODY;
+    const IDENTITY_RATE: bool = true;
+    const CHANNELS: &'static [&'static str] = &CHANNELS;
+    type Row = BodyRow;
+    type State = BodyState;
+    type Vector = Vec2;
+    type Inertia = f64;
+    type RowKind = RowKind;
+    type Force = ForceElement;
+    type Clearance = ClearanceRevolute;
+
+    #[inline]
+    fn ground() -> BodyState {
+        BodyState::GROUND
+    }
+
+    #[inline]
+    fn read(q: &[f64], v: &[f64]) -> BodyState {
+        BodyState::read(block(q, 0), block(v, 0))
+    }
+
+    #[inline]
+    fn eval(row: &RowKind, bi: &BodyState, bj: &BodyState, motion: Motion) -> RowEval {
+        row.eval(bi, bj, motion)
+    }
+
+    #[inline]
+    fn mass_diagonal(mass: f64, inertia: &f64) -> BodyRow {
+        mass_diagonal(mass, *inertia)
+    }
+
+    #[inline]
+    fn inverse_mass(mass: f64, inertia: &f64) -> BodyRow {
+        inverse_mass(mass, *inertia)
+    }
+
+    #[inline]
+    fn add_weight(qe: &mut [f64], mass: f64, gravity: &Vec2) {
+        add_weight(qe, mass, *gravity)
+    }
+
+    #[inline]
+    fn displace(q: &mut [f64], dv: &[f64]) {
+        displace(q, dv)
+    }
+
+    #[inline]
+    fn is_rotation(d: usize) -> bool {
+        is_rotation(d)
+    }
+
+    #[inline]
+    fn rotation_reach(entries: &BodyRow, q: &[f64], v: &[f64]) -> Option<(f64, f64)> {
+        rotation_reach(entries, q, v)
+    }
+
+    #[inline]
+    fn position_rate(_q: &[f64], v: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(v)
+    }
+
+    fn rate_block(_q: &[f64], mut put: impl FnMut(usize, usize, f64)) {
+        (0..NV).for_each(|d| put(d, d, 1.0))
+    }
+
+    fn norm(v: &Vec2) -> f64 {
+        v.norm()
+    }
+
+    #[inline]
+    fn kinetic_energy(mass: f64, inertia: &f64, v: &[f64]) -> f64 {
+        kinetic_energy(mass, *inertia, v)
+    }
+
+    #[inline]
+    fn gravity_work(mass: f64, gravity: &Vec2, q: &[f64]) -> f64 {
+        gravity_work(mass, *gravity, q)
+    }
+}
+
 impl Default for BodyState {
     /// The ground: at rest at the origin, angle zero.
     fn default() -> Self {
@@ -218,20 +306,8 @@ pub enum RowKind {
     },
 }
 
-/// A row evaluated at one state: residual, Jacobian blocks and right-hand sides.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RowEval {
-    /// Residual `C`.
-    pub c: f64,
-    /// `dC/d(x_i, y_i, phi_i)`.
-    pub jac_i: [f64; 3],
-    /// `dC/d(x_j, y_j, phi_j)`.
-    pub jac_j: [f64; 3],
-    /// `dC/dt`.
-    pub ct: f64,
-    /// Acceleration right-hand side: `Cq qdd = gamma`.
-    pub gamma: f64,
-}
+/// A planar row evaluated at one state.
+pub type RowEval = kind::RowEval<BodyRow>;
 
 impl RowKind {
     /// Evaluates the row; `motion` is the driver's prescribed motion (zero if none).

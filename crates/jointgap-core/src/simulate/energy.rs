@@ -17,8 +17,12 @@
 use super::equations::state_shape;
 use crate::dynamics::{accelerations, Singular, Workspace};
 use crate::integrators::ode::{DenseStep, StateShape};
-use crate::mechanics::contact::{self, ContactState};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactState};
+use crate::mechanics::kind::ForceLaw;
+use crate::mechanics::planar::Planar;
 use crate::system::System;
+
+use super::Kind;
 
 /// The accounts, in channel order (`system.<name>`) [J].
 pub const ACCOUNTS: [&str; 5] =
@@ -32,9 +36,9 @@ const NODES: [f64; 3] = [0.5 - 0.387_298_334_620_741_7, 0.5, 0.5 + 0.387_298_334
 const WEIGHTS: [f64; 3] = [5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0];
 
 /// The running integrals of a run and the step in progress.
-pub struct Accounts {
+pub struct Accounts<K: Kind = Planar> {
     /// Scratch of the evaluations at the quadrature nodes, apart from the integrator's.
-    ws: Workspace,
+    ws: Workspace<K>,
     /// Active index of each driver's row (`None`: a redundant row, which does no work).
     driver_rows: Vec<Option<usize>>,
     /// Integrals at the start and at the end of the step in progress.
@@ -51,9 +55,9 @@ pub struct Accounts {
     y: Vec<f64>,
 }
 
-impl Accounts {
+impl<K: Kind> Accounts<K> {
     /// Zero accounts at t = 0 for a run whose workspace is `ws`.
-    pub fn new(sys: &System, ws: &Workspace) -> Self {
+    pub fn new(sys: &System<K>, ws: &Workspace<K>) -> Self {
         let mut own = ws.clone();
         own.profile = None;
         let driver_rows = sys.drivers.iter().map(|d| ws.active.iter().position(|&r| r == d.row)).collect();
@@ -78,7 +82,7 @@ impl Accounts {
     /// throughout: adds its integrals.
     pub fn begin_step(
         &mut self,
-        sys: &System,
+        sys: &System<K>,
         contacts: &[ContactState],
         step: &DenseStep,
         t0: f64,
@@ -98,7 +102,7 @@ impl Accounts {
     }
 
     /// The integrals from t = 0 to `t`, a time of the step in progress (or its start).
-    pub fn at(&mut self, sys: &System, t: f64) -> Result<Amounts, Singular> {
+    pub fn at(&mut self, sys: &System<K>, t: f64) -> Result<Amounts, Singular> {
         if t >= self.t1 {
             return Ok(self.end);
         }
@@ -110,7 +114,7 @@ impl Accounts {
     }
 
     /// The integrals over `[t0, t]` of the step in progress.
-    fn integral(&mut self, sys: &System, t: f64) -> Result<Amounts, Singular> {
+    fn integral(&mut self, sys: &System<K>, t: f64) -> Result<Amounts, Singular> {
         let mut sum = [0.0; ACCOUNTS.len()];
         let span = t - self.t0;
         if span <= 0.0 {
@@ -138,7 +142,7 @@ impl Accounts {
     /// summed over their rows (the power of a constraint force `-Cq^T lambda` is
     /// `-lambda Cq v = lambda ct`), the applied loads' and the dampers' from the force
     /// elements, the contacts' from the clearance joints.
-    fn powers(&mut self, sys: &System, t: f64, q: &[f64], v: &[f64]) -> Result<Amounts, Singular> {
+    fn powers(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64]) -> Result<Amounts, Singular> {
         let mut p = [0.0; ACCOUNTS.len()];
         if !sys.drivers.is_empty() {
             accelerations(sys, t, q, v, &mut self.ws)?;

@@ -4,34 +4,39 @@
 //! methods, through their [`Rhs`] trait: the methods never see a body or a constraint,
 //! and the dynamics never sees a method.
 
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DMatrixViewMut};
 
 use crate::dynamics::{self, accelerations_for_integration, force_jacobian, Workspace};
 use crate::integrators::ode::{PositionRate, Rhs, Singular, StateShape, Tolerances};
+use crate::mechanics::planar::Planar;
 use crate::profile::Profile;
 use crate::system::System;
 
-/// How the state of `sys` divides: the layout's sizes. Every body kind today is planar,
-/// whose positions (x, y, phi) move as `q' = v`.
-pub fn state_shape(sys: &System) -> StateShape {
-    StateShape { nq: sys.layout.nq(), nv: sys.layout.nv(), rate: PositionRate::Identity }
+use super::Kind;
+
+/// How the state of `sys` divides: the layout's sizes, and whether positions move as
+/// their velocities (planar bodies) or through the body kind's `G(q)` (a spatial
+/// body's quaternion).
+pub fn state_shape<K: Kind>(sys: &System<K>) -> StateShape {
+    let rate = if K::IDENTITY_RATE { PositionRate::Identity } else { PositionRate::Mapped };
+    StateShape { nq: sys.layout.nq(), nv: sys.layout.nv(), rate }
 }
 
 /// One run's ODE: system, scratch and counters.
-pub struct Ode<'a> {
+pub struct Ode<'a, K: Kind = Planar> {
     /// The mechanism.
-    pub sys: &'a System,
+    pub sys: &'a System<K>,
     /// Scratch of the augmented solve.
-    pub ws: Workspace,
+    pub ws: Workspace<K>,
     /// Number of `f` evaluations.
     pub evaluations: usize,
     /// The run's tolerances, which the methods' error estimates are weighed against.
     pub tolerances: Tolerances,
 }
 
-impl<'a> Ode<'a> {
+impl<'a, K: Kind> Ode<'a, K> {
     /// The ODE of `sys` with the active rows `active`, at tolerances `rtol`, `atol`.
-    pub fn new(sys: &'a System, active: Vec<usize>, rtol: f64, atol: f64) -> Self {
+    pub fn new(sys: &'a System<K>, active: Vec<usize>, rtol: f64, atol: f64) -> Self {
         Ode { sys, ws: Workspace::new(sys, active), evaluations: 0, tolerances: Tolerances { rtol, atol } }
     }
 
@@ -47,11 +52,40 @@ impl<'a> Ode<'a> {
     }
 }
 
-impl Rhs for Ode<'_> {
-    /// [`state_shape`]: `G`, its Jacobian and the position update are the trait's
-    /// defaults (the identity and nothing).
+impl<K: Kind> Rhs for Ode<'_, K> {
+    /// [`state_shape`].
     fn shape(&self) -> StateShape {
         state_shape(self.sys)
+    }
+
+    /// `q' = G(q) v`, body by body by its kind's rule.
+    fn position_rate(&self, q: &[f64], v: &[f64], out: &mut [f64]) {
+        if K::IDENTITY_RATE {
+            out.copy_from_slice(v);
+            return;
+        }
+        for slot in self.sys.layout.slots() {
+            K::position_rate(&q[slot.q()], &v[slot.v()], &mut out[slot.q()]);
+        }
+    }
+
+    /// `G(q)` as the block `d(q')/d(v)`, body by body.
+    fn rate_jacobian(&self, q: &[f64], mut g: DMatrixViewMut<'_, f64>) {
+        g.fill(0.0);
+        for slot in self.sys.layout.slots() {
+            K::rate_block(&q[slot.q()], |r, c, x| g[(slot.q_at + r, slot.v_at + c)] = x);
+        }
+    }
+
+    /// Brings each body's positions back to their manifold (a unit quaternion).
+    fn update_positions(&mut self, q: &mut [f64]) -> bool {
+        let mut changed = false;
+        if !K::IDENTITY_RATE {
+            for slot in self.sys.layout.slots() {
+                changed |= K::normalise(&mut q[slot.q()]);
+            }
+        }
+        changed
     }
 
     fn eval(&mut self, t: f64, y: &[f64], dy: &mut [f64]) -> Result<(), Singular> {

@@ -5,9 +5,11 @@
 //! ([`contact::slots`]): a point's place in that order is its slot.
 
 use crate::integrators::ode::DenseStep;
-use crate::mechanics::contact::{self, ContactPoint, ContactState, Mode};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactPoint, ContactState, Mode};
 use crate::output::{Impact, JointImpacts};
 use crate::system::System;
+
+use super::Kind;
 
 /// Interior points at which a step is searched for a contact change, so that a brief
 /// contact inside one step is not missed.
@@ -25,8 +27,8 @@ const PROBES: usize = 8;
 /// The probes before the change also raise the running impacts' peak force and
 /// penetration in `log`: a step that spans the peak would otherwise report only the
 /// smaller values at its ends.
-pub fn locate(
-    sys: &System,
+pub fn locate<K: Kind>(
+    sys: &System<K>,
     states: &[ContactState],
     log: &mut ImpactLog,
     step: &DenseStep,
@@ -82,7 +84,7 @@ pub fn locate(
 }
 
 /// Every contact point of the mechanism at `(q, v)`, by slot, into `out`.
-fn points_at(sys: &System, q: &[f64], v: &[f64], out: &mut Vec<ContactPoint>) {
+fn points_at<K: Kind>(sys: &System<K>, q: &[f64], v: &[f64], out: &mut Vec<ContactPoint>) {
     out.clear();
     for k in 0..sys.clearances.len() {
         out.extend_from_slice(&sys.contact_points(k, q, v));
@@ -108,8 +110,8 @@ const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 /// force and penetration fall from the start) or, past its first restitution, the
 /// larger force at the ends is below half the impact's peak: an accurate step cannot
 /// double the force and back inside itself.
-fn screen(
-    sys: &System,
+fn screen<K: Kind>(
+    sys: &System<K>,
     states: &[ContactState],
     log: &mut ImpactLog,
     step: &DenseStep,
@@ -252,7 +254,7 @@ pub struct ImpactLog {
 
 impl ImpactLog {
     /// Empty lists for a system.
-    pub fn new(sys: &System) -> Self {
+    pub fn new<K: Kind>(sys: &System<K>) -> Self {
         Self::for_points(sys.clearances.iter().map(|c| c.points()))
     }
 
@@ -277,14 +279,14 @@ impl ImpactLog {
 
     /// The impacts and mode times of each contact point, joint after joint: a joint of
     /// one point under its own name, the points of a joint of several numbered from 1.
-    pub fn joint_impacts(self, sys: &System) -> Vec<JointImpacts> {
+    pub fn joint_impacts<K: Kind>(self, sys: &System<K>) -> Vec<JointImpacts> {
         let numbers: Vec<_> = (0..self.owners.len()).map(|slot| self.point_number(slot)).collect();
         self.impacts
             .into_iter()
             .zip(self.mode_time)
             .zip(self.owners.iter().zip(numbers))
             .map(|((impacts, mode_time), (&(k, _), point))| JointImpacts {
-                joint: sys.clearances[k].name.clone(),
+                joint: sys.clearances[k].name().to_string(),
                 point,
                 impacts,
                 mode_time,
@@ -310,9 +312,9 @@ impl ImpactLog {
 
     /// Switches the contact point in slot `slot` at time `t` and state `(q, v)`: onset or
     /// separation.
-    pub fn switch(
+    pub fn switch<K: Kind>(
         &mut self,
-        sys: &System,
+        sys: &System<K>,
         states: &mut [ContactState],
         slot: usize,
         t: f64,
@@ -341,7 +343,7 @@ impl ImpactLog {
 
     /// Raises the running impact peak force and penetration of the point in slot `slot`
     /// to those of a state in contact (the point given).
-    fn raise_peak(&mut self, sys: &System, slot: usize, state: &ContactState, p: &ContactPoint) {
+    fn raise_peak<K: Kind>(&mut self, sys: &System<K>, slot: usize, state: &ContactState, p: &ContactPoint) {
         let (f_n, _) = sys.clearances[self.owners[slot].0].force(p, state.onset_speed);
         if let Some(last) = self.impacts[slot].last_mut() {
             last.peak_force = last.peak_force.max(f_n);
@@ -351,7 +353,7 @@ impl ImpactLog {
 
     /// At an accepted state (step end or output sample): the mode from the penetration
     /// rate, and the peaks of the current impact.
-    pub fn update(&mut self, sys: &System, states: &mut [ContactState], q: &[f64], v: &[f64]) {
+    pub fn update<K: Kind>(&mut self, sys: &System<K>, states: &mut [ContactState], q: &[f64], v: &[f64]) {
         for (k, _, range) in contact::slots(&sys.clearances) {
             if !states[range.clone()].iter().any(|s| s.in_contact) {
                 continue;

@@ -8,7 +8,8 @@ use super::monitor::{Monitor, Progress};
 use super::options::{Method, SimOptions};
 use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
 use super::switching::AutoSwitch;
-use crate::dynamics::{friction_rate, project, violation};
+use super::Kind;
+use crate::dynamics::{project, violation};
 use crate::integrators::dopri5::Dopri5;
 use crate::integrators::ode::{DenseStep, Rhs, StateShape};
 use crate::integrators::radau5::Radau5;
@@ -30,11 +31,11 @@ pub fn stepper<R: Rhs + ?Sized>(method: Method, shape: StateShape) -> Box<dyn St
 
 /// Integrates from `(0, y)` to `t_end`, recording into `rec` and reporting to `monitor`.
 /// Returns the final status.
-pub fn integrate(
-    ode: &mut Ode,
+pub fn integrate<K: Kind>(
+    ode: &mut Ode<'_, K>,
     opts: &SimOptions,
     y: &mut Vec<f64>,
-    rec: &mut Recorder,
+    rec: &mut Recorder<K>,
     log: &mut ImpactLog,
     stats: &mut RunStats,
     monitor: &mut dyn Monitor,
@@ -211,16 +212,16 @@ pub fn integrate(
 }
 
 /// The method taking the steps and, under `auto`, the rule that changes it.
-struct MethodInUse<'a> {
+struct MethodInUse<'a, K: Kind> {
     /// The method now.
     method: Method,
     /// Its stepper.
-    stepper: Box<dyn Stepper<Ode<'a>>>,
+    stepper: Box<dyn Stepper<Ode<'a, K>>>,
     /// The `auto` method's rule.
     switch: AutoSwitch,
 }
 
-impl<'a> MethodInUse<'a> {
+impl<'a, K: Kind> MethodInUse<'a, K> {
     /// The first method of a run of `requested` (`auto` starts with DOPRI5).
     fn new(requested: Method, shape: StateShape) -> Self {
         let method = if requested == Method::Auto { Method::Dopri5 } else { requested };
@@ -232,7 +233,7 @@ impl<'a> MethodInUse<'a> {
     /// the stiffness and the sticking friction the step shows.
     fn after_step(
         &mut self,
-        ode: &mut Ode<'a>,
+        ode: &mut Ode<'a, K>,
         stats: &mut RunStats,
         (t, h_taken): (f64, f64),
         y: &[f64],
@@ -245,7 +246,7 @@ impl<'a> MethodInUse<'a> {
             None
         };
         let (q, v) = y.split_at(ode.sys.layout.nq());
-        let friction = friction_rate(ode.sys, q, v, &mut ode.ws);
+        let friction = K::friction_rate(ode.sys, q, v, &mut ode.ws);
         let next = self.switch.after_step(
             self.method,
             (t, h_taken, h_taken * self.stepper.step_factor().unwrap_or(1.0)),
@@ -365,7 +366,7 @@ fn step_in_segment(h: f64, t: f64, segment_end: f64) -> Result<(f64, bool), Stat
 
 /// `h_next / h` after an attempt rejected for its error: the method's own factor where
 /// it chooses its steps, else the error's, bounded to [0.1, 0.9].
-fn shrink_after_error(stepper: &dyn Stepper<Ode>, error: f64) -> f64 {
+fn shrink_after_error<K: Kind>(stepper: &dyn Stepper<Ode<'_, K>>, error: f64) -> f64 {
     let factor = if let Some(f) = stepper.step_factor() {
         f
     } else if error.is_finite() {
@@ -380,7 +381,13 @@ fn shrink_after_error(stepper: &dyn Stepper<Ode>, error: f64) -> f64 {
 /// factor where it chooses its steps, else the error's, at least 0.2 and at most 5
 /// (1 after a rejection or an event, `held`). A step cut short by a corner (`last`)
 /// does not shrink the next one.
-fn grow_after_success(stepper: &dyn Stepper<Ode>, error: f64, h: f64, held: bool, last: bool) -> f64 {
+fn grow_after_success<K: Kind>(
+    stepper: &dyn Stepper<Ode<'_, K>>,
+    error: f64,
+    h: f64,
+    held: bool,
+    last: bool,
+) -> f64 {
     let factor = if let Some(f) = stepper.step_factor() {
         f
     } else if error > 0.0 {
@@ -398,8 +405,8 @@ fn grow_after_success(stepper: &dyn Stepper<Ode>, error: f64, h: f64, held: bool
 }
 
 /// The first contact onset or separation inside an accepted step, `(theta, joint)`.
-fn locate_event(
-    ode: &mut Ode,
+fn locate_event<K: Kind>(
+    ode: &mut Ode<'_, K>,
     log: &mut ImpactLog,
     step: &DenseStep,
     sample: &mut [f64],
@@ -412,9 +419,9 @@ fn locate_event(
 
 /// Records the output grid's samples inside the accepted part `(t, t_new]` of a step,
 /// from its dense output, following the contact modes at each.
-fn record_samples_inside(
-    ode: &mut Ode,
-    rec: &mut Recorder,
+fn record_samples_inside<K: Kind>(
+    ode: &mut Ode<'_, K>,
+    rec: &mut Recorder<K>,
     log: &mut ImpactLog,
     step: &DenseStep,
     (t, t_new): (f64, f64),
@@ -447,7 +454,7 @@ fn record_samples_inside(
 }
 
 /// A state that is no longer finite ends the run, naming the coordinate.
-fn check_state_finite(sys: &crate::system::System, t: f64, y: &[f64]) -> Result<(), Status> {
+fn check_state_finite<K: Kind>(sys: &crate::system::System<K>, t: f64, y: &[f64]) -> Result<(), Status> {
     match y.iter().position(|x| !x.is_finite()) {
         Some(i) => {
             let name = record::state_name(sys, i);
@@ -461,8 +468,8 @@ fn check_state_finite(sys: &crate::system::System, t: f64, y: &[f64]) -> Result<
 /// constraints when its residuals exceed [`drift_limits`]. `drift`: the residuals and
 /// their rounding floor, when the step's last evaluation was at this state. Returns
 /// whether it projected.
-fn keep_on_constraints(
-    ode: &mut Ode,
+fn keep_on_constraints<K: Kind>(
+    ode: &mut Ode<'_, K>,
     t: f64,
     y: &mut [f64],
     drift: Option<((f64, f64), (f64, f64))>,
@@ -493,9 +500,9 @@ fn keep_on_constraints(
 
 /// At an accepted step's end `(t, y)`: records it when every step is recorded, else
 /// raises the channels' peaks there when asked.
-fn record_step_end(
-    ode: &mut Ode,
-    rec: &mut Recorder,
+fn record_step_end<K: Kind>(
+    ode: &mut Ode<'_, K>,
+    rec: &mut Recorder<K>,
     grid: &Sampling,
     t: f64,
     y: &[f64],
@@ -515,10 +522,10 @@ fn record_step_end(
 
 /// Hands the samples recorded so far to a monitor that takes them in chunks of `chunk`,
 /// once a chunk is full.
-fn hand_over_samples(
+fn hand_over_samples<K: Kind>(
     monitor: &mut dyn Monitor,
     chunk: Option<usize>,
-    rec: &mut Recorder,
+    rec: &mut Recorder<K>,
     t: f64,
 ) -> Result<(), Status> {
     if chunk.is_some_and(|c| rec.time.len() >= c) {
@@ -542,7 +549,7 @@ pub fn drift_limits(atol: f64, (position_rounding, velocity_rounding): (f64, f64
 }
 
 /// Starting step (Hairer, Norsett, Wanner I, II.4, algorithm of `hinit`).
-fn initial_step(ode: &mut Ode, y: &[f64], f: &[f64], exponent: f64, horizon: f64) -> f64 {
+fn initial_step<K: Kind>(ode: &mut Ode<'_, K>, y: &[f64], f: &[f64], exponent: f64, horizon: f64) -> f64 {
     let zeros = vec![0.0; y.len()];
     let d0 = ode.tolerances.error_norm(y, &zeros, y);
     let d1 = ode.tolerances.error_norm(f, &zeros, y);

@@ -7,26 +7,30 @@ pub mod energy;
 pub mod equations;
 pub mod events;
 pub mod integrate;
+mod kind;
 pub mod measures;
 pub mod monitor;
 mod options;
+mod planar_channels;
 pub mod record;
 pub mod switching;
 
+pub use kind::Kind;
 pub use monitor::{BatchControl, Monitor, Progress, Silent, Stop};
 pub use options::{Method, SimOptions};
 
 use crate::dynamics::{self, assembly};
-use crate::mechanics::contact::ClearanceRevolute;
+use crate::mechanics::contact::ClearanceJoint;
+use crate::mechanics::planar::Planar;
 use crate::output::{RunStats, SimResult, Status};
 use crate::profile::Profile;
 use crate::system::System;
 use crate::{Error, Model};
 
 /// A system with consistent initial conditions, ready to integrate.
-pub struct Prepared {
+pub struct Prepared<K: Kind = Planar> {
     /// The compiled mechanism (warnings include removed redundant rows).
-    pub system: System,
+    pub system: System<K>,
     /// Consistent initial state.
     pub initial: assembly::Assembled,
 }
@@ -35,16 +39,18 @@ pub struct Prepared {
 /// assembled state that no physical mechanism has (a clearance joint's journal deep in
 /// its bearing wall).
 pub fn prepare(model: &Model) -> Result<Prepared, Error> {
-    let mut system = System::new(model)?;
-    system.warnings = crate::system::magnitudes::warnings(model, &system);
+    prepare_model::<Planar>(model)
+}
+
+/// [`prepare`] of a model of any body kind.
+pub fn prepare_model<K: Kind>(model: &K::Model) -> Result<Prepared<K>, Error> {
+    let mut system = K::compile(model)?;
+    system.warnings = K::magnitude_warnings(model, &system);
     check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
     for c in &system.clearances {
-        let (q, v) = (&initial.q, &initial.v);
-        c.check_initial_penetration(
-            &system.body_state(c.geometry.bearing, q, v),
-            &system.body_state(c.geometry.journal, q, v),
-        )?;
+        let [i, j] = c.parts().map(|b| system.body_state(b, &initial.q, &initial.v));
+        c.check_initial_penetration(&i, &j)?;
     }
     system.warnings.extend(initial.warnings.iter().cloned());
     Ok(Prepared { system, initial })
@@ -59,7 +65,7 @@ pub fn check(model: &Model) -> Result<Vec<String>, Error> {
 }
 
 /// [`check`] of a model already prepared.
-pub fn check_prepared(Prepared { system, initial }: &Prepared) -> Result<Vec<String>, Error> {
+pub fn check_prepared<K: Kind>(Prepared { system, initial }: &Prepared<K>) -> Result<Vec<String>, Error> {
     let mut ws = dynamics::Workspace::new(system, initial.active.clone());
     let mut rec = record::Recorder::new(system, &ws, None, 1, true)?;
     if !record_initial(system, &mut ws, &mut rec, &initial.q, &initial.v)? {
@@ -74,10 +80,10 @@ const SINGULAR_AT_START: &str = "the constraint equations are singular at t = 0"
 /// Records the initial state (t = 0), a run's first sample. A non-finite channel there is
 /// a model error ([`initial_overflow`]); `Ok(false)` when the constraint equations are
 /// singular there (a run then fails at t = 0 with what it has).
-fn record_initial(
-    system: &System,
-    ws: &mut dynamics::Workspace,
-    rec: &mut record::Recorder,
+fn record_initial<K: Kind>(
+    system: &System<K>,
+    ws: &mut dynamics::Workspace<K>,
+    rec: &mut record::Recorder<K>,
     q: &[f64],
     v: &[f64],
 ) -> Result<bool, Error> {
@@ -92,8 +98,8 @@ fn record_initial(
 
 /// A body whose weight overflows the floating-point range (a mass near 1.8e308 kg) is an
 /// error before the run, naming the body.
-fn check_weights(system: &System) -> Result<(), Error> {
-    let g = system.gravity.norm();
+fn check_weights<K: Kind>(system: &System<K>) -> Result<(), Error> {
+    let g = K::norm(&system.gravity);
     match system.bodies.iter().find(|b| !(b.mass * g).is_finite()) {
         Some(b) => Err(crate::error::Named::body(&b.name).error(
             "mass",
@@ -110,7 +116,7 @@ fn check_weights(system: &System) -> Result<(), Error> {
 
 /// The error of a model whose initial state (t = 0) gives a non-finite output: it names
 /// the channel's element, so that the message is located in the model.
-fn initial_overflow(system: &System, channel: &str, value: f64) -> Error {
+fn initial_overflow<K: Kind>(system: &System<K>, channel: &str, value: f64) -> Error {
     let (element, quantity) = channel.rsplit_once('.').unwrap_or(("model", channel));
     let kind = if system.bodies.iter().any(|b| b.name == element) {
         "body"
@@ -140,7 +146,7 @@ pub fn recorded_channels(model: &Model, opts: &SimOptions) -> Result<Vec<String>
 }
 
 /// [`recorded_channels`] of a model already compiled.
-pub fn recorded_channels_of(system: &System, opts: &SimOptions) -> Result<Vec<String>, Error> {
+pub fn recorded_channels_of<K: Kind>(system: &System<K>, opts: &SimOptions) -> Result<Vec<String>, Error> {
     let ws = dynamics::Workspace::new(system, Vec::new());
     Ok(record::Recorder::new(system, &ws, opts.channels.as_deref(), opts.decimate, opts.energy)?.names())
 }
@@ -169,7 +175,7 @@ pub fn simulate_batch(
 /// the batch's threads as its run starts: a front end that holds some models prepared
 /// already hands them over instead of compiling them again. As in [`simulate_with`], a
 /// run's wall time counts its preparation.
-pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared>>(
+pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared<K>>, K: Kind>(
     cases: &[C],
     prepare: impl Fn(&C) -> Result<P, Error> + Sync,
     opts: &SimOptions,
@@ -219,8 +225,8 @@ pub fn simulate_with(
 /// [`simulate_with`] of a model already prepared, which a front end that checked it
 /// first ([`check_prepared`]) runs without compiling it again; the result is bit for bit
 /// the same.
-pub fn simulate_prepared(
-    prepared: &Prepared,
+pub fn simulate_prepared<K: Kind>(
+    prepared: &Prepared<K>,
     opts: &SimOptions,
     monitor: &mut dyn Monitor,
 ) -> Result<SimResult, Error> {
@@ -229,8 +235,8 @@ pub fn simulate_prepared(
 }
 
 /// One run of a prepared model; `started` is when the run's wall time starts.
-fn run_prepared(
-    Prepared { system, initial }: &Prepared,
+fn run_prepared<K: Kind>(
+    Prepared { system, initial }: &Prepared<K>,
     opts: &SimOptions,
     monitor: &mut dyn Monitor,
     started: std::time::Instant,
@@ -286,7 +292,7 @@ fn run_prepared(
     stats.profile = ode.ws.profile.take();
     stats.wall_time = started.elapsed().as_secs_f64();
     let impacts = log.joint_impacts(system);
-    let clearances = system.clearances.iter().map(ClearanceRevolute::data).collect();
+    let clearances = system.clearances.iter().map(ClearanceJoint::data).collect();
     Ok(SimResult {
         names: rec.names(),
         samples: rec.samples,

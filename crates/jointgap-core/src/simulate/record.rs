@@ -2,78 +2,15 @@
 //! computed from a state by one full evaluation of the equations of motion.
 
 use super::energy::{Accounts, Amounts, ACCOUNTS};
-use super::measures::{joint_coordinate, marker_motion, BodyMotion};
 use crate::dynamics::{accelerations, Singular, Workspace};
 use crate::error::Error;
 use crate::integrators::ode::DenseStep;
-use crate::math::{cross, rotate, Vec2};
-use crate::mechanics::contact::{self, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS};
-use crate::mechanics::planar;
-use crate::model::JointKind;
+use crate::mechanics::contact::{ClearanceJoint, ContactState};
+use crate::mechanics::kind::ForceLaw;
+use crate::mechanics::planar::Planar;
 use crate::system::System;
 
-/// Channels of each kind of joint: the force on body j (for a clearance joint, the
-/// contact force on the journal body), then the kind's own.
-const REVOLUTE_QUANTITIES: [&str; 2] = ["fx", "fy"];
-const PRISMATIC_QUANTITIES: [&str; 3] = ["fx", "fy", "moment"];
-/// A clearance joint's channels: the joint's own (`fx fy`: the resultant contact force
-/// on the journal body; `ex ey`: the eccentricity in the bearing body's frame) and each
-/// contact point's (`true`). A joint of one point names them all `<joint>.<quantity>`; a
-/// joint of several writes each point's quantity for every point in turn, named
-/// `<joint>.p<i>.<quantity>` with `i` from 1 (docs/outputs.md).
-const CLEARANCE_QUANTITIES: [(&str, bool); 10] = [
-    ("fx", false),
-    ("fy", false),
-    ("fn", true),
-    ("ft", true),
-    ("penetration", true),
-    ("penetration_rate", true),
-    ("ex", false),
-    ("ey", false),
-    ("slip", true),
-    ("mode", true),
-];
-
-/// The force channels of a joint of kind `kind` other than a clearance joint, in the
-/// order a sample writes them.
-fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
-    match kind {
-        JointKind::Revolute => &REVOLUTE_QUANTITIES,
-        JointKind::Prismatic | JointKind::Fixed => &PRISMATIC_QUANTITIES,
-        JointKind::ClearanceRevolute => unreachable!("a clearance joint's channels depend on its points"),
-    }
-}
-
-/// The force channels of joint `j` as `(quantity, point)`, in the order a sample writes
-/// them: `point` is the contact point's number from 1 in a joint of several points.
-fn joint_channels(sys: &System, j: &crate::system::JointInfo) -> Vec<(&'static str, Option<usize>)> {
-    let Some(k) = j.clearance else {
-        return joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
-    };
-    clearance_channels(sys.clearances[k].points())
-}
-
-/// The channels of a clearance joint of `points` contact points ([`CLEARANCE_QUANTITIES`]).
-fn clearance_channels(points: usize) -> Vec<(&'static str, Option<usize>)> {
-    let mut out = Vec::new();
-    for (quantity, of_point) in CLEARANCE_QUANTITIES {
-        match (of_point, points) {
-            (true, 1) | (false, _) => out.push((quantity, None)),
-            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
-        }
-    }
-    out
-}
-
-/// How many force channels joint `j` has ([`joint_channels`]).
-fn joint_channel_count(sys: &System, j: &crate::system::JointInfo) -> usize {
-    match j.clearance {
-        Some(k) => {
-            CLEARANCE_QUANTITIES.iter().map(|&(_, p)| if p { sys.clearances[k].points() } else { 1 }).sum()
-        }
-        None => joint_quantities(j.kind).len(),
-    }
-}
+use super::Kind;
 
 /// Why a sample was not recorded.
 #[derive(Debug, Clone, PartialEq)]
@@ -101,22 +38,11 @@ impl From<Singular> for SampleError {
     }
 }
 
-/// The joint coordinate and its rate ([`joint_coordinate`]), after a joint's forces.
-fn coordinate_quantities(kind: JointKind) -> &'static [&'static str] {
-    match kind {
-        JointKind::Revolute | JointKind::ClearanceRevolute => &["angle", "omega"],
-        JointKind::Prismatic => &["travel", "speed"],
-        JointKind::Fixed => &[],
-    }
-}
-
-/// A marker's channels: position, velocity, acceleration in its frame.
-const MARKER_QUANTITIES: [&str; 6] = ["x", "y", "vx", "vy", "ax", "ay"];
 /// The system's channels, before the energy accounts.
 const SYSTEM_QUANTITIES: [&str; 3] = ["kinetic_energy", "potential_energy", "constraint_error"];
 
 /// Collects the chosen channels at sample times.
-pub struct Recorder {
+pub struct Recorder<K: Kind = Planar> {
     /// All channel names of the system, in model order.
     all: Vec<String>,
     /// Indices into `all` that are kept.
@@ -151,27 +77,27 @@ pub struct Recorder {
     pub samples: Option<Vec<usize>>,
     values: Vec<f64>,
     /// The energy accounts, when the run keeps them.
-    accounts: Option<Accounts>,
+    accounts: Option<Accounts<K>>,
 }
 
 /// Every channel name of a system, in model order; the energy accounts' with `energy`.
-pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
+pub fn channel_names<K: Kind>(sys: &System<K>, energy: bool) -> Vec<String> {
     let mut names = Vec::new();
     for b in &sys.bodies {
-        names.extend(planar::CHANNELS.iter().map(|q| format!("{}.{q}", b.name)));
+        names.extend(K::CHANNELS.iter().map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
-        names.extend(joint_channels(sys, j).into_iter().map(|(q, point)| match point {
+        names.extend(K::joint_force_channels(sys, j).into_iter().map(|(q, point)| match point {
             None => format!("{}.{q}", j.name),
             Some(i) => format!("{}.p{i}.{q}", j.name),
         }));
-        names.extend(coordinate_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
+        names.extend(K::coordinate_quantities(j.kind).iter().map(|q| format!("{}.{q}", j.name)));
     }
     for d in &sys.drivers {
         names.push(format!("{}.{}", d.name, if d.rotation { "torque" } else { "force" }));
     }
     for m in &sys.markers {
-        names.extend(MARKER_QUANTITIES.iter().map(|q| format!("{}.{q}", m.name)));
+        names.extend(K::MARKER_QUANTITIES.iter().map(|q| format!("{}.{q}", m.name)));
     }
     for q in SYSTEM_QUANTITIES {
         names.push(format!("system.{q}"));
@@ -186,7 +112,7 @@ pub fn channel_names(sys: &System, energy: bool) -> Vec<String> {
 
 /// The name of entry `i` of the state `y = (q, v)` as the channel that records it,
 /// e.g. `crank.omega`.
-pub fn state_name(sys: &System, i: usize) -> String {
+pub fn state_name<K: Kind>(sys: &System<K>, i: usize) -> String {
     let nq = sys.layout.nq();
     let slots = sys.layout.slots();
     let (k, quantity) = if i < nq {
@@ -196,17 +122,17 @@ pub fn state_name(sys: &System, i: usize) -> String {
         let k = slots.iter().position(|s| s.v().contains(&(i - nq))).expect("a velocity of a body");
         (k, slots[k].shape.nq + i - nq - slots[k].v_at)
     };
-    format!("{}.{}", sys.bodies[k].name, planar::CHANNELS[quantity])
+    format!("{}.{}", sys.bodies[k].name, K::CHANNELS[quantity])
 }
 
-impl Recorder {
+impl<K: Kind> Recorder<K> {
     /// Selects channels by exact name or `element.*`; unknown selections are an error.
     /// Output samples are marked (see [`Recorder::mark_sample`]) once
     /// [`Recorder::mark_samples`] is called.
     /// With `energy` the energy accounts are kept, from the run's workspace `ws`.
     pub fn new(
-        sys: &System,
-        ws: &Workspace,
+        sys: &System<K>,
+        ws: &Workspace<K>,
         select: Option<&[String]>,
         decimate: usize,
         energy: bool,
@@ -292,8 +218,8 @@ impl Recorder {
     /// `t_end` is off the output grid or decimation would drop it.
     pub fn push_end(
         &mut self,
-        sys: &System,
-        ws: &mut Workspace,
+        sys: &System<K>,
+        ws: &mut Workspace<K>,
         t: f64,
         q: &[f64],
         v: &[f64],
@@ -323,7 +249,7 @@ impl Recorder {
     /// before the step's samples.
     pub fn begin_step(
         &mut self,
-        sys: &System,
+        sys: &System<K>,
         contacts: &[ContactState],
         step: &DenseStep,
         t0: f64,
@@ -339,8 +265,8 @@ impl Recorder {
     /// non-finite kept channel is not recorded: the error names that channel.
     pub fn push(
         &mut self,
-        sys: &System,
-        ws: &mut Workspace,
+        sys: &System<K>,
+        ws: &mut Workspace<K>,
         t: f64,
         q: &[f64],
         v: &[f64],
@@ -352,8 +278,8 @@ impl Recorder {
     /// peaks over every accepted step of a run that keeps only its samples.
     pub fn peek(
         &mut self,
-        sys: &System,
-        ws: &mut Workspace,
+        sys: &System<K>,
+        ws: &mut Workspace<K>,
         t: f64,
         q: &[f64],
         v: &[f64],
@@ -364,8 +290,8 @@ impl Recorder {
     /// [`Recorder::push`], [`Recorder::push_end`] and [`Recorder::peek`].
     fn record(
         &mut self,
-        sys: &System,
-        ws: &mut Workspace,
+        sys: &System<K>,
+        ws: &mut Workspace<K>,
         t: f64,
         q: &[f64],
         v: &[f64],
@@ -397,12 +323,13 @@ impl Recorder {
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
         for j in &sys.joints {
             let (bi, bj) = (sys.body_state(j.body_i, q, v), sys.body_state(j.body_j, q, v));
-            if !out.skipped(joint_channel_count(sys, j)) {
-                put_joint_forces(&mut out, sys, ws, j, (&bi, &bj), (q, v), &lambda_of);
+            if !out.skipped(K::joint_force_channel_count(sys, j)) {
+                K::put_joint_forces(&mut out, sys, ws, j, (&bi, &bj), (q, v), &lambda_of);
             }
-            let coordinates = coordinate_quantities(j.kind).len();
+            let coordinates = K::coordinate_quantities(j.kind).len();
             if coordinates > 0 && !out.skipped(coordinates) {
-                let (value, rate) = joint_coordinate(j, &bi, &bj).expect("a joint with coordinate channels");
+                let (value, rate) =
+                    K::joint_coordinate(j, &bi, &bj).expect("a joint with coordinate channels");
                 out.put(value);
                 out.put(rate);
             }
@@ -414,31 +341,12 @@ impl Recorder {
             let row = &sys.rows[d.row];
             let bi = sys.body_state(row.body_i, q, v);
             let bj = sys.body_state(row.body_j, q, v);
-            let ev = row.kind.eval(&bi, &bj, d.profile.motion(t));
-            let l = lambda_of(d.row);
-            // Effort on the driven body (body j, or body i when j is the ground).
-            let value = match (d.rotation, row.body_j.is_some()) {
-                (true, true) => -ev.jac_j[2] * l,
-                (true, false) => -ev.jac_i[2] * l,
-                (false, true) => -l,
-                (false, false) => l,
-            };
-            out.put(value);
+            let ev = K::eval(&row.kind, &bi, &bj, d.profile.motion(t));
+            out.put(K::driver_effort(&ev, d.rotation, row.body_j.is_some(), lambda_of(d.row)));
         }
-        let motion = |b: Option<usize>| match b {
-            None => BodyMotion::default(),
-            Some(k) => {
-                let (acceleration, alpha) = planar::read_acceleration(&ws.qdd[sys.layout.slot(k).v()]);
-                BodyMotion { state: sys.body_state(b, q, v), acceleration, alpha }
-            }
-        };
         for m in &sys.markers {
-            if out.skipped(MARKER_QUANTITIES.len()) {
-                continue;
-            }
-            for p in marker_motion(m, &motion(m.body), &motion(m.frame)) {
-                out.put(p.x);
-                out.put(p.y);
+            if !out.skipped(K::MARKER_QUANTITIES.len()) {
+                K::put_marker(&mut out, sys, ws, m, q, v);
             }
         }
         // The system's channels close the list; the energy accounts' with them.
@@ -480,88 +388,17 @@ enum Keep {
     Peek,
 }
 
-/// A joint's force channels: for a clearance joint the contact force on the journal and
-/// its contact quantities, for the others the reaction on body j (and the couple).
-fn put_joint_forces(
-    out: &mut Cursor,
-    sys: &System,
-    ws: &Workspace,
-    j: &crate::system::JointInfo,
-    (bi, bj): (&crate::mechanics::planar::BodyState, &crate::mechanics::planar::BodyState),
-    (q, v): (&[f64], &[f64]),
-    lambda_of: &dyn Fn(usize) -> f64,
-) {
-    let mut put = |x: f64| out.put(x);
-    if let Some(k) = j.clearance {
-        let c = &sys.clearances[k];
-        let (bearing, journal) =
-            (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
-        let points = c.contacts(&bearing, &journal, f64::INFINITY);
-        let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
-        let states = &ws.contacts[first..first + c.points()];
-        let mut forces = [(0.0, Tangential::zeros()); MAX_POINTS];
-        for (p, force) in points.iter().zip(&mut forces) {
-            *force = c.force(p, states[p.index].onset_for(p.penetration_rate));
-        }
-        let forces = &forces[..points.len()];
-        let f = points
-            .iter()
-            .zip(forces)
-            .map(|(p, (f_n, f_t))| p.force_on_j(*f_n, f_t))
-            .reduce(|a, b| a + b)
-            .unwrap_or_else(Vec2::zeros);
-        let e_local = rotate(-bearing.phi(), c.geometry.eccentricity(&bearing, &journal));
-        // The located state decides, not the sign of the penetration: right after
-        // an onset, projection may leave the penetration a hair below zero.
-        let mode = |p: &ContactPoint| {
-            let state = &states[p.index];
-            if state.in_contact {
-                state.mode
-            } else {
-                Mode::FreeFlight
-            }
-        };
-        put(f.x);
-        put(f.y);
-        forces.iter().for_each(|(f_n, _)| put(*f_n));
-        forces.iter().for_each(|(_, f_t)| put(f_t[0]));
-        points.iter().for_each(|p| put(p.penetration));
-        points.iter().for_each(|p| put(p.penetration_rate));
-        put(e_local.x);
-        put(e_local.y);
-        points.iter().for_each(|p| put(p.slip[0]));
-        points.iter().for_each(|p| put(mode(p) as u8 as f64));
-        return;
-    }
-    let (mut f, mut m) = (Vec2::zeros(), 0.0);
-    for r in j.rows.clone() {
-        let ev = sys.rows[r].kind.eval(
-            bi,
-            bj,
-            crate::mechanics::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
-        );
-        let l = lambda_of(r);
-        f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
-        m -= ev.jac_j[2] * l;
-    }
-    put(f.x);
-    put(f.y);
-    if j.kind != JointKind::Revolute {
-        // Couple about the joint point of body j.
-        put(m - cross(bj.rotate(j.s_j), f));
-    }
-}
-
 /// Writes one sample's channels in order, and skips the groups of channels none of
 /// which is kept, so that a run that records a few channels does not compute the rest.
-struct Cursor<'a> {
+pub struct Cursor<'a> {
     values: &'a mut [f64],
     kept: &'a [bool],
     next: usize,
 }
 
 impl Cursor<'_> {
-    fn put(&mut self, x: f64) {
+    /// Writes the next channel.
+    pub fn put(&mut self, x: f64) {
         self.values[self.next] = x;
         self.next += 1;
     }
@@ -578,10 +415,10 @@ impl Cursor<'_> {
     /// The system's channels: kinetic and potential energy, constraint error, and, when
     /// the run keeps them (`Some`), the energy accounts with the balance
     /// `T + V - W_in + D` (passed over when none of them is kept: `Some(None)`).
-    fn put_system(
+    fn put_system<K: Kind>(
         &mut self,
-        sys: &System,
-        ws: &Workspace,
+        sys: &System<K>,
+        ws: &Workspace<K>,
         q: &[f64],
         v: &[f64],
         accounts: Option<Option<Amounts>>,
@@ -589,15 +426,15 @@ impl Cursor<'_> {
         let mut kinetic = 0.0;
         let mut potential = 0.0;
         for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
-            kinetic += planar::kinetic_energy(b.mass, b.inertia, &v[slot.v()]);
-            potential -= planar::gravity_work(b.mass, sys.gravity, &q[slot.q()]);
+            kinetic += K::kinetic_energy(b.mass, &b.inertia, &v[slot.v()]);
+            potential -= K::gravity_work(b.mass, &sys.gravity, &q[slot.q()]);
         }
         for f in &sys.forces {
             potential += f.potential_energy(|b| sys.body_state(b, q, v));
         }
         for (k, c) in sys.clearances.iter().enumerate() {
             for p in sys.contact_points(k, q, v).iter() {
-                potential += c.normal.elastic_energy(p.penetration);
+                potential += c.elastic_energy(p);
             }
         }
         self.put(kinetic);
@@ -613,29 +450,5 @@ impl Cursor<'_> {
             Some(None) => self.next += ACCOUNTS.len() + 1,
             None => {}
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::clearance_channels;
-
-    /// One point: the joint's ten channels as they have always been; two points: each
-    /// point quantity once per point, numbered from 1, in the same places.
-    #[test]
-    fn clearance_channels_by_point() {
-        let names = |points| -> Vec<String> {
-            clearance_channels(points)
-                .into_iter()
-                .map(|(q, p)| p.map_or(format!("gap.{q}"), |i| format!("gap.p{i}.{q}")))
-                .collect()
-        };
-        let one = ["fx", "fy", "fn", "ft", "penetration", "penetration_rate", "ex", "ey", "slip", "mode"];
-        assert_eq!(names(1), one.map(|q| format!("gap.{q}")));
-        let two = names(2);
-        assert_eq!(two.len(), 16);
-        assert_eq!(two[..6], ["gap.fx", "gap.fy", "gap.p1.fn", "gap.p2.fn", "gap.p1.ft", "gap.p2.ft"]);
-        assert_eq!(two[10..14], ["gap.ex", "gap.ey", "gap.p1.slip", "gap.p2.slip"]);
-        assert_eq!(two[15], "gap.p2.mode");
     }
 }

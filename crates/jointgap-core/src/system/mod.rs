@@ -9,17 +9,18 @@ use std::collections::HashMap;
 
 use crate::error::{ElementError, Error, Named};
 use crate::math::Vec2;
-use crate::mechanics::contact::{ClearanceRevolute, ContactPoints};
+use crate::mechanics::contact::{ClearanceJoint, ClearanceRevolute, ContactPoints};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
+use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
-use crate::mechanics::planar::{self, block, BodyState, RowKind, PLANAR_BODY};
+use crate::mechanics::planar::{self, BodyState, Planar, RowKind, PLANAR_BODY};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{JointKind, Model, GROUND};
 
 /// A moving body's inertia; its coordinates sit where [`System::layout`] says.
 #[derive(Debug, Clone)]
-pub struct BodyInfo {
+pub struct BodyInfo<K: BodyKind = Planar> {
     /// Name.
     pub name: String,
     /// Mass [kg].
@@ -27,14 +28,15 @@ pub struct BodyInfo {
     /// Centroidal moment of inertia [kg m^2]. For a point mass (inertia 0 in the model)
     /// whose joints hold its rotation fixed, a stand-in (see [`point_mass_inertia`]): its
     /// angular acceleration is then zero, so the motion and the reactions do not depend
-    /// on it, and the mass matrix stays invertible.
-    pub inertia: f64,
+    /// on it, and the mass matrix stays invertible. A spatial body's: its principal
+    /// moments, its frame the principal frame.
+    pub inertia: K::Inertia,
 }
 
 /// A joint coordinate given at t = 0 (a joint's `initial` and `initial_rate`): a row that
 /// assembly alone solves, with the joints and drivers, and that the run then drops.
 #[derive(Debug, Clone)]
-pub struct InitialCondition {
+pub struct InitialCondition<K: BodyKind = Planar> {
     /// The joint's index.
     pub joint: usize,
     /// Body i of the joint (`None`: ground).
@@ -43,7 +45,7 @@ pub struct InitialCondition {
     pub body_j: Option<usize>,
     /// The joint coordinate as a row: `Angle` (revolute) or `Along` the axis (prismatic),
     /// its offset the given coordinate.
-    pub kind: RowKind,
+    pub kind: K::RowKind,
     /// True when the coordinate is given (else only its rate).
     pub placed: bool,
     /// The given rate [rad/s or m/s].
@@ -63,13 +65,13 @@ pub enum Owner {
 
 /// One scalar constraint equation.
 #[derive(Debug, Clone)]
-pub struct Row {
+pub struct Row<K: BodyKind = Planar> {
     /// Body i (`None`: ground).
     pub body_i: Option<usize>,
     /// Body j (`None`: ground).
     pub body_j: Option<usize>,
     /// The equation.
-    pub kind: RowKind,
+    pub kind: K::RowKind,
     /// Owning joint or driver.
     pub owner: Owner,
     /// Driver whose motion enters this row.
@@ -82,13 +84,13 @@ pub struct Row {
 
 /// A checked marker: a point whose motion the run reports (`measures::marker_motion`).
 #[derive(Debug, Clone)]
-pub struct MarkerInfo {
+pub struct MarkerInfo<K: BodyKind = Planar> {
     /// Name.
     pub name: String,
     /// Body carrying the point (`None`: ground).
     pub body: Option<usize>,
     /// The point in the body's frame [m].
-    pub s: Vec2,
+    pub s: K::Vector,
     /// Body whose frame the motion is measured in (`None`: ground).
     pub frame: Option<usize>,
 }
@@ -108,7 +110,7 @@ impl MarkerInfo {
 
 /// A joint after checking.
 #[derive(Debug, Clone)]
-pub struct JointInfo {
+pub struct JointInfo<K: BodyKind = Planar> {
     /// Name.
     pub name: String,
     /// Kind.
@@ -118,11 +120,12 @@ pub struct JointInfo {
     /// Body i.
     pub body_i: Option<usize>,
     /// Joint point on body j, body frame [m].
-    pub s_j: Vec2,
+    pub s_j: K::Vector,
     /// Joint point on body i, body frame [m].
-    pub s_i: Vec2,
-    /// Sliding direction of a prismatic joint, unit vector in the frame of body i.
-    pub axis: Option<Vec2>,
+    pub s_i: K::Vector,
+    /// Sliding direction of a prismatic joint (a spatial joint's axis), unit vector in
+    /// the frame of body i.
+    pub axis: Option<K::Vector>,
     /// Its rows in `System::rows` (none for a clearance joint).
     pub rows: std::ops::Range<usize>,
     /// Index in `System::clearances` of a clearance joint.
@@ -146,25 +149,25 @@ pub struct DriverInfo {
 
 /// The compiled, immutable mechanism: everything the solver needs, nothing it changes.
 #[derive(Debug, Clone)]
-pub struct System {
+pub struct System<K: BodyKind = Planar> {
     /// Moving bodies, in model order.
-    pub bodies: Vec<BodyInfo>,
+    pub bodies: Vec<BodyInfo<K>>,
     /// Where each body's coordinates sit in `q` and `v`.
     pub layout: Layout,
     /// Joints in model order.
-    pub joints: Vec<JointInfo>,
+    pub joints: Vec<JointInfo<K>>,
     /// Drivers in model order.
     pub drivers: Vec<DriverInfo>,
     /// Constraint rows: joints in model order, then drivers.
-    pub rows: Vec<Row>,
+    pub rows: Vec<Row<K>>,
     /// Force elements in model order.
-    pub forces: Vec<ForceElement>,
+    pub forces: Vec<K::Force>,
     /// Clearance joints, in model order.
-    pub clearances: Vec<ClearanceRevolute>,
+    pub clearances: Vec<K::Clearance>,
     /// Markers, in model order.
-    pub markers: Vec<MarkerInfo>,
+    pub markers: Vec<MarkerInfo<K>>,
     /// Gravity [m/s^2].
-    pub gravity: Vec2,
+    pub gravity: K::Vector,
     /// Approximate initial coordinates (user placement).
     pub q_guess: Vec<f64>,
     /// Approximate initial velocities.
@@ -172,7 +175,7 @@ pub struct System {
     /// Times where a prescribed input has a corner; steps stop there.
     pub corners: Vec<f64>,
     /// Joint coordinates and rates given at t = 0, for assembly.
-    pub initial_conditions: Vec<InitialCondition>,
+    pub initial_conditions: Vec<InitialCondition<K>>,
     /// Notes for the user, filled by `simulate::prepare`: implausible magnitudes
     /// (`magnitudes`), redundant constraints removed by assembly, ...
     pub warnings: Vec<String>,
@@ -623,7 +626,7 @@ pub fn compilations() -> usize {
     COMPILATIONS.load(std::sync::atomic::Ordering::Relaxed)
 }
 
-impl System {
+impl System<Planar> {
     /// Checks and compiles a model: bodies, joints, drivers, the joint coordinates
     /// given at t = 0, force elements and markers, in this order (so that an error
     /// names the first offending element in the model's order), then the point
@@ -670,39 +673,38 @@ impl System {
             warnings: Vec::new(),
         })
     }
+}
 
+impl<K: BodyKind> System<K> {
     /// Every contact point of clearance joint `k` at state `(q, v)`, apart or touching.
     pub fn contact_points(&self, k: usize, q: &[f64], v: &[f64]) -> ContactPoints {
-        let g = &self.clearances[k].geometry;
-        self.clearances[k].contacts(
-            &self.body_state(g.bearing, q, v),
-            &self.body_state(g.journal, q, v),
-            f64::INFINITY,
-        )
+        let c = &self.clearances[k];
+        let [i, j] = c.parts().map(|b| self.body_state(b, q, v));
+        c.contacts(&i, &j, f64::INFINITY)
     }
 
     /// Moves the positions `q` by `dv`, a displacement in velocity coordinates, body
     /// by body by its kind's rule.
     pub fn displace(&self, q: &mut [f64], dv: &[f64]) {
         for slot in self.layout.slots() {
-            planar::displace(&mut q[slot.q()], &dv[slot.v()]);
+            K::displace(&mut q[slot.q()], &dv[slot.v()]);
         }
     }
 
     /// Whether each velocity coordinate is a rotation (in `v`'s order): what sets a
     /// step's size in radians rather than in metres.
     pub fn rotations(&self) -> Vec<bool> {
-        self.layout.slots().iter().flat_map(|s| (0..s.shape.nv).map(planar::is_rotation)).collect()
+        self.layout.slots().iter().flat_map(|s| (0..s.shape.nv).map(K::is_rotation)).collect()
     }
 
     /// State of body `b` (ground: zero) from coordinate and velocity vectors.
     #[inline]
-    pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> BodyState {
+    pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> K::State {
         match b {
-            None => BodyState::default(),
+            None => K::ground(),
             Some(k) => {
                 let slot = self.layout.slot(k);
-                BodyState::read(block(q, slot.q_at), block(v, slot.v_at))
+                K::read(&q[slot.q()], &v[slot.v()])
             }
         }
     }

@@ -26,6 +26,38 @@ use crate::output::ClearanceData;
 use geometry::{contact_journal_bearing, JournalBearing};
 use normal::NormalForce;
 
+/// A clearance joint of some body kind, as the dynamics and the run see it: its parts,
+/// its contact points at a state, and the forces and losses of each point.
+pub trait ClearanceJoint {
+    /// The state of a body of its kind.
+    type State;
+    /// Joint name.
+    fn name(&self) -> &str;
+    /// Its part on body i (the bearing, the socket) and on body j (the journal, the ball).
+    fn parts(&self) -> [Option<usize>; 2];
+    /// The resolved contact data reported with a run's result.
+    fn data(&self) -> ClearanceData;
+    /// Rejects an initial state with a contact point deeper than any elastic contact can
+    /// be; the error names the joint, the penetration and the likely causes.
+    fn check_initial_penetration(&self, i: &Self::State, j: &Self::State) -> Result<(), Error>;
+    /// Contact points the joint's geometry can have (each keeps its own contact state).
+    fn points(&self) -> usize;
+    /// The gap [m] within which the laws act.
+    fn reach(&self) -> f64;
+    /// The contact points whose gap is below `reach` [m] (`f64::INFINITY`: all of them,
+    /// in the order of their index).
+    fn contacts(&self, i: &Self::State, j: &Self::State, reach: f64) -> ContactPoints;
+    /// Normal force [N] and friction force along the tangents [N] at contact point `p`
+    /// for the impact onset speed `onset_speed` [m/s].
+    fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential);
+    /// Power [W] contact point `p` dissipates, as `(normal, friction)`.
+    fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64);
+    /// Elastic energy [J] stored at contact point `p`.
+    fn elastic_energy(&self, p: &ContactPoint) -> f64;
+    /// Adds the contact forces to the loads, each point's with its own state in `states`.
+    fn add_to(&self, i: &Self::State, j: &Self::State, states: &[ContactState], qe: &mut Loads);
+}
+
 /// A checked clearance joint: its contact geometry and its laws.
 #[derive(Debug, Clone)]
 pub struct ClearanceRevolute {
@@ -170,12 +202,32 @@ impl ClearanceRevolute {
     pub fn max_initial_penetration(&self) -> f64 {
         (MAX_INITIAL_CONTACT_FORCE / self.normal.stiffness).powf(1.0 / self.normal.exponent)
     }
+}
+
+impl ClearanceJoint for ClearanceRevolute {
+    type State = BodyState;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn parts(&self) -> [Option<usize>; 2] {
+        [self.geometry.bearing, self.geometry.journal]
+    }
+
+    fn data(&self) -> ClearanceData {
+        self.data()
+    }
+
+    fn elastic_energy(&self, p: &ContactPoint) -> f64 {
+        self.normal.elastic_energy(p.penetration)
+    }
 
     /// Rejects an initial state (`bearing`, `journal`: the body states after assembly)
     /// with a contact point deeper than any elastic contact can be
     /// ([`Self::max_initial_penetration`]); the error names the joint, the penetration and
     /// the likely causes.
-    pub fn check_initial_penetration(&self, bearing: &BodyState, journal: &BodyState) -> Result<(), Error> {
+    fn check_initial_penetration(&self, bearing: &BodyState, journal: &BodyState) -> Result<(), Error> {
         let limit = self.max_initial_penetration();
         let e = self.geometry.eccentricity(bearing, journal);
         for k in self.contacts(bearing, journal, f64::INFINITY).iter() {
@@ -202,20 +254,20 @@ impl ClearanceRevolute {
     }
 
     /// Contact points the joint's geometry can have (each keeps its own contact state).
-    pub fn points(&self) -> usize {
+    fn points(&self) -> usize {
         JournalBearing::POINTS
     }
 
     /// The gap [m] within which the laws act: a contact point farther apart takes no
     /// force, so the geometry need not return it to [`Self::add_to`].
-    pub fn reach(&self) -> f64 {
+    fn reach(&self) -> f64 {
         self.normal.reach()
     }
 
     /// The contact points of the joint's geometry whose gap is below `reach` [m]
     /// (`f64::INFINITY`: all of them, in the order of their index).
     #[inline]
-    pub fn contacts(&self, bearing: &BodyState, journal: &BodyState, reach: f64) -> ContactPoints {
+    fn contacts(&self, bearing: &BodyState, journal: &BodyState, reach: f64) -> ContactPoints {
         let mut out = ContactPoints::new();
         contact_journal_bearing(&self.geometry, bearing, journal, reach, &mut out);
         out
@@ -225,7 +277,7 @@ impl ClearanceRevolute {
     /// for the impact onset speed `onset_speed` [m/s]: friction opposes the slip, and
     /// acts only under a pressing normal force.
     #[inline]
-    pub fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
+    fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
         let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed);
         let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
         (f_n, f_t)
@@ -239,7 +291,7 @@ impl ClearanceRevolute {
     /// is lost: `(F_N - K delta^n) delta_dot` by the normal law's damping (and by
     /// clipping, which drops the elastic force a pulling force would return),
     /// `-F_T . v_t >= 0` by friction.
-    pub fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64) {
+    fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64) {
         let (f_n, f_t) = self.force(p, state.onset_for(p.penetration_rate));
         ((f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate, -point::dot(&f_t, &p.slip))
     }
@@ -248,7 +300,7 @@ impl ClearanceRevolute {
     /// `states` (the joint's, by point index): body j's force at its material point, the
     /// opposite on body i at its own.
     #[inline]
-    pub fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
+    fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
         for p in self.contacts(bearing, journal, self.reach()).iter() {
             let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
             if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
@@ -271,10 +323,8 @@ fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2,
 /// Each clearance joint of `clearances` with the range of its contact points among all
 /// of them, in order: joint `k`'s points are laid out one after the other, as the
 /// contact states and impact lists of a run keep them.
-pub fn slots(
-    clearances: &[ClearanceRevolute],
-) -> impl Iterator<Item = (usize, &ClearanceRevolute, Range<usize>)> {
-    let ranges = point_ranges(clearances.iter().map(ClearanceRevolute::points));
+pub fn slots<C: ClearanceJoint>(clearances: &[C]) -> impl Iterator<Item = (usize, &C, Range<usize>)> {
+    let ranges = point_ranges(clearances.iter().map(C::points));
     clearances.iter().zip(ranges).enumerate().map(|(k, (c, range))| (k, c, range))
 }
 
@@ -288,8 +338,8 @@ pub fn point_ranges(counts: impl IntoIterator<Item = usize>) -> impl Iterator<It
 }
 
 /// Contact points of all of `clearances` together.
-pub fn point_count(clearances: &[ClearanceRevolute]) -> usize {
-    clearances.iter().map(ClearanceRevolute::points).sum()
+pub fn point_count<C: ClearanceJoint>(clearances: &[C]) -> usize {
+    clearances.iter().map(C::points).sum()
 }
 
 #[cfg(test)]

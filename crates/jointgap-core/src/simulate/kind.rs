@@ -1,0 +1,68 @@
+//! What a run needs of a body kind beyond the dynamics: how its models compile, and the
+//! output channels of its joints, drivers and markers. Each kind's channels are its own
+//! module ([`planar_channels`](super::planar_channels)); the run is written once.
+
+use super::record::Cursor;
+use crate::dynamics::{Contacts, Workspace};
+use crate::error::Error;
+use crate::mechanics::kind::RowEval;
+use crate::model::JointKind;
+use crate::system::{JointInfo, MarkerInfo, System};
+
+/// A body kind a model can be made of.
+pub trait Kind: Contacts {
+    /// The plain data of a model of this kind.
+    type Model;
+
+    /// Checks and compiles a model of this kind.
+    fn compile(model: &Self::Model) -> Result<System<Self>, Error>;
+
+    /// Notes on implausible magnitudes in the model (a mass in grams given as kg, ...).
+    fn magnitude_warnings(model: &Self::Model, sys: &System<Self>) -> Vec<String>;
+
+    /// The force channels of joint `j` as `(quantity, point)`, in the order a sample
+    /// writes them: `point` is the contact point's number from 1 in a joint of several.
+    fn joint_force_channels(sys: &System<Self>, j: &JointInfo<Self>) -> Vec<(&'static str, Option<usize>)>;
+
+    /// How many force channels joint `j` has ([`Kind::joint_force_channels`]), without
+    /// naming them: a sample asks for every joint.
+    fn joint_force_channel_count(sys: &System<Self>, j: &JointInfo<Self>) -> usize;
+
+    /// Writes joint `j`'s force channels: the reaction on body j (for a clearance joint,
+    /// its contact quantities), the bodies' states `(bi, bj)`, each row's multiplier by
+    /// `lambda_of`.
+    #[allow(clippy::too_many_arguments)]
+    fn put_joint_forces(
+        out: &mut Cursor,
+        sys: &System<Self>,
+        ws: &Workspace<Self>,
+        j: &JointInfo<Self>,
+        bodies: (&Self::State, &Self::State),
+        state: (&[f64], &[f64]),
+        lambda_of: &dyn Fn(usize) -> f64,
+    );
+
+    /// The channels of a joint's coordinate and its rate, after its forces.
+    fn coordinate_quantities(kind: JointKind) -> &'static [&'static str];
+
+    /// A joint's coordinate and its rate (those a driver prescribes); `None` for a joint
+    /// without one.
+    fn joint_coordinate(j: &JointInfo<Self>, bi: &Self::State, bj: &Self::State) -> Option<(f64, f64)>;
+
+    /// A driver's effort (torque or force) on the driven body from its row `ev` and
+    /// multiplier `lambda`: on body j, or on body i where j is the ground (`on_j` false).
+    fn driver_effort(ev: &RowEval<Self::Row>, rotation: bool, on_j: bool, lambda: f64) -> f64;
+
+    /// A marker's channels.
+    const MARKER_QUANTITIES: &'static [&'static str];
+
+    /// Writes marker `m`'s channels at `(q, v)`, the accelerations in `ws`.
+    fn put_marker(
+        out: &mut Cursor,
+        sys: &System<Self>,
+        ws: &Workspace<Self>,
+        m: &MarkerInfo<Self>,
+        q: &[f64],
+        v: &[f64],
+    );
+}
