@@ -411,6 +411,38 @@ mod tests {
         }
     }
 
+    /// A body made of six point masses on its axes (`m_k` at `+-a_k` along axis k, so
+    /// `J1 = 2 (m2 a2^2 + m3 a3^2)` and so on) has the kinetic energy of its points,
+    /// `sum m_i |v_i|^2 / 2` with each point's velocity from [`BodyState::point_velocity`];
+    /// and the weight's generalized forces are the rate of gravity's work along any
+    /// displacement.
+    #[test]
+    fn kinetic_energy_and_weight_agree_with_point_masses() {
+        let (q, v) = sample();
+        let state = BodyState::read(&q, &v);
+        let (m, a) = ([0.5, 1.2, 0.8], [0.3, 0.1, 0.25]);
+        let mass = 2.0 * (m[0] + m[1] + m[2]);
+        let moment = |k: usize| 2.0 * (0..3).filter(|&i| i != k).map(|i| m[i] * a[i] * a[i]).sum::<f64>();
+        let moments = Vec3::new(moment(0), moment(1), moment(2));
+        let points: f64 = (0..3)
+            .flat_map(|k| [1.0, -1.0].map(|side| (k, side)))
+            .map(|(k, side)| 0.5 * m[k] * state.point_velocity(&Vec3::ith(k, side * a[k])).norm_squared())
+            .sum();
+        let energy = kinetic_energy(mass, moments, &v);
+        assert!((energy - points).abs() < 1e-14 * points, "{energy} vs the points' {points}");
+
+        let g = Vec3::new(0.3, -9.81, 1.2);
+        let mut qe = [0.0; NV];
+        add_weight(&mut qe, mass, g);
+        let dv = [0.2, -0.7, 0.4, 1.3, 0.5, -0.9];
+        let h = 1e-3;
+        let work = (gravity_work(mass, g, &displaced(&q, &dv, h))
+            - gravity_work(mass, g, &displaced(&q, &dv, -h)))
+            / (2.0 * h);
+        let power: f64 = qe.iter().zip(&dv).map(|(a, b)| a * b).sum();
+        assert!((work - power).abs() < 1e-12 * mass * g.norm(), "{work} vs {power}");
+    }
+
     /// With the gyroscopic moment as its only load, a body keeps its angular momentum
     /// `A J w'` in global axes: its rate, by central differences along the motion, is
     /// zero to `h^2`, where a gyroscopic moment of the wrong sign gives `2 A (w' x J w')`.

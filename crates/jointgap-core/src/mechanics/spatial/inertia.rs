@@ -155,6 +155,10 @@ mod tests {
         }
         let norm = found.frame.quaternion().norm();
         assert!((norm - 1.0).abs() <= f64::EPSILON);
+        // two moments equal: any axes in their plane are principal; the tensor rebuilds
+        let j = PrincipalInertia { moments: Vec3::new(0.7, 0.7, 1.2), frame: turn }.tensor();
+        let found = PrincipalInertia::from_tensor(&j).unwrap();
+        assert!((found.tensor() - j).norm() < 1e-14, "rebuilt {}", found.tensor());
     }
 
     /// A diagonal tensor keeps the user's frame and order, also where two moments are
