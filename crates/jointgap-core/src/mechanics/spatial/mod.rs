@@ -4,3 +4,4 @@
 //! (Nikravesh 1988, chapter 6 and 11; docs/spatial.md).
 
 pub mod body;
+pub mod joints;
