@@ -180,6 +180,197 @@ impl SpatialRowKind {
     }
 }
 
+/// The ideal spatial joints (Nikravesh 1988, section 11.3; Haug 1989, section 9.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpatialJointKind {
+    /// Ball and socket: the points coincide. 3 rows; the three rotations are free.
+    Spherical,
+    /// Hinge: the points coincide and the axes stay parallel. 5 rows; the rotation about
+    /// the axis is free.
+    Revolute,
+    /// The point of body j stays on body i's axis line and the axes stay parallel.
+    /// 4 rows; the rotation about the axis and the travel along it are free.
+    Cylindrical,
+    /// Slider: a cylindrical joint whose rotation about the axis keeps its value at the
+    /// placement. 5 rows; the travel along the axis is free.
+    Prismatic,
+    /// Hooke's joint: the points coincide and the cross axes, one on each body, stay
+    /// perpendicular. 4 rows; the rotations about the two cross axes are free.
+    Universal,
+    /// Weld: the points coincide and the relative orientation keeps its value at the
+    /// placement. 6 rows; nothing is free.
+    Fixed,
+    /// The normals, one on each body, stay parallel and the point of body j stays in
+    /// body i's plane. 3 rows; the two translations in the plane and the rotation about
+    /// the normal are free.
+    Planar,
+}
+
+/// A joint's frame on one of its bodies, in that body's frame (for the ground: global).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointFrame {
+    /// The joint's point [m].
+    pub point: Vec3,
+    /// The joint's axis, of any length but zero: the hinge or sliding axis, the
+    /// universal joint's cross axis on this body, the planar joint's normal. Spherical
+    /// and fixed joints do not read it.
+    pub axis: Vec3,
+}
+
+/// A joint's row with the tag that names it in messages ("x", "axis-1", "rotation", ...).
+pub type TaggedRow = (SpatialRowKind, &'static str);
+
+/// A joint coordinate that a driver or an initial condition prescribes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointCoordinate {
+    /// The angle [rad] body j has turned about the axis (revolute, cylindrical).
+    Angle,
+    /// The travel [m] of body j's point along the axis from body i's point (prismatic,
+    /// cylindrical).
+    Travel,
+}
+
+/// How far from perpendicular (the cosine of their angle) a universal joint's cross
+/// axes may be at the placement: loose enough for orientations typed with a few
+/// decimals, which assembly then corrects, tight enough to refuse axes meant otherwise.
+pub const CROSS_AXES_SQUARENESS: f64 = 1e-3;
+
+const POSITION_TAGS: [&str; 3] = ["x", "y", "z"];
+
+/// A vector as the model file writes it.
+fn show(v: &Vec3) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
+}
+
+/// The frame's axis made unit, or an error naming it (`side`: "body i" or "body j").
+fn unit_axis(frame: &JointFrame, side: &str) -> Result<Vec3, String> {
+    let n = frame.axis.norm();
+    if n > 0.0 && n.is_finite() {
+        Ok(frame.axis / n)
+    } else {
+        Err(format!("the axis on {side} is {}: an axis needs a finite, nonzero length", show(&frame.axis)))
+    }
+}
+
+/// Two unit vectors `(e, f)` that complete the unit `axis` to a right-handed triad
+/// `(e, f, axis)`, picked once and the same way every time: `e` is the coordinate axis
+/// after the one the axis leans on most (z -> x, x -> y, y -> z), made perpendicular to
+/// it, and `f = axis x e`. Two bodies that share an axis along z thus measure the angle
+/// between them as planar bodies do, `phi_j - phi_i`.
+pub fn perpendiculars(axis: &Vec3) -> (Vec3, Vec3) {
+    let next = Vec3::ith((axis.iamax() + 1) % 3, 1.0);
+    let e = (next - axis * axis.dot(&next)).normalize();
+    (e, axis.cross(&e))
+}
+
+/// The rows of a joint between body i and body j, from its frame on each body and the
+/// bodies' placement (read by the prismatic and fixed joints, which keep a relative
+/// rotation at its placed value, and by the universal joint's check), or an error naming
+/// the offending value: an axis of zero length, a universal joint's cross axes that are
+/// not perpendicular at the placement.
+pub fn joint_rows(
+    kind: SpatialJointKind,
+    frame_i: &JointFrame,
+    frame_j: &JointFrame,
+    bi: &BodyState,
+    bj: &BodyState,
+) -> Result<Vec<TaggedRow>, String> {
+    use SpatialJointKind::*;
+    let (s_i, s_j) = (frame_i.point, frame_j.point);
+    let mut rows: Vec<TaggedRow> = Vec::with_capacity(6);
+    if matches!(kind, Spherical | Revolute | Universal | Fixed) {
+        rows.extend(
+            POSITION_TAGS
+                .iter()
+                .enumerate()
+                .map(|(axis, &tag)| (SpatialRowKind::Coincide { axis, s_i, s_j }, tag)),
+        );
+    }
+    match kind {
+        Spherical => {}
+        Fixed => {
+            // Body i's frame as body j saw it at the placement: each pair of body i's
+            // coordinate axes stays as perpendicular as it was then.
+            let placed = bj.a.tr_mul(&bi.a);
+            let tags = ["rotation-x", "rotation-y", "rotation-z"];
+            rows.extend(tags.iter().enumerate().map(|(k, &tag)| {
+                let a_i = Vec3::ith((k + 1) % 3, 1.0);
+                (SpatialRowKind::Perpendicular { a_i, a_j: placed * Vec3::ith((k + 2) % 3, 1.0) }, tag)
+            }));
+        }
+        Universal => {
+            let (a_i, a_j) = (unit_axis(frame_i, "body i")?, unit_axis(frame_j, "body j")?);
+            let cos = bi.rotate(&a_i).dot(&bj.rotate(&a_j));
+            if cos.abs() > CROSS_AXES_SQUARENESS {
+                return Err(format!(
+                    "the cross axes {} on body i and {} on body j are {:.4} degrees apart at the \
+                     placement; a universal joint needs them perpendicular",
+                    show(&frame_i.axis),
+                    show(&frame_j.axis),
+                    cos.clamp(-1.0, 1.0).acos().to_degrees()
+                ));
+            }
+            rows.push((SpatialRowKind::Perpendicular { a_i, a_j }, "cross"));
+        }
+        Revolute | Cylindrical | Prismatic | Planar => {
+            let (u, h_j) = (unit_axis(frame_i, "body i")?, unit_axis(frame_j, "body j")?);
+            let (e, f) = perpendiculars(&u);
+            rows.push((SpatialRowKind::Perpendicular { a_i: e, a_j: h_j }, "axis-1"));
+            rows.push((SpatialRowKind::Perpendicular { a_i: f, a_j: h_j }, "axis-2"));
+            if kind == Planar {
+                rows.push((SpatialRowKind::Along { a_i: u, s_i, s_j, offset: 0.0 }, "plane"));
+            }
+            if matches!(kind, Cylindrical | Prismatic) {
+                rows.push((SpatialRowKind::Along { a_i: e, s_i, s_j, offset: 0.0 }, "line-1"));
+                rows.push((SpatialRowKind::Along { a_i: f, s_i, s_j, offset: 0.0 }, "line-2"));
+            }
+            if kind == Prismatic {
+                // Body i's e as body j saw it at the placement stays across body i's f.
+                let a_j = bj.a.tr_mul(&bi.rotate(&e));
+                rows.push((SpatialRowKind::Perpendicular { a_i: f, a_j }, "rotation"));
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The row that holds a joint coordinate at `initial` (the value at the placement when
+/// `None`), for a driver (which adds its motion to it) or an initial condition, with the
+/// coordinate's value at the placement; `None` where the joint has no such coordinate.
+/// The angle is measured from the perpendiculars of each body's axis
+/// ([`perpendiculars`]); the travel is that of body j's point from body i's point along
+/// body i's unit axis.
+pub fn coordinate_row(
+    kind: SpatialJointKind,
+    coordinate: JointCoordinate,
+    frame_i: &JointFrame,
+    frame_j: &JointFrame,
+    bi: &BodyState,
+    bj: &BodyState,
+    initial: Option<f64>,
+) -> Result<Option<(SpatialRowKind, f64)>, String> {
+    use SpatialJointKind::*;
+    let held = match coordinate {
+        JointCoordinate::Angle => matches!(kind, Revolute | Cylindrical),
+        JointCoordinate::Travel => matches!(kind, Prismatic | Cylindrical),
+    };
+    if !held {
+        return Ok(None);
+    }
+    let axis = unit_axis(frame_i, "body i")?;
+    let ref_j = perpendiculars(&unit_axis(frame_j, "body j")?).0;
+    let row = |offset| match coordinate {
+        JointCoordinate::Angle => {
+            SpatialRowKind::Rotation { axis, ref_i: perpendiculars(&axis).0, ref_j, offset }
+        }
+        JointCoordinate::Travel => {
+            SpatialRowKind::Along { a_i: axis, s_i: frame_i.point, s_j: frame_j.point, offset }
+        }
+    };
+    let placed = row(0.0).eval(bi, bj, Motion { position: 0.0, speed: 0.0, acceleration: 0.0 }).c;
+    Ok(Some((row(initial.unwrap_or(placed)), placed)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,5 +485,261 @@ mod tests {
         assert!((wrap(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-15);
         assert!((wrap(-7.0 * PI / 4.0) - PI / 4.0).abs() < 1e-15);
         assert_eq!(wrap(0.25), 0.25);
+    }
+
+    use SpatialJointKind::*;
+
+    const KINDS: [SpatialJointKind; 7] =
+        [Spherical, Revolute, Cylindrical, Prismatic, Universal, Fixed, Planar];
+
+    /// The joint's frames: points off the centres of mass, axes of no special direction
+    /// and not of unit length.
+    fn frames() -> (JointFrame, JointFrame) {
+        (
+            JointFrame { point: Vec3::new(0.1, -0.2, 0.05), axis: Vec3::new(1.0, 2.0, -2.0) },
+            JointFrame { point: Vec3::new(-0.15, 0.04, 0.2), axis: Vec3::new(0.0, -3.0, 4.0) },
+        )
+    }
+
+    /// Body i's axis and its perpendiculars, global: `(u, e, f)`.
+    fn triad(bi: &BodyState, fi: &JointFrame) -> (Vec3, Vec3, Vec3) {
+        let u = fi.axis.normalize();
+        let (e, f) = perpendiculars(&u);
+        (bi.rotate(&u), bi.rotate(&e), bi.rotate(&f))
+    }
+
+    /// Body j moved rigidly: turned by the global rotation vector `turn` about the point
+    /// `pivot`, then shifted by `shift`.
+    fn carried(bj: &BodyState, pivot: Vec3, turn: Vec3, shift: Vec3) -> BodyState {
+        let rot = Orientation::from_scaled_axis(turn);
+        BodyState::new(pivot + rot * (bj.r - pivot) + shift, rot * bj.orientation, bj.v, bj.omega)
+    }
+
+    /// A placement of body j that satisfies the joint: its axis along body i's (across
+    /// it for a universal joint), turned 0.4 rad about it, its point on body i's (0.3 m
+    /// along the axis for a cylindrical or prismatic joint, off in the plane for a
+    /// planar joint).
+    fn placement(kind: SpatialJointKind, bi: &BodyState, fi: &JointFrame, fj: &JointFrame) -> BodyState {
+        let (u, e, f) = triad(bi, fi);
+        let target = if kind == Universal { e } else { u };
+        let turn = Orientation::from_scaled_axis(target * 0.4);
+        let orientation = turn * Orientation::rotation_between(&fj.axis, &target).expect("not opposite");
+        let shift = match kind {
+            Cylindrical | Prismatic => u * 0.3,
+            Planar => e * 0.2 - f * 0.1,
+            _ => Vec3::zeros(),
+        };
+        let p_i = bi.r + bi.rotate(&fi.point);
+        let bj = state([0.0; 3], [0.0; 3], [0.0; 3], [0.0; 3]);
+        BodyState::new(p_i + shift - orientation * fj.point, orientation, bj.v, bj.omega)
+    }
+
+    /// The relative motions each joint allows and some it forbids, as (turn, shift) of
+    /// body j about its joint point, in global axes.
+    fn motions(
+        kind: SpatialJointKind,
+        u: Vec3,
+        e: Vec3,
+        f: Vec3,
+        c_j: Vec3,
+    ) -> (Vec<[Vec3; 2]>, Vec<[Vec3; 2]>) {
+        let z = Vec3::zeros();
+        let shifts = vec![[z, u * 0.1], [z, e * 0.1], [z, f * 0.1]];
+        let tilts = vec![[e * 0.1, z], [f * 0.1, z]];
+        let cat = |a: Vec<[Vec3; 2]>, b: Vec<[Vec3; 2]>| a.into_iter().chain(b).collect::<Vec<_>>();
+        match kind {
+            Spherical => (vec![[u * 0.7, z], [e * 0.5 + f * 0.3, z], [Vec3::new(0.4, -0.9, 0.2), z]], shifts),
+            Revolute => (vec![[u * 0.9, z], [u * -2.5, z]], cat(shifts, tilts)),
+            Cylindrical => (
+                vec![[u * 0.9, u * 0.2], [z, u * -1.0]],
+                vec![[z, e * 0.1], [z, f * 0.1], [e * 0.1, z], [f * 0.1, z]],
+            ),
+            Prismatic => (
+                vec![[z, u * 0.25], [z, u * -1.0]],
+                cat(vec![[u * 0.1, z], [z, e * 0.1], [z, f * 0.1]], tilts),
+            ),
+            Universal => (vec![[u * 0.6, z], [c_j * -0.5, z]], cat(shifts, vec![[u.cross(&c_j) * 0.1, z]])),
+            Fixed => (vec![[z, z]], cat(shifts, cat(tilts, vec![[u * 0.1, z]]))),
+            Planar => (
+                vec![[u * 0.8, z], [z, e * 0.3 - f * 0.2], [u * -1.5, e * 0.1 + f * 0.4]],
+                vec![[z, u * 0.1], [e * 0.1, z], [f * 0.1, z]],
+            ),
+        }
+    }
+
+    fn residuals(rows: &[TaggedRow], bi: &BodyState, bj: &BodyState) -> Vec<f64> {
+        rows.iter().map(|(row, _)| row.eval(bi, bj, NO_MOTION).c).collect()
+    }
+
+    #[test]
+    fn each_joint_has_its_rows_and_names_them_once() {
+        let (fi, fj) = frames();
+        let counts = [3, 5, 4, 5, 4, 6, 3];
+        for (kind, n) in KINDS.into_iter().zip(counts) {
+            let (bi, _) = bodies()[0];
+            let bj = placement(kind, &bi, &fi, &fj);
+            let rows = joint_rows(kind, &fi, &fj, &bi, &bj).unwrap();
+            assert_eq!(rows.len(), n, "{kind:?}");
+            let mut tags: Vec<_> = rows.iter().map(|r| r.1).collect();
+            tags.sort();
+            tags.dedup();
+            assert_eq!(tags.len(), n, "{kind:?} tags {tags:?}");
+        }
+    }
+
+    /// At a placement that satisfies the joint every residual is zero; the rows are
+    /// independent; the motions the joint allows keep every residual at zero, at the
+    /// velocity level span the Jacobian's null space, and each forbidden motion moves
+    /// a residual. With a moving body i and with the ground as body i.
+    #[test]
+    fn each_joint_holds_what_it_should_and_frees_the_rest() {
+        let (fi, fj) = frames();
+        for (bi, _) in bodies() {
+            for kind in KINDS {
+                let bj = placement(kind, &bi, &fi, &fj);
+                let rows = joint_rows(kind, &fi, &fj, &bi, &bj).unwrap();
+                let at_rest = residuals(&rows, &bi, &bj);
+                assert!(at_rest.iter().all(|c| c.abs() < 1e-14), "{kind:?} placed {at_rest:?}");
+                // Rank over body j's block alone (body i held): rows independent.
+                let jac = nalgebra::DMatrix::from_fn(rows.len(), 6, |r, k| {
+                    rows[r].0.eval(&bi, &bj, NO_MOTION).jac_j[k]
+                });
+                let sv = jac.clone().svd(false, false).singular_values;
+                assert!(sv.min() > 0.1, "{kind:?} singular values {sv}");
+                let (u, e, f) = triad(&bi, &fi);
+                let c_j = bj.rotate(&fj.axis.normalize());
+                let p_j = bj.r + bj.rotate(&fj.point);
+                let (allowed, forbidden) = motions(kind, u, e, f, c_j);
+                for [turn, shift] in &allowed {
+                    let moved = carried(&bj, p_j, *turn, *shift);
+                    let c = residuals(&rows, &bi, &moved);
+                    assert!(c.iter().all(|c| c.abs() < 1e-14), "{kind:?} allowed {turn} {shift}: {c:?}");
+                }
+                for [turn, shift] in &forbidden {
+                    let moved = carried(&bj, p_j, *turn, *shift);
+                    let c = residuals(&rows, &bi, &moved);
+                    let worst = c.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+                    assert!(worst > 0.05, "{kind:?} forbidden {turn} {shift}: {c:?}");
+                }
+                // The allowed twists of body j (body i at rest), as (v, w'), make
+                // Cq v = 0; there are 6 - rows of them and they are independent, so
+                // they span the Jacobian's null space.
+                let twists: Vec<[f64; 6]> = allowed
+                    .iter()
+                    .filter(|m| m[0].norm() + m[1].norm() > 0.0)
+                    .map(|[turn, shift]| {
+                        let v = turn.cross(&(bj.r - p_j)) + shift;
+                        let w = bj.a.tr_mul(turn);
+                        [v.x, v.y, v.z, w.x, w.y, w.z]
+                    })
+                    .collect();
+                let free = nalgebra::DMatrix::from_fn(6, twists.len(), |k, t| twists[t][k]);
+                if !twists.is_empty() {
+                    let rates = &jac * &free;
+                    assert!(rates.amax() < 1e-14, "{kind:?} Cq v of allowed twists {rates}");
+                    assert_eq!(free.rank(1e-9), 6 - rows.len(), "{kind:?} allowed twists");
+                } else {
+                    assert_eq!(rows.len(), 6, "{kind:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn joint_coordinates_measure_the_turn_and_the_travel() {
+        let (fi, fj) = frames();
+        for (bi, _) in bodies() {
+            let (u, _, _) = triad(&bi, &fi);
+            let bj = placement(Cylindrical, &bi, &fi, &fj);
+            let p_j = bj.r + bj.rotate(&fj.point);
+            let angle =
+                coordinate_row(Cylindrical, JointCoordinate::Angle, &fi, &fj, &bi, &bj, None).unwrap();
+            let travel =
+                coordinate_row(Cylindrical, JointCoordinate::Travel, &fi, &fj, &bi, &bj, None).unwrap();
+            let ((angle, _), (travel, placed_travel)) = (angle.unwrap(), travel.unwrap());
+            assert!((placed_travel - 0.3).abs() < 1e-14, "travel at the placement {placed_travel}");
+            for (turn, shift) in [(0.7, 0.25), (3.0, -0.1), (-2.0, 1.5), (-3.0, 0.0)] {
+                let moved = carried(&bj, p_j, u * turn, u * shift);
+                let c = angle.eval(&bi, &moved, NO_MOTION).c;
+                assert!((c - turn).abs() < 1e-13, "turned {turn}, angle row {c}");
+                let c = travel.eval(&bi, &moved, NO_MOTION).c;
+                assert!((c - shift).abs() < 1e-13, "moved {shift}, travel row {c}");
+            }
+            // A turn past a half turn reads as the short way round.
+            let c = angle.eval(&bi, &carried(&bj, p_j, u * 4.0, Vec3::zeros()), NO_MOTION).c;
+            assert!((c - (4.0 - TAU)).abs() < 1e-13, "{c}");
+            // A driver's motion is subtracted; an initial value replaces the placed one.
+            let motion = Motion { position: 0.5, speed: 0.0, acceleration: 0.0 };
+            let c = angle.eval(&bi, &carried(&bj, p_j, u * 0.5, Vec3::zeros()), motion).c;
+            assert!(c.abs() < 1e-13, "{c}");
+            let (held, placed) =
+                coordinate_row(Prismatic, JointCoordinate::Travel, &fi, &fj, &bi, &bj, Some(0.1))
+                    .unwrap()
+                    .unwrap();
+            assert!((held.eval(&bi, &bj, NO_MOTION).c - (placed - 0.1)).abs() < 1e-14);
+        }
+        // Only revolute and cylindrical joints turn, only prismatic and cylindrical slide.
+        let (bi, bj) = bodies()[0];
+        for kind in KINDS {
+            for (coordinate, has) in [
+                (JointCoordinate::Angle, matches!(kind, Revolute | Cylindrical)),
+                (JointCoordinate::Travel, matches!(kind, Prismatic | Cylindrical)),
+            ] {
+                let row = coordinate_row(kind, coordinate, &fi, &fj, &bi, &bj, None).unwrap();
+                assert_eq!(row.is_some(), has, "{kind:?} {coordinate:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn perpendiculars_complete_a_right_handed_triad() {
+        assert_eq!(perpendiculars(&Vec3::z()), (Vec3::x(), Vec3::y()));
+        assert_eq!(perpendiculars(&Vec3::x()), (Vec3::y(), Vec3::z()));
+        assert_eq!(perpendiculars(&Vec3::y()), (Vec3::z(), Vec3::x()));
+        assert_eq!(perpendiculars(&-Vec3::z()), (Vec3::x(), -Vec3::y()));
+        let u = Vec3::new(1.0, 2.0, -2.0) / 3.0;
+        let (e, f) = perpendiculars(&u);
+        for (a, b) in [(e, e), (f, f), (e, f), (e, u), (f, u)] {
+            let expected = if a == b { 1.0 } else { 0.0 };
+            assert!((a.dot(&b) - expected).abs() < 1e-15, "{a} . {b}");
+        }
+        assert!((e.cross(&f) - u).norm() < 1e-15);
+    }
+
+    /// Bodies that share the z axis measure their relative angle as planar bodies do.
+    #[test]
+    fn about_z_the_angle_is_the_planar_one() {
+        let z = JointFrame { point: Vec3::zeros(), axis: Vec3::z() };
+        for (phi_i, phi_j) in [(0.3, 2.1), (1.0, -2.9), (-0.5, -0.5)] {
+            let bi = state([0.2, 0.1, 0.0], [0.0, 0.0, phi_i], [0.0; 3], [0.0; 3]);
+            let bj = state([0.2, 0.1, 0.0], [0.0, 0.0, phi_j], [0.0; 3], [0.0; 3]);
+            let (_, placed) =
+                coordinate_row(Revolute, JointCoordinate::Angle, &z, &z, &bi, &bj, None).unwrap().unwrap();
+            assert!((placed - wrap(phi_j - phi_i)).abs() < 1e-14, "{phi_i} {phi_j}: {placed}");
+        }
+    }
+
+    #[test]
+    fn a_zero_axis_or_crooked_cross_axes_are_refused_by_value() {
+        let (fi, fj) = frames();
+        let (bi, bj) = bodies()[0];
+        let zero = JointFrame { axis: Vec3::zeros(), ..fi };
+        for kind in [Revolute, Cylindrical, Prismatic, Universal, Planar] {
+            let err = joint_rows(kind, &zero, &fj, &bi, &bj).unwrap_err();
+            assert!(err.contains("body i is (0, 0, 0)"), "{kind:?}: {err}");
+            let err = joint_rows(kind, &fi, &zero, &bi, &bj).unwrap_err();
+            assert!(err.contains("body j is (0, 0, 0)"), "{kind:?}: {err}");
+        }
+        let nan = JointFrame { axis: Vec3::new(f64::NAN, 0.0, 1.0), ..fi };
+        assert!(joint_rows(Revolute, &nan, &fj, &bi, &bj).unwrap_err().contains("(NaN, 0, 1)"));
+        let err = coordinate_row(Revolute, JointCoordinate::Angle, &fi, &zero, &bi, &bj, None).unwrap_err();
+        assert!(err.contains("body j is (0, 0, 0)"), "{err}");
+        // Spherical and fixed joints read no axis.
+        assert!(joint_rows(Spherical, &zero, &zero, &bi, &bj).is_ok());
+        assert!(joint_rows(Fixed, &zero, &zero, &bi, &bj).is_ok());
+        // Cross axes along each other: 0 degrees apart.
+        let bj = placement(Revolute, &bi, &fi, &fj);
+        let err = joint_rows(Universal, &fi, &fj, &bi, &bj).unwrap_err();
+        assert!(err.contains("(1, 2, -2) on body i and (0, -3, 4) on body j are 0.0000 degrees"), "{err}");
     }
 }
