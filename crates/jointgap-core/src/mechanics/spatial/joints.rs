@@ -53,7 +53,10 @@ pub enum SpatialRowKind {
     /// body i's `axis`, from body i's `ref_i` to body j's `ref_j` (each a unit vector
     /// perpendicular to the joint's axis on its body), measured by `atan2` and wrapped to
     /// (-pi, pi] so the residual stays continuous through a whole turn; a rotation
-    /// driver or a joint's initial angle.
+    /// driver or a joint's initial angle. Its Jacobian is the exact gradient of the
+    /// `atan2`, which is `axis . (dpi_j - dpi_i)` (both in global axes) wherever body
+    /// j's reference lies across body i's axis, as the joint's other rows make it; it is
+    /// singular only where that reference lies along the axis.
     Rotation {
         /// Unit axis on body i.
         axis: Vec3,
@@ -641,6 +644,23 @@ mod tests {
                 } else {
                     assert_eq!(rows.len(), 6, "{kind:?}");
                 }
+            }
+        }
+    }
+
+    /// A fixed joint's rotation rows are named after body i's axis each one resists.
+    #[test]
+    fn a_fixed_joints_rotation_rows_name_body_is_axes() {
+        let (fi, fj) = frames();
+        let (bi, _) = bodies()[0];
+        let bj = placement(Fixed, &bi, &fi, &fj);
+        let rows = joint_rows(Fixed, &fi, &fj, &bi, &bj).unwrap();
+        for (k, tag) in ["rotation-x", "rotation-y", "rotation-z"].into_iter().enumerate() {
+            let turned = carried(&bj, bj.r, bi.rotate(&Vec3::ith(k, 0.1)), Vec3::zeros());
+            for (row, name) in &rows[3..] {
+                let c = row.eval(&bi, &turned, NO_MOTION).c;
+                let expected = if *name == tag { -0.1f64.sin() } else { 0.0 };
+                assert!((c - expected).abs() < 1e-14, "turned about body i's axis {k}: {name} {c}");
             }
         }
     }
