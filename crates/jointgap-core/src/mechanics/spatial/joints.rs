@@ -1,6 +1,6 @@
 //! Constraint rows of spatial ideal joints and drivers, one scalar row at a time, with
 //! analytic Jacobians and acceleration right-hand sides, and the set of rows each joint
-//! kind adds (Nikravesh 1988, chapter 11; Haug 1989, chapter 9; docs/spatial-joints.md).
+//! kind adds (Nikravesh 1988, chapter 11; Haug 1989; docs/spatial-joints.md).
 //!
 //! Every row is written `C(q, t) = 0`; its time derivatives give `Cq v + Ct = 0` and
 //! `Cq vdot = gamma`, with `gamma = -(d/dt Cq) v - 2 Cqt v - Ctt`. A row's Jacobian block
@@ -183,7 +183,7 @@ impl SpatialRowKind {
     }
 }
 
-/// The ideal spatial joints (Nikravesh 1988, section 11.3; Haug 1989, section 9.2).
+/// The ideal spatial joints (Nikravesh 1988, chapter 11; Haug 1989).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SpatialJointKind {
     /// Ball and socket: the points coincide. 3 rows; the three rotations are free.
