@@ -5,4 +5,5 @@
 
 pub mod body;
 pub mod inertia;
+pub mod joints;
 pub mod orientation;
