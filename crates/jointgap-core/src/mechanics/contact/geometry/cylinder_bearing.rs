@@ -82,6 +82,24 @@ impl CylinderBearing {
         let x = self.axes(bearing, journal);
         x.centre_j - x.centre_b
     }
+
+    /// The radial offsets `d` of the journal's two ends (points 0 and 1) from the bearing
+    /// axis, global [m]: each end's eccentricity in the plane normal to the bearing axis
+    /// (`A_i^T d` in the bearing body's frame).
+    pub fn end_offsets(&self, bearing: &BodyState, journal: &BodyState) -> [Vec3; 2] {
+        let x = self.axes(bearing, journal);
+        [-1.0, 1.0].map(|side| self.end(&x, side).2)
+    }
+
+    /// The journal end at `side` (-1: point 0, +1: point 1): its centre `E`, its station
+    /// `a_B . (E - r_B)` along the bearing axis, and its radial offset `d` from that axis.
+    #[inline]
+    fn end(&self, x: &Axes, side: f64) -> (Vec3, f64, Vec3) {
+        let end = x.centre_j + x.axis_j * (side * 0.5 * self.length);
+        let w = end - x.centre_b;
+        let station = x.axis_b.dot(&w);
+        (end, station, w - x.axis_b * station)
+    }
 }
 
 /// The unit normal of a radial offset `d` (perpendicular to the unit axis `a`) of length
@@ -138,12 +156,8 @@ pub fn contact_cylinder_bearing(
     out: &mut ContactPoints3,
 ) {
     let x = g.axes(bearing, journal);
-    let half = 0.5 * g.length;
     for (index, side) in [(0, -1.0), (1, 1.0)] {
-        let end = x.centre_j + x.axis_j * (side * half);
-        let w = end - x.centre_b;
-        let station = x.axis_b.dot(&w);
-        let d = w - x.axis_b * station;
+        let (end, station, d) = g.end(&x, side);
         let len = d.norm();
         let penetration = len - g.clearance;
         if penetration <= -reach {
@@ -163,6 +177,7 @@ pub fn contact_cylinder_bearing(
         ));
     }
     let Some(c_a) = g.axial_clearance else { return };
+    let half = 0.5 * g.length;
     let h = half + c_a;
     // The journal end that faces the bearing's + face, and the in-face direction of its
     // rim point farthest along the bearing axis.
@@ -279,9 +294,11 @@ mod tests {
             let journal = journal_at(&g, centre_b + m * e0 + a * u, axis, 0.7, Vec3::zeros(), Vec3::zeros());
             let points = all(&g, &b, &journal);
             assert_eq!(points.len(), 4);
+            let offsets = g.end_offsets(&b, &journal);
             for (k, side) in [(0, -1.0), (1, 1.0)] {
                 let p = points[k];
                 let radial = e0 + side * half * theta.sin(); // signed, along m
+                assert!((offsets[k] - m * radial).norm() < 1e-15, "end {k}: offset {:?}", offsets[k]);
                 let station = u + side * half * theta.cos(); // along a
                 let n = m * radial.signum();
                 let case = format!("e0 {e0}, theta {theta}, end {k}");
