@@ -196,6 +196,56 @@ mod tests {
         check_arms_by_virtual_work(&socket, &ball, &|s, b| all(&g, s, b), 1);
     }
 
+    /// In planar motion (centres in the xy plane, the bodies turning about z) the ball
+    /// in its socket is the planar journal in its bearing: the planar kernel's
+    /// penetration, normal, rate, slip (along `t = perp(n)`) and points.
+    #[test]
+    fn planar_motion_is_the_planar_journal() {
+        use crate::math::{perp, rotate, Vec2};
+        use crate::mechanics::contact::geometry::{contact_journal_bearing, JournalBearing};
+        use crate::mechanics::contact::ContactPoints;
+        use crate::mechanics::planar;
+        let g = BallSocket {
+            s_socket: Vec3::new(0.02, -0.005, 0.0),
+            s_ball: Vec3::new(-0.03, 0.0, 0.0),
+            ..joint()
+        };
+        let flat = JournalBearing {
+            bearing: Some(0),
+            s_bearing: Vec2::new(0.02, -0.005),
+            journal: Some(1),
+            s_journal: Vec2::new(-0.03, 0.0),
+            r_bearing: g.r_socket,
+            r_journal: g.r_ball,
+            clearance: g.clearance,
+        };
+        let lift = |b: &planar::BodyState| {
+            BodyState::new(
+                Vec3::new(b.r.x, b.r.y, 0.0),
+                Orientation::from_scaled_axis(Vec3::z() * b.phi()),
+                Vec3::new(b.v.x, b.v.y, 0.0),
+                Vec3::z() * b.omega,
+            )
+        };
+        let socket = planar::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
+        let centre_s = socket.r + rotate(socket.phi(), flat.s_bearing);
+        for (e, phi) in [(Vec2::new(0.00015, -0.0001), 1.1), (Vec2::new(-0.0002, 0.00007), -2.0)] {
+            let centre = centre_s + e - rotate(phi, flat.s_journal);
+            let ball = planar::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
+            let mut planar_points = ContactPoints::new();
+            contact_journal_bearing(&flat, &socket, &ball, f64::INFINITY, &mut planar_points);
+            let q = planar_points[0];
+            let t = perp(q.normal);
+            let p = all(&g, &lift(&socket), &lift(&ball))[0];
+            assert!((p.penetration - q.penetration).abs() < 1e-15);
+            assert!((p.normal - Vec3::new(q.normal.x, q.normal.y, 0.0)).norm() < 1e-12);
+            assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-12);
+            assert!((p.slip - Vec3::new(t.x, t.y, 0.0) * q.slip[0]).norm() < 1e-12);
+            assert!((Vec2::new(p.on_j.at.x, p.on_j.at.y) - q.on_j.at).norm() < 1e-14);
+            assert!((Vec2::new(p.on_i.at.x, p.on_i.at.y) - q.on_i.at).norm() < 1e-14);
+        }
+    }
+
     /// A centred ball: finite everything, the gap the whole clearance, the x axis as the
     /// normal, the slip the relative velocity's part across it.
     #[test]

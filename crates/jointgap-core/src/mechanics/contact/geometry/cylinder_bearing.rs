@@ -345,6 +345,76 @@ mod tests {
             assert_eq!(touching, vec![end], "offset {offset}, tilt {tilt}");
             assert!((out[0].penetration - 1e-5).abs() < 1e-15);
             assert!((out[0].normal - m * offset).norm() < 1e-10);
+            // The end force's moment about the journal centre: the force times its arm
+            // (L/2) cos(theta) (the end's reach normal to n), about the axis a x m, the
+            // way that turns the journal back from its tilt (a tilt towards +m of end
+            // 1 turns it about +a x m).
+            let p = out[0];
+            let f = p.force_on_j(250.0, &Vec3::zeros());
+            let centre = centre_b + m * (offset * C / 2.0);
+            let moment = (p.on_j.at - centre).cross(&f);
+            let arm = L / 2.0 * theta.cos();
+            let sign = if end == 1 { -1.0 } else { 1.0 } * offset;
+            let expected = a.cross(&m) * (sign * 250.0 * arm);
+            assert!((moment - expected).norm() < 1e-9 * 250.0 * arm, "{moment:?} vs {expected:?}");
+        }
+    }
+
+    /// In planar motion (both axes along z, the bodies turning about z) the journal's
+    /// two ends are the planar journal in its bearing, each with half its law: the
+    /// planar kernel's penetration, normal, rate, slip (along `t = perp(n)`) and
+    /// points, against the spatial kernel's.
+    #[test]
+    fn aligned_planar_motion_is_the_planar_journal() {
+        use crate::math::{rotate, Vec2};
+        use crate::mechanics::contact::geometry::{contact_journal_bearing, JournalBearing};
+        use crate::mechanics::contact::ContactPoints;
+        use crate::mechanics::planar;
+        let z = Vec3::z();
+        let g = CylinderBearing {
+            s_bearing: Vec3::new(0.02, -0.005, 0.0),
+            u_bearing: z,
+            s_journal: Vec3::new(-0.03, 0.0, 0.0),
+            u_journal: z,
+            axial_clearance: None,
+            ..joint()
+        };
+        let flat = JournalBearing {
+            bearing: Some(0),
+            s_bearing: Vec2::new(0.02, -0.005),
+            journal: Some(1),
+            s_journal: Vec2::new(-0.03, 0.0),
+            r_bearing: R_B,
+            r_journal: R_J,
+            clearance: C,
+        };
+        let lift = |b: &planar::BodyState| {
+            BodyState::new(
+                Vec3::new(b.r.x, b.r.y, 0.0),
+                Orientation::from_scaled_axis(z * b.phi()),
+                Vec3::new(b.v.x, b.v.y, 0.0),
+                z * b.omega,
+            )
+        };
+        let bearing = planar::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
+        let centre_b = bearing.r + rotate(bearing.phi(), flat.s_bearing);
+        for (e, phi) in [(Vec2::new(0.00015, -0.0001), 1.1), (Vec2::new(-0.0002, 0.00007), -2.0)] {
+            let centre = centre_b + e - rotate(phi, flat.s_journal);
+            let journal = planar::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
+            let mut planar_points = ContactPoints::new();
+            contact_journal_bearing(&flat, &bearing, &journal, f64::INFINITY, &mut planar_points);
+            let q = planar_points[0];
+            let t = crate::math::perp(q.normal);
+            for p in all(&g, &lift(&bearing), &lift(&journal)).iter() {
+                let k = p.index;
+                assert!((p.penetration - q.penetration).abs() < 1e-15, "end {k}");
+                assert!((p.normal - Vec3::new(q.normal.x, q.normal.y, 0.0)).norm() < 1e-12, "end {k}");
+                assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-12, "end {k}");
+                assert!((p.slip - Vec3::new(t.x, t.y, 0.0) * q.slip[0]).norm() < 1e-12, "end {k}");
+                let on_j = Vec2::new(p.on_j.at.x, p.on_j.at.y);
+                assert!((on_j - q.on_j.at).norm() < 1e-14 && p.share == 0.5, "end {k}");
+                assert!((p.on_j.at.z - (2.0 * k as f64 - 1.0) * L / 2.0).abs() < 1e-15, "end {k}");
+            }
         }
     }
 
