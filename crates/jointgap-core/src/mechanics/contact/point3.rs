@@ -184,6 +184,32 @@ mod tests {
         assert!((f - f.dot(&n) * n - f_t).norm() < 1e-12, "{f:?}");
     }
 
+    /// The friction laws act on the slip vector as it is (`FrictionSpec::force_on_slip`
+    /// over three components): the friction force lies in the tangent plane, against
+    /// the slip, and the force on body j keeps `-F_N` along `n`.
+    #[test]
+    fn friction_acts_on_the_slip_vector() {
+        let n = Vec3::new(2.0, -3.0, 6.0) / 7.0;
+        let v = Vec3::new(0.3, 0.1, -0.2);
+        let slip = v - n * v.dot(&n);
+        let none = MaterialPoint3 { body: None, at: Vec3::zeros(), arm: Vec3::zeros() };
+        let p = ContactPoint3 {
+            index: 0,
+            normal: n,
+            penetration: 1e-5,
+            penetration_rate: v.dot(&n),
+            slip,
+            share: 1.0,
+            on_i: none,
+            on_j: none,
+        };
+        let law = crate::model::FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 };
+        let f_t = law.force_on_slip(&p.slip, 100.0);
+        assert!(f_t.dot(&n).abs() < 1e-12);
+        assert!((f_t + slip.normalize() * 5.0).norm() < 1e-12, "{f_t:?}");
+        assert!((p.force_on_j(100.0, &f_t).dot(&n) + 100.0).abs() < 1e-12);
+    }
+
     /// A material point's velocity against the body's own point velocity `v + A (w' x
     /// s)` with `s` the point in the body frame.
     #[test]
