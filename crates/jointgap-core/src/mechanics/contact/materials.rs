@@ -1,6 +1,6 @@
 //! Contact materials: a small library of engineering metals and the generalised
 //! stiffness of a journal in a bearing (docs/physics.md section 3; sources in
-//! docs/clearance-joints.md).
+//! docs/clearance-joints.md) and of a ball in its socket (docs/spatial-clearance.md).
 
 use crate::error::{Error, Named};
 use crate::model::{Material, MaterialRef};
@@ -78,9 +78,41 @@ pub fn journal_bearing_stiffness(
     4.0 / (3.0 * (sigma(journal) + sigma(bearing))) * (ri * rj / (ri + rj)).sqrt()
 }
 
+/// The Hertz stiffness of a ball of radius `r_ball` in a concave spherical seat of radius
+/// `r_socket` (larger), `K = 4/3 E* sqrt(R*)` [N/m^1.5] with `1/E* = sigma_ball +
+/// sigma_socket`, `sigma = (1 - nu^2) / E`, and `R* = R_B R_S / (R_S - R_B)`: two
+/// bodies of revolution in point contact, the seat's curvature counted negative
+/// (Johnson 1985, section 4.2; docs/spatial-clearance.md). It is the formula that
+/// [`journal_bearing_stiffness`] borrows for a journal (the sphere's, with the bearing
+/// radius negative), so it is that function, with the ball as the journal and the socket
+/// as the bearing.
+pub fn ball_socket_stiffness(ball: &Material, socket: &Material, r_ball: f64, r_socket: f64) -> f64 {
+    journal_bearing_stiffness(ball, socket, r_ball, r_socket)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A steel ball (207 GPa, nu 0.3) of radius 10 mm in a brass seat (97 GPa, nu 0.3)
+    /// of 10.1 mm: by hand, `E* = 1 / (0.91/207e9 + 0.91/97e9) = 7.2582e10 Pa`, `R* =
+    /// 10 x 10.1 / 0.1 mm = 1.01 m`, `K = 4/3 x 7.2582e10 x sqrt(1.01) = 9.7258e10
+    /// N/m^1.5`. And through Hertz's contact radius (Johnson 1985, section 4.2): a
+    /// load P spreads over `a = (3 P R* / (4 E*))^(1/3)` and the two approach by `delta =
+    /// a^2 / R*`, where `K delta^1.5` must give P back.
+    #[test]
+    fn ball_in_seat_stiffness() {
+        let ball = Material { youngs_modulus: 207e9, poisson_ratio: 0.3 };
+        let seat = Material { youngs_modulus: 97e9, poisson_ratio: 0.3 };
+        let k = ball_socket_stiffness(&ball, &seat, 10.0e-3, 10.1e-3);
+        assert!((k / 9.7258e10 - 1.0).abs() < 1e-4, "K = {k:e}");
+        let (e_star, r_star): (f64, f64) = (7.258169e10, 1.01);
+        for p in [1.0, 250.0, 4e4] {
+            let a = (3.0 * p * r_star / (4.0 * e_star)).cbrt();
+            let delta = a * a / r_star;
+            assert!((k * delta.powf(1.5) / p - 1.0).abs() < 1e-6, "P = {p}");
+        }
+    }
 
     /// The founding case: stainless steel 207 GPa in brass 97 GPa, nu 0.3, radii 7.0
     /// and 7.5 mm give K = 3.136e10 N/m^1.5 (docs/physics.md section 5).

@@ -9,6 +9,7 @@ pub mod geometry;
 pub mod materials;
 pub mod normal;
 pub mod point;
+pub mod point3;
 mod state;
 
 pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};

@@ -7,6 +7,12 @@
 //! for whoever needs the gap itself, such as event location and the output), so a law
 //! that acts apart (a fluid film) still gets its point.
 
+mod ball_socket;
+mod cylinder_bearing;
 mod journal_bearing;
+#[cfg(test)]
+mod spatial_checks;
 
+pub use ball_socket::{contact_ball_socket, BallSocket};
+pub use cylinder_bearing::{contact_cylinder_bearing, CylinderBearing};
 pub use journal_bearing::{contact_journal_bearing, JournalBearing};

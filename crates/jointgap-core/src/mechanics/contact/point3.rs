@@ -1,0 +1,229 @@
+//! A spatial contact point: where a spatial clearance joint's two parts touch or, apart,
+//! come nearest, as a spatial contact geometry finds it ([`super::geometry`]: a ball in
+//! its socket, a journal in a cylindrical bearing) and the force laws read it
+//! (docs/spatial-clearance.md). The spatial counterpart of [`super::point`]: the same
+//! quantities, with a 3D normal and the slip as a vector in global axes instead of its
+//! components on a tangent basis, since in space the friction law acts along the slip
+//! itself.
+
+use std::ops::Deref;
+
+use crate::mechanics::spatial::body::{BodyState, Vec3};
+
+/// A point of a spatial body, in global axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialPoint3 {
+    /// The body it belongs to (`None`: the ground).
+    pub body: Option<usize>,
+    /// Where it is, global [m].
+    pub at: Vec3,
+    /// `at` from the body's centre of mass, global axes [m]: a force `f` at the point
+    /// has the moment `arm x f` about the centre of mass (in the body frame, `A^T (arm x
+    /// f)`, the generalized force on the body's virtual rotation `dpi'`).
+    pub arm: Vec3,
+}
+
+impl MaterialPoint3 {
+    /// The point `at` (global) of `body`, whose state is `state`.
+    #[inline]
+    pub fn of(body: Option<usize>, state: &BodyState, at: Vec3) -> Self {
+        MaterialPoint3 { body, at, arm: at - state.r }
+    }
+
+    /// Velocity [m/s] of the point, moving with its body (state `state`): `v + w x arm`.
+    #[inline]
+    pub fn velocity(&self, state: &BodyState) -> Vec3 {
+        state.v + state.omega_global().cross(&self.arm)
+    }
+}
+
+/// One contact point of a spatial clearance joint at one state. The joint's parts are
+/// those of its model entry: the part on body i (the socket, the bearing) and the part on
+/// body j (the ball, the journal). The normal points the way body j's point moves to
+/// press deeper into body i's part, so the normal force on body j acts along `-n`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactPoint3 {
+    /// Which of its geometry's points this is (0 to the geometry's count - 1): each keeps
+    /// its own contact state and impact list.
+    pub index: usize,
+    /// Unit normal `n`, global.
+    pub normal: Vec3,
+    /// Penetration `delta` [m]: positive in contact, minus the gap apart.
+    pub penetration: f64,
+    /// Penetration rate `delta_dot = v . n` [m/s], `v` the velocity of body j's point
+    /// relative to body i's: the time derivative of `penetration`.
+    pub penetration_rate: f64,
+    /// Slip: `v - (v . n) n`, the tangential part of that relative velocity, global
+    /// [m/s].
+    pub slip: Vec3,
+    /// The part of the joint's normal law this point carries: its normal force is `share`
+    /// times the law's force at its penetration and rate (1 for a ball in its socket;
+    /// 1/2 at each end of a journal, whose two ends together carry the whole journal's
+    /// law when it lies aligned).
+    pub share: f64,
+    /// The point of body i's part (the socket's, the bearing's wall).
+    pub on_i: MaterialPoint3,
+    /// The point of body j's part (the ball's, the journal's surface).
+    pub on_j: MaterialPoint3,
+}
+
+impl ContactPoint3 {
+    /// The contact force on body j at [`ContactPoint3::on_j`], global [N], from a normal
+    /// force `f_n` (compressive positive) and a friction force `f_t` (global, tangential):
+    /// `-F_N n + F_T`. Body i takes its opposite at [`ContactPoint3::on_i`].
+    #[inline]
+    pub fn force_on_j(&self, f_n: f64, f_t: &Vec3) -> Vec3 {
+        -self.normal * f_n + f_t
+    }
+}
+
+/// The most contact points any spatial geometry has: a journal in a bearing with thrust
+/// faces has four (two journal ends, two thrust faces).
+pub const MAX_POINTS3: usize = 4;
+
+/// The contact points a spatial geometry returns for one joint at one state, a list of
+/// fixed capacity ([`MAX_POINTS3`]), so that an evaluation allocates nothing.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactPoints3 {
+    points: [ContactPoint3; MAX_POINTS3],
+    len: usize,
+}
+
+impl ContactPoints3 {
+    /// No points.
+    #[inline]
+    pub fn new() -> Self {
+        let none = MaterialPoint3 { body: None, at: Vec3::zeros(), arm: Vec3::zeros() };
+        let point = ContactPoint3 {
+            index: 0,
+            normal: Vec3::zeros(),
+            penetration: 0.0,
+            penetration_rate: 0.0,
+            slip: Vec3::zeros(),
+            share: 0.0,
+            on_i: none,
+            on_j: none,
+        };
+        ContactPoints3 { points: [point; MAX_POINTS3], len: 0 }
+    }
+
+    /// Adds a point; a geometry adds at most the points it declares, at most
+    /// [`MAX_POINTS3`].
+    #[inline]
+    pub fn push(&mut self, point: ContactPoint3) {
+        self.points[self.len] = point;
+        self.len += 1;
+    }
+}
+
+impl Default for ContactPoints3 {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Deref for ContactPoints3 {
+    type Target = [ContactPoint3];
+
+    #[inline]
+    fn deref(&self) -> &[ContactPoint3] {
+        &self.points[..self.len]
+    }
+}
+
+/// The contact point between material points `on_i` and `on_j` along unit normal `n`
+/// with penetration `penetration` and law share `share`: the relative velocity `v` of
+/// `on_j` to `on_i` (each moving with its body) split into the rate `v . n` and the slip
+/// `v - (v . n) n`. Every spatial geometry ends with it, so all of them split alike.
+#[inline]
+pub(crate) fn split(
+    index: usize,
+    n: Vec3,
+    penetration: f64,
+    share: f64,
+    (on_i, state_i): (MaterialPoint3, &BodyState),
+    (on_j, state_j): (MaterialPoint3, &BodyState),
+) -> ContactPoint3 {
+    let v = on_j.velocity(state_j) - on_i.velocity(state_i);
+    let rate = v.dot(&n);
+    ContactPoint3 {
+        index,
+        normal: n,
+        penetration,
+        penetration_rate: rate,
+        slip: v - n * rate,
+        share,
+        on_i,
+        on_j,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mechanics::spatial::body::Orientation;
+
+    /// A force on body j's point: its normal part is `-F_N`, the rest the friction force.
+    #[test]
+    fn point_force_splits_along_normal_and_tangent() {
+        let n = Vec3::new(2.0, -3.0, 6.0) / 7.0;
+        let f_t = Vec3::new(3.0, 2.0, 0.0) * 1.5; // perpendicular to n
+        let none = MaterialPoint3 { body: None, at: Vec3::zeros(), arm: Vec3::zeros() };
+        let p = ContactPoint3 {
+            index: 0,
+            normal: n,
+            penetration: 1e-5,
+            penetration_rate: 0.0,
+            slip: Vec3::zeros(),
+            share: 1.0,
+            on_i: none,
+            on_j: none,
+        };
+        let f = p.force_on_j(100.0, &f_t);
+        assert!((f.dot(&n) + 100.0).abs() < 1e-12, "{f:?}");
+        assert!((f - f.dot(&n) * n - f_t).norm() < 1e-12, "{f:?}");
+    }
+
+    /// The friction laws act on the slip vector as it is (`FrictionSpec::force_on_slip`
+    /// over three components): the friction force lies in the tangent plane, against
+    /// the slip, and the force on body j keeps `-F_N` along `n`.
+    #[test]
+    fn friction_acts_on_the_slip_vector() {
+        let n = Vec3::new(2.0, -3.0, 6.0) / 7.0;
+        let v = Vec3::new(0.3, 0.1, -0.2);
+        let slip = v - n * v.dot(&n);
+        let none = MaterialPoint3 { body: None, at: Vec3::zeros(), arm: Vec3::zeros() };
+        let p = ContactPoint3 {
+            index: 0,
+            normal: n,
+            penetration: 1e-5,
+            penetration_rate: v.dot(&n),
+            slip,
+            share: 1.0,
+            on_i: none,
+            on_j: none,
+        };
+        let law = crate::model::FrictionSpec::Coulomb { mu_s: 0.08, mu_d: 0.05, v_s: 1e-4, v_d: 0.01016 };
+        let f_t = law.force_on_slip(&p.slip, 100.0);
+        assert!(f_t.dot(&n).abs() < 1e-12);
+        assert!((f_t + slip.normalize() * 5.0).norm() < 1e-12, "{f_t:?}");
+        assert!((p.force_on_j(100.0, &f_t).dot(&n) + 100.0).abs() < 1e-12);
+    }
+
+    /// A material point's velocity against the body's own point velocity `v + A (w' x
+    /// s)` with `s` the point in the body frame.
+    #[test]
+    fn material_point_moves_with_its_body() {
+        let e = Orientation::from_scaled_axis(Vec3::new(0.3, -1.1, 0.7));
+        let b = BodyState::new(
+            Vec3::new(0.1, 0.2, -0.3),
+            e,
+            Vec3::new(1.0, -2.0, 0.5),
+            Vec3::new(4.0, 5.0, -6.0),
+        );
+        let s = Vec3::new(0.02, -0.01, 0.05);
+        let p = MaterialPoint3::of(Some(3), &b, b.r + b.rotate(&s));
+        assert!((p.velocity(&b) - b.point_velocity(&s)).norm() < 1e-14);
+        assert!((p.arm - b.rotate(&s)).norm() < 1e-15);
+    }
+}
