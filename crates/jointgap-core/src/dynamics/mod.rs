@@ -6,7 +6,7 @@
 //! are solved ahead of the Schur complement and their multipliers after it
 //! ([`prescribed`]).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Vector3};
 
 pub mod assembly;
 pub mod prescribed;
@@ -20,6 +20,7 @@ use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, Planar};
+use crate::mechanics::spatial::{self, kind::Spatial};
 use crate::profile::{self, Profile};
 use crate::system::System;
 use prescribed::PrescribedBody;
@@ -220,6 +221,23 @@ impl<K: Contacts> Workspace<K> {
     /// `Cq v + ct` row by row: the velocity constraint residual.
     fn velocity_residual<'a>(&'a self, v: &'a [f64]) -> impl Iterator<Item = f64> + 'a {
         self.jac.iter().zip(self.ct.iter()).map(move |(row, ct)| row.dot(v) + ct)
+    }
+
+    /// The inverse mass that a unit force along `g` (a direction in velocity
+    /// coordinates) meets through the constraints of the last evaluation,
+    /// `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g`, between zero and the free `g^T M^-1 g`.
+    fn inverse_mass_along(&mut self, g: &[f64]) -> f64 {
+        let u: Vec<f64> = g.iter().zip(&self.m_inv).map(|(g, m)| g * m).collect();
+        let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
+        let mut inverse_mass = free;
+        if self.dynamic > 0 {
+            let mut mu: Vec<f64> = self.jac[..self.dynamic].iter().map(|row| row.dot(&u)).collect();
+            let r = mu.clone();
+            if self.schur_solve(&mut mu).is_ok() {
+                inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
+            }
+        }
+        inverse_mass.clamp(0.0, free)
     }
 
     /// `x -= M^-1 Cq^T mu` over the Schur complement's rows (`mu` has one entry each).
@@ -606,17 +624,59 @@ impl Contacts for Planar {
                         planar::add_force(g, point - state.r, t * sign);
                     }
                 }
-                let u: Vec<f64> = g.iter().zip(&ws.m_inv).map(|(g, m)| g * m).collect();
-                let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
-                let mut inverse_mass = free;
-                if ws.dynamic > 0 {
-                    let mut mu: Vec<f64> = ws.jac[..ws.dynamic].iter().map(|row| row.dot(&u)).collect();
-                    let r = mu.clone();
-                    if ws.schur_solve(&mut mu).is_ok() {
-                        inverse_mass -= r.iter().zip(&mu).map(|(r, m)| r * m).sum::<f64>();
-                    }
+                rate = rate.max(damping * ws.inverse_mass_along(&g));
+            }
+        }
+        rate
+    }
+}
+
+impl Contacts for Spatial {
+    fn contact_point_count(sys: &System<Spatial>) -> usize {
+        contact::point_count(&sys.clearances)
+    }
+
+    #[inline]
+    fn add_contact_loads<'a>(
+        sys: &System<Spatial>,
+        state: impl Fn(Option<usize>) -> &'a spatial::body::BodyState,
+        contacts: &[ContactState],
+        loads: &mut Loads,
+    ) {
+        for (_, c, points) in contact::slots(&sys.clearances) {
+            let [i, j] = c.parts();
+            c.add_to(state(i), state(j), &contacts[points], loads);
+        }
+    }
+
+    /// As the planar kind's, the slip taken along two tangents at each contact point
+    /// (perpendicular to its normal) at the slip's speed.
+    fn friction_rate(sys: &System<Spatial>, q: &[f64], v: &[f64], ws: &mut Workspace<Spatial>) -> f64 {
+        let mut rate = 0.0f64;
+        for (k, c, points) in contact::slots(&sys.clearances) {
+            let [i, j] = c.parts();
+            let (si, sj) = (sys.body_state(i, q, v), sys.body_state(j, q, v));
+            for p in sys.contact_points(k, q, v).iter() {
+                let contact = ws.contacts[points.start + p.index];
+                let (f_n, _) = c.force(p, contact.onset_for(p.penetration_rate));
+                let damping = if f_n > 0.0 { c.friction.damping(p.slip.norm(), f_n) } else { 0.0 };
+                if damping == 0.0 {
+                    continue;
                 }
-                rate = rate.max(damping * inverse_mass.clamp(0.0, free));
+                let t1 = p
+                    .normal
+                    .cross(&if p.normal.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() })
+                    .normalize();
+                for t in [t1, p.normal.cross(&t1)] {
+                    let mut g = vec![0.0; ws.m_inv.len()];
+                    let mut along = Loads::new(&sys.layout, &mut g);
+                    for (point, state, sign) in [(&p.on_j, &sj, 1.0), (&p.on_i, &si, -1.0)] {
+                        if let Some(g) = along.body(point.body) {
+                            spatial::body::add_force(g, state, &point.arm, &(t * sign));
+                        }
+                    }
+                    rate = rate.max(damping * ws.inverse_mass_along(&g));
+                }
             }
         }
         rate

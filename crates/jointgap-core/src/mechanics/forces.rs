@@ -18,7 +18,7 @@ pub struct TimeTable<const N: usize> {
 
 impl<const N: usize> TimeTable<N> {
     /// A table of `who`'s `key` (`force`, `torque`), its errors naming them.
-    fn new(who: Named, key: &str, time: Vec<f64>, value: Vec<[f64; N]>) -> Result<Self, Error> {
+    pub(crate) fn new(who: Named, key: &str, time: Vec<f64>, value: Vec<[f64; N]>) -> Result<Self, Error> {
         if time.is_empty() || time.len() != value.len() {
             return Err(who.error(
                 key,
@@ -53,7 +53,7 @@ impl<const N: usize> TimeTable<N> {
     }
 
     /// `who`'s `key` (`force`, `torque`), constant or a table.
-    fn from_signal(who: Named, key: &str, s: &Signal<[f64; N]>) -> Result<Self, Error> {
+    pub(crate) fn from_signal(who: Named, key: &str, s: &Signal<[f64; N]>) -> Result<Self, Error> {
         match s {
             Signal::Constant(v) => {
                 if let Some(x) = v.iter().find(|x| !x.is_finite()) {
@@ -63,6 +63,11 @@ impl<const N: usize> TimeTable<N> {
             }
             Signal::Table { time, value } => Self::new(who, key, time.clone(), value.clone()),
         }
+    }
+
+    /// The table's times, where the load's slope jumps.
+    pub fn times(&self) -> &[f64] {
+        &self.time
     }
 
     /// Value at time `t`.
@@ -168,7 +173,7 @@ fn add_torque(loads: &mut Loads, b: Option<usize>, tau: f64) {
     }
 }
 
-fn non_negative(who: Named, what: &str, unit: &str, v: f64) -> Result<f64, Error> {
+pub(crate) fn non_negative(who: Named, what: &str, unit: &str, v: f64) -> Result<f64, Error> {
     if v.is_finite() && v >= 0.0 {
         Ok(v)
     } else {

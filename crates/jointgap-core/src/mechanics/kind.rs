@@ -81,6 +81,8 @@ pub trait BodyKind: Copy + Debug + Default + Send + Sync + 'static {
     type Vector: Copy + Debug + PartialEq + Send + Sync;
     /// A body's rotational inertia about its centre of mass.
     type Inertia: Copy + Debug + PartialEq + Send + Sync;
+    /// The kinds of joint of a model of this kind.
+    type JointKind: Copy + Debug + PartialEq + Send + Sync;
     /// One scalar constraint equation between two bodies.
     type RowKind: Copy + Debug + PartialEq + Send + Sync;
     /// A force element.

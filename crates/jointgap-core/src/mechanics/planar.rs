@@ -194,6 +194,7 @@ impl BodyKind for Planar {
     type State = BodyState;
     type Vector = Vec2;
     type Inertia = f64;
+    type JointKind = crate::model::JointKind;
     type RowKind = RowKind;
     type Force = ForceElement;
     type Clearance = ClearanceRevolute;

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::{Driver, Signal};
+use super::{Clearance, Driver, Signal};
 
 /// A spatial mechanism.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -151,6 +151,13 @@ pub enum JointKind {
     /// Body j's point stays in body i's plane (normal `axis`) and the two normals stay
     /// parallel (3).
     Planar,
+    /// Ball joint with clearance: no constraint, a contact force element between the
+    /// socket (on body i at point i) and the ball (on body j at point j).
+    ClearanceSpherical,
+    /// Revolute joint with radial clearance, whose journal may tilt: no constraint, a
+    /// contact force element between the bearing (body i, point i, `axis`) and the
+    /// journal (body j, point j, `axis_j`) of the given `length`.
+    ClearanceCylindrical,
 }
 
 /// A joint between body `body_i` and body `body_j` (either may be `ground`).
@@ -178,6 +185,19 @@ pub struct Joint {
     /// placement (a universal joint needs it: body j's cross axis).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis_j: Option<[f64; 3]>,
+    /// Contact data of a clearance joint (hole on body i, pin on body j): radii,
+    /// stiffness or materials, laws; required for the clearance kinds, rejected for the
+    /// others.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<Clearance>,
+    /// Length of a cylindrical clearance joint's journal [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+    /// Axial clearance of a cylindrical clearance joint [m]: the gap on each side
+    /// between the journal's ends and the bearing's thrust faces, with the journal
+    /// centred; no thrust faces when not given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub axial_clearance: Option<f64>,
     /// Joint coordinate at t = 0 (angle about the axis [rad] of a revolute or
     /// cylindrical joint, travel along it [m] of a prismatic one).
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -5,7 +5,8 @@
 //! ([`contact::slots`]): a point's place in that order is its slot.
 
 use crate::integrators::ode::DenseStep;
-use crate::mechanics::contact::{self, ClearanceJoint, ContactPoint, ContactState, Mode};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactMeasure, ContactPoint, ContactState, Mode};
+use crate::mechanics::kind::BodyKind;
 use crate::output::{Impact, JointImpacts};
 use crate::system::System;
 
@@ -30,7 +31,7 @@ const PROBES: usize = 8;
 pub fn locate<K: Kind>(
     sys: &System<K>,
     states: &[ContactState],
-    log: &mut ImpactLog,
+    log: &mut ImpactLog<PointOf<K>>,
     step: &DenseStep,
     scratch: &mut [f64],
 ) -> Option<(f64, usize)> {
@@ -51,7 +52,7 @@ pub fn locate<K: Kind>(
         // Each point's kinematics once per probe: the search and the peaks both use them.
         let mut probed = std::mem::take(&mut log.probed);
         points_at(sys, q, v, &mut probed);
-        let change = probed.iter().enumerate().position(|(s, p)| differs(s, p.penetration));
+        let change = probed.iter().enumerate().position(|(s, p)| differs(s, p.penetration()));
         if change.is_none() {
             for s in (0..states.len()).filter(|&s| states[s].in_contact) {
                 log.raise_peak(sys, s, &states[s], &probed[s]);
@@ -73,7 +74,7 @@ pub fn locate<K: Kind>(
     while b - a > 1e-12 {
         let mid = 0.5 * (a + b);
         step.at(mid, scratch);
-        let d = sys.contact_points(k, &scratch[..n], &scratch[n..])[i].penetration;
+        let d = sys.contact_points(k, &scratch[..n], &scratch[n..])[i].penetration();
         if differs(s, d) {
             b = mid;
         } else {
@@ -84,12 +85,15 @@ pub fn locate<K: Kind>(
 }
 
 /// Every contact point of the mechanism at `(q, v)`, by slot, into `out`.
-fn points_at<K: Kind>(sys: &System<K>, q: &[f64], v: &[f64], out: &mut Vec<ContactPoint>) {
+fn points_at<K: Kind>(sys: &System<K>, q: &[f64], v: &[f64], out: &mut Vec<PointOf<K>>) {
     out.clear();
     for k in 0..sys.clearances.len() {
         out.extend_from_slice(&sys.contact_points(k, q, v));
     }
 }
+
+/// The contact point type of body kind `K`'s clearance joints.
+pub type PointOf<K> = <<K as BodyKind>::Clearance as ClearanceJoint>::Point;
 
 /// Interior points at which a step's penetration is compared with its end-point model.
 const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
@@ -113,7 +117,7 @@ const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 fn screen<K: Kind>(
     sys: &System<K>,
     states: &[ContactState],
-    log: &mut ImpactLog,
+    log: &mut ImpactLog<PointOf<K>>,
     step: &DenseStep,
     scratch: &mut [f64],
 ) -> bool {
@@ -130,10 +134,10 @@ fn screen<K: Kind>(
     for (s, state) in states.iter().enumerate() {
         let (a, b) = (ends[s], ends[starts + s]);
         let model = Cubic {
-            d0: a.penetration,
-            r0: step.h * a.penetration_rate,
-            d1: b.penetration,
-            r1: step.h * b.penetration_rate,
+            d0: a.penetration(),
+            r0: step.h * a.penetration_rate(),
+            d1: b.penetration(),
+            r1: step.h * b.penetration_rate(),
         };
         let (low, at) = model.lowest(side(state));
         if low <= 0.0 {
@@ -142,7 +146,7 @@ fn screen<K: Kind>(
                 log.points.push(at);
             }
         }
-        if state.in_contact && (a.penetration_rate > 0.0 || b.penetration_rate > 0.0) {
+        if state.in_contact && (a.penetration_rate() > 0.0 || b.penetration_rate() > 0.0) {
             let c = &sys.clearances[log.owners[s].0];
             let force = |p| c.force(p, state.onset_speed).0;
             let peak = log.impacts[s].last().map_or(0.0, |i| i.peak_force);
@@ -156,7 +160,7 @@ fn screen<K: Kind>(
             let (q, v) = scratch.split_at(n);
             points_at(sys, q, v, &mut ends);
             for ((_, checked), p) in models.iter_mut().zip(&ends) {
-                checked[i] = p.penetration;
+                checked[i] = p.penetration();
             }
         }
         quiet = models.iter().zip(states).all(|((model, checked), state)| {
@@ -233,7 +237,7 @@ impl Cubic {
 }
 
 /// Impact lists being built during a run.
-pub struct ImpactLog {
+pub struct ImpactLog<P = ContactPoint> {
     /// One list per contact point, by slot.
     pub impacts: Vec<Vec<Impact>>,
     /// The clearance joint of each slot and the point's index in it.
@@ -242,7 +246,7 @@ pub struct ImpactLog {
     alone: Vec<bool>,
     /// Each point's kinematics at the current probe of [`locate`] (kept to reuse its
     /// allocation).
-    probed: Vec<ContactPoint>,
+    probed: Vec<P>,
     /// Each point's penetration model and checks in [`screen`] (kept for its allocation).
     models: Vec<(Cubic, [f64; 2])>,
     /// Extra points for [`locate`] to search, from [`screen`].
@@ -252,7 +256,7 @@ pub struct ImpactLog {
     pub mode_time: Vec<[f64; 3]>,
 }
 
-impl ImpactLog {
+impl<P: ContactMeasure> ImpactLog<P> {
     /// Empty lists for a system.
     pub fn new<K: Kind>(sys: &System<K>) -> Self {
         Self::for_points(sys.clearances.iter().map(|c| c.points()))
@@ -322,7 +326,7 @@ impl ImpactLog {
         v: &[f64],
     ) {
         let (k, i) = self.owners[slot];
-        let rate = sys.contact_points(k, q, v)[i].penetration_rate;
+        let rate = sys.contact_points(k, q, v)[i].penetration_rate();
         let s = &mut states[slot];
         if s.in_contact {
             s.separate();
@@ -343,26 +347,38 @@ impl ImpactLog {
 
     /// Raises the running impact peak force and penetration of the point in slot `slot`
     /// to those of a state in contact (the point given).
-    fn raise_peak<K: Kind>(&mut self, sys: &System<K>, slot: usize, state: &ContactState, p: &ContactPoint) {
+    fn raise_peak<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        slot: usize,
+        state: &ContactState,
+        p: &P,
+    ) {
         let (f_n, _) = sys.clearances[self.owners[slot].0].force(p, state.onset_speed);
         if let Some(last) = self.impacts[slot].last_mut() {
             last.peak_force = last.peak_force.max(f_n);
-            last.max_penetration = last.max_penetration.max(p.penetration);
+            last.max_penetration = last.max_penetration.max(p.penetration());
         }
     }
 
     /// At an accepted state (step end or output sample): the mode from the penetration
     /// rate, and the peaks of the current impact.
-    pub fn update<K: Kind>(&mut self, sys: &System<K>, states: &mut [ContactState], q: &[f64], v: &[f64]) {
+    pub fn update<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        states: &mut [ContactState],
+        q: &[f64],
+        v: &[f64],
+    ) {
         for (k, _, range) in contact::slots(&sys.clearances) {
             if !states[range.clone()].iter().any(|s| s.in_contact) {
                 continue;
             }
             for p in sys.contact_points(k, q, v).iter() {
-                let slot = range.start + p.index;
+                let slot = range.start + p.index();
                 let s = &mut states[slot];
                 if s.in_contact {
-                    s.follow(p.penetration_rate);
+                    s.follow(p.penetration_rate());
                     self.raise_peak(sys, slot, s, p);
                 }
             }
@@ -379,7 +395,7 @@ mod tests {
     /// each slot has its own impact list and mode times.
     #[test]
     fn impact_log_is_kept_per_joint_and_point() {
-        let log = ImpactLog::for_points([1, 3, 2]);
+        let log: ImpactLog = ImpactLog::for_points([1, 3, 2]);
         assert_eq!(log.owners, vec![(0, 0), (1, 0), (1, 1), (1, 2), (2, 0), (2, 1)]);
         let numbers: Vec<_> = (0..6).map(|s| log.point_number(s)).collect();
         assert_eq!(numbers, vec![None, Some(1), Some(2), Some(3), Some(1), Some(2)]);

@@ -3,7 +3,7 @@
 //! onto the constraints, and output at sample times from each step's dense output.
 
 use super::equations::Ode;
-use super::events::{self, ImpactLog};
+use super::events::{self, ImpactLog, PointOf};
 use super::monitor::{Monitor, Progress};
 use super::options::{Method, SimOptions};
 use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
@@ -36,7 +36,7 @@ pub fn integrate<K: Kind>(
     opts: &SimOptions,
     y: &mut Vec<f64>,
     rec: &mut Recorder<K>,
-    log: &mut ImpactLog,
+    log: &mut ImpactLog<PointOf<K>>,
     stats: &mut RunStats,
     monitor: &mut dyn Monitor,
 ) -> Status {
@@ -407,7 +407,7 @@ fn grow_after_success<K: Kind>(
 /// The first contact onset or separation inside an accepted step, `(theta, joint)`.
 fn locate_event<K: Kind>(
     ode: &mut Ode<'_, K>,
-    log: &mut ImpactLog,
+    log: &mut ImpactLog<PointOf<K>>,
     step: &DenseStep,
     sample: &mut [f64],
 ) -> Option<(f64, usize)> {
@@ -422,7 +422,7 @@ fn locate_event<K: Kind>(
 fn record_samples_inside<K: Kind>(
     ode: &mut Ode<'_, K>,
     rec: &mut Recorder<K>,
-    log: &mut ImpactLog,
+    log: &mut ImpactLog<PointOf<K>>,
     step: &DenseStep,
     (t, t_new): (f64, f64),
     grid: &mut Sampling,

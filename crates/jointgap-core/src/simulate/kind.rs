@@ -6,7 +6,6 @@ use super::record::Cursor;
 use crate::dynamics::{Contacts, Workspace};
 use crate::error::Error;
 use crate::mechanics::kind::RowEval;
-use crate::model::JointKind;
 use crate::system::{JointInfo, MarkerInfo, System};
 
 /// A body kind a model can be made of.
@@ -43,11 +42,11 @@ pub trait Kind: Contacts {
     );
 
     /// The channels of a joint's coordinate and its rate, after its forces.
-    fn coordinate_quantities(kind: JointKind) -> &'static [&'static str];
+    fn coordinate_quantities(kind: Self::JointKind) -> &'static [&'static str];
 
-    /// A joint's coordinate and its rate (those a driver prescribes); `None` for a joint
-    /// without one.
-    fn joint_coordinate(j: &JointInfo<Self>, bi: &Self::State, bj: &Self::State) -> Option<(f64, f64)>;
+    /// Writes a joint's coordinates and their rates (those a driver prescribes), as
+    /// [`Kind::coordinate_quantities`] names them.
+    fn put_joint_coordinates(out: &mut Cursor, j: &JointInfo<Self>, bi: &Self::State, bj: &Self::State);
 
     /// A driver's effort (torque or force) on the driven body from its row `ev` and
     /// multiplier `lambda`: on body j, or on body i where j is the ground (`on_j` false).

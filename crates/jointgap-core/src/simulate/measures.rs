@@ -135,6 +135,7 @@ mod tests {
             s_i: Vec2::new(0.03, -0.01),
             s_j: Vec2::new(-0.02, 0.04),
             axis,
+            axis_j: None,
             rows: 0..0,
             clearance: None,
         };

@@ -13,6 +13,7 @@ pub mod monitor;
 mod options;
 mod planar_channels;
 pub mod record;
+mod spatial_channels;
 pub mod switching;
 
 pub use kind::Kind;
@@ -22,6 +23,8 @@ pub use options::{Method, SimOptions};
 use crate::dynamics::{self, assembly};
 use crate::mechanics::contact::ClearanceJoint;
 use crate::mechanics::planar::Planar;
+use crate::mechanics::spatial::kind::Spatial;
+use crate::model::spatial::SpatialModel;
 use crate::output::{RunStats, SimResult, Status};
 use crate::profile::Profile;
 use crate::system::System;
@@ -220,6 +223,22 @@ pub fn simulate_with(
     opts.check()?;
     let started = std::time::Instant::now();
     run_prepared(&prepare(model)?, opts, monitor, started)
+}
+
+/// [`simulate_with`] of a spatial model.
+pub fn simulate_spatial(
+    model: &SpatialModel,
+    opts: &SimOptions,
+    monitor: &mut dyn Monitor,
+) -> Result<SimResult, Error> {
+    opts.check()?;
+    let started = std::time::Instant::now();
+    run_prepared(&prepare_model::<Spatial>(model)?, opts, monitor, started)
+}
+
+/// [`check`] of a spatial model.
+pub fn check_spatial(model: &SpatialModel) -> Result<Vec<String>, Error> {
+    check_prepared(&prepare_model::<Spatial>(model)?)
 }
 
 /// [`simulate_with`] of a model already prepared, which a front end that checked it

@@ -197,8 +197,10 @@ impl Kind for Planar {
         coordinate_quantities(kind)
     }
 
-    fn joint_coordinate(j: &JointInfo, bi: &BodyState, bj: &BodyState) -> Option<(f64, f64)> {
-        joint_coordinate(j, bi, bj)
+    fn put_joint_coordinates(out: &mut Cursor, j: &JointInfo, bi: &BodyState, bj: &BodyState) {
+        let (value, rate) = joint_coordinate(j, bi, bj).expect("a joint with coordinate channels");
+        out.put(value);
+        out.put(rate);
     }
 
     fn driver_effort(ev: &RowEval<BodyRow>, rotation: bool, on_j: bool, l: f64) -> f64 {

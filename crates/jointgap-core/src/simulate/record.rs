@@ -317,7 +317,16 @@ impl<K: Kind> Recorder<K> {
         let mut out = Cursor { values: &mut self.values, kept: &self.kept, next: 0 };
         let mut put = |x: f64| out.put(x);
         for slot in sys.layout.slots() {
-            q[slot.q()].iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
+            if K::IDENTITY_RATE {
+                q[slot.q()].iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
+            } else {
+                // A sample between step ends comes from the dense output, which keeps a
+                // quaternion unit only to the step's error: the body's orientation is the
+                // normalised one (what every evaluation reads), and that is recorded.
+                let mut positions = q[slot.q()].to_vec();
+                K::normalise(&mut positions);
+                positions.iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
+            }
         }
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.
         let lambda_of = |r: usize| self.active_of_row[r].map_or(0.0, |a| ws.lambda[a]);
@@ -328,10 +337,7 @@ impl<K: Kind> Recorder<K> {
             }
             let coordinates = K::coordinate_quantities(j.kind).len();
             if coordinates > 0 && !out.skipped(coordinates) {
-                let (value, rate) =
-                    K::joint_coordinate(j, &bi, &bj).expect("a joint with coordinate channels");
-                out.put(value);
-                out.put(rate);
+                K::put_joint_coordinates(&mut out, j, &bi, &bj);
             }
         }
         for d in &sys.drivers {

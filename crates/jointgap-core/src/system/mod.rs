@@ -4,12 +4,13 @@
 
 pub(crate) mod magnitudes;
 pub mod resolved;
+mod spatial;
 
 use std::collections::HashMap;
 
 use crate::error::{ElementError, Error, Named};
 use crate::math::Vec2;
-use crate::mechanics::contact::{ClearanceJoint, ClearanceRevolute, ContactPoints};
+use crate::mechanics::contact::{ClearanceJoint, ClearanceRevolute};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{BodyKind, ForceLaw};
@@ -114,7 +115,7 @@ pub struct JointInfo<K: BodyKind = Planar> {
     /// Name.
     pub name: String,
     /// Kind.
-    pub kind: JointKind,
+    pub kind: K::JointKind,
     /// Body j, on which reactions are reported (`None`: ground).
     pub body_j: Option<usize>,
     /// Body i.
@@ -126,6 +127,8 @@ pub struct JointInfo<K: BodyKind = Planar> {
     /// Sliding direction of a prismatic joint (a spatial joint's axis), unit vector in
     /// the frame of body i.
     pub axis: Option<K::Vector>,
+    /// A spatial joint's axis in the frame of body j (planar joints: none).
+    pub axis_j: Option<K::Vector>,
     /// Its rows in `System::rows` (none for a clearance joint).
     pub rows: std::ops::Range<usize>,
     /// Index in `System::clearances` of a clearance joint.
@@ -197,7 +200,7 @@ fn placement(model: &Model, body: Option<usize>) -> BodyState {
     }
 }
 
-fn check_finite(who: Named, what: &str, values: &[f64]) -> Result<(), Error> {
+pub(crate) fn check_finite(who: Named, what: &str, values: &[f64]) -> Result<(), Error> {
     match values.iter().find(|v| !v.is_finite()) {
         Some(v) => Err(who.error(what, format!("{what} = {v} is not finite"))),
         None => Ok(()),
@@ -313,7 +316,7 @@ fn point_mass_inertia(
 /// The names of the model's elements seen so far: every body, joint, driver, force and
 /// marker needs a name of its own, since outputs and messages address elements by name.
 #[derive(Default)]
-struct Names<'m> {
+pub(crate) struct Names<'m> {
     /// Name -> kind of the element that took it.
     seen: HashMap<&'m str, &'static str>,
 }
@@ -321,7 +324,7 @@ struct Names<'m> {
 impl<'m> Names<'m> {
     /// Takes `name` for an element of `kind`, or an error naming it when it is empty,
     /// reserved, or taken.
-    fn claim(&mut self, kind: &'static str, name: &'m str) -> Result<(), Error> {
+    pub(crate) fn claim(&mut self, kind: &'static str, name: &'m str) -> Result<(), Error> {
         if name.is_empty() {
             return Err(Error::Model(format!("a {kind} has an empty name")));
         }
@@ -455,6 +458,7 @@ fn compile_joints<'m>(
             s_i,
             s_j,
             axis: sliding,
+            axis_j: None,
             rows: first..rows.len(),
             clearance,
         });
@@ -463,20 +467,25 @@ fn compile_joints<'m>(
 }
 
 /// The drivers compiled: each one's motion row on its joint's coordinate (appended to
-/// `rows`) and profile, whose corners go to `corners`.
-fn compile_drivers<'m>(
-    model: &'m Model,
+/// `rows`) and profile, whose corners go to `corners`. `model_joints` gives each model
+/// joint's name and whether it has an `initial` (or else an `initial_rate`) of its own;
+/// `coordinate_row(k, initial)` the row of joint `k`'s coordinate and whether it is a
+/// rotation, or why the joint cannot be driven.
+pub(crate) fn compile_drivers<'m, K: BodyKind>(
+    model_drivers: &'m [crate::model::Driver],
+    model_joints: &[(&str, Option<&'static str>)],
     names: &mut Names<'m>,
-    joints: &[JointInfo],
-    rows: &mut Vec<Row>,
+    joints: &[JointInfo<K>],
+    rows: &mut Vec<Row<K>>,
     corners: &mut Vec<f64>,
+    coordinate_row: impl Fn(usize, Option<f64>) -> Result<(K::RowKind, bool), String>,
 ) -> Result<Vec<DriverInfo>, Error> {
     let mut drivers = Vec::new();
-    for (k, d) in model.drivers.iter().enumerate() {
+    for (k, d) in model_drivers.iter().enumerate() {
         names.claim("driver", &d.name)?;
         let who = Named::driver(&d.name);
-        let jk = model.joints.iter().position(|j| j.name == d.joint).ok_or_else(|| {
-            let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+        let jk = model_joints.iter().position(|(name, _)| *name == d.joint).ok_or_else(|| {
+            let names: Vec<&str> = model_joints.iter().map(|(name, _)| *name).collect();
             who.error(
                 "joint",
                 format!("joint '{}' is not a joint of the model (joints: {})", d.joint, names.join(", ")),
@@ -493,8 +502,7 @@ fn compile_drivers<'m>(
         if let Some(v) = d.initial {
             check_finite(who, "initial", &[v])?;
         }
-        if model.joints[jk].initial.is_some() || model.joints[jk].initial_rate.is_some() {
-            let key = if model.joints[jk].initial.is_some() { "initial" } else { "initial_rate" };
+        if let Some(key) = model_joints[jk].1 {
             return Err(Named::joint(&d.joint).error(
                 key,
                 format!(
@@ -505,16 +513,7 @@ fn compile_drivers<'m>(
                 ),
             ));
         }
-        let Some((kind, rotation)) = coordinate_row(model, joints, jk, d.initial) else {
-            return Err(who.error(
-                "joint",
-                format!(
-                    "joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
-                    d.joint,
-                    if joint.kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
-                ),
-            ));
-        };
+        let (kind, rotation) = coordinate_row(jk, d.initial).map_err(|why| who.error("joint", why))?;
         corners.extend(profile.corners());
         rows.push(Row {
             body_i: joint.body_i,
@@ -528,6 +527,16 @@ fn compile_drivers<'m>(
         drivers.push(DriverInfo { name: d.name.clone(), joint: jk, rotation, profile, row: rows.len() - 1 });
     }
     Ok(drivers)
+}
+
+/// The key of a joint's own coordinate at t = 0, when it gives one: `initial`, else
+/// `initial_rate`.
+pub(crate) fn own_initial(initial: Option<f64>, rate: Option<f64>) -> Option<&'static str> {
+    if initial.is_some() {
+        Some("initial")
+    } else {
+        rate.map(|_| "initial_rate")
+    }
 }
 
 /// The joint coordinates and rates given at t = 0 (`initial`, `initial_rate`), as rows
@@ -598,7 +607,7 @@ fn compile_markers<'m>(
 
 /// The times inside the run where an input has a corner, in order, each once: the
 /// steps stop there.
-fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
+pub(crate) fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
     corners.retain(|t| *t > 0.0);
     corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
     corners.dedup();
@@ -618,7 +627,7 @@ fn placement_guess(model: &Model, layout: &Layout) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Models this process has compiled ([`System::new`]), for [`compilations`].
-static COMPILATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+pub(crate) static COMPILATIONS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
 
 /// How many models this process has compiled: a front end's test reads it to see that
 /// loading a model and running it, alone or in a batch, compiles the model once.
@@ -648,7 +657,25 @@ impl System<Planar> {
         let mut rows = Vec::new();
         let (joints, clearances) = compile_joints(model, &res, &mut names, &mut rows)?;
         let mut corners = Vec::new();
-        let drivers = compile_drivers(model, &mut names, &joints, &mut rows, &mut corners)?;
+        let model_joints: Vec<_> =
+            model.joints.iter().map(|j| (j.name.as_str(), own_initial(j.initial, j.initial_rate))).collect();
+        let drivers = compile_drivers(
+            &model.drivers,
+            &model_joints,
+            &mut names,
+            &joints,
+            &mut rows,
+            &mut corners,
+            |jk, initial| {
+                coordinate_row(model, &joints, jk, initial).ok_or_else(|| {
+                    format!(
+                        "joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                        joints[jk].name,
+                        if joints[jk].kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+                    )
+                })
+            },
+        )?;
         let initial_conditions = initial_conditions(model, &joints)?;
         let forces = compile_forces(model, &res, &mut names, &mut corners)?;
         let markers = compile_markers(model, &res, &mut names)?;
@@ -677,7 +704,7 @@ impl System<Planar> {
 
 impl<K: BodyKind> System<K> {
     /// Every contact point of clearance joint `k` at state `(q, v)`, apart or touching.
-    pub fn contact_points(&self, k: usize, q: &[f64], v: &[f64]) -> ContactPoints {
+    pub fn contact_points(&self, k: usize, q: &[f64], v: &[f64]) -> <K::Clearance as ClearanceJoint>::Points {
         let c = &self.clearances[k];
         let [i, j] = c.parts().map(|b| self.body_state(b, q, v));
         c.contacts(&i, &j, f64::INFINITY)

@@ -10,12 +10,13 @@ pub mod materials;
 pub mod normal;
 pub mod point;
 pub mod point3;
+pub mod spatial;
 mod state;
 
 pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};
 pub use state::{ContactState, Mode};
 
-use std::ops::Range;
+use std::ops::{Deref, Range};
 
 use crate::error::{Error, Named};
 use crate::math::Vec2;
@@ -27,11 +28,43 @@ use crate::output::ClearanceData;
 use geometry::{contact_journal_bearing, JournalBearing};
 use normal::NormalForce;
 
+/// What the run reads of any contact point, planar or spatial: which of its joint's
+/// points it is, its penetration and the penetration's rate.
+pub trait ContactMeasure: Copy + std::fmt::Debug {
+    /// Which of its geometry's points this is.
+    fn index(&self) -> usize;
+    /// Penetration [m]: positive in contact, minus the gap apart.
+    fn penetration(&self) -> f64;
+    /// Penetration rate [m/s].
+    fn penetration_rate(&self) -> f64;
+}
+
+impl ContactMeasure for ContactPoint {
+    #[inline]
+    fn index(&self) -> usize {
+        self.index
+    }
+    #[inline]
+    fn penetration(&self) -> f64 {
+        self.penetration
+    }
+    #[inline]
+    fn penetration_rate(&self) -> f64 {
+        self.penetration_rate
+    }
+}
+
 /// A clearance joint of some body kind, as the dynamics and the run see it: its parts,
 /// its contact points at a state, and the forces and losses of each point.
 pub trait ClearanceJoint {
     /// The state of a body of its kind.
     type State;
+    /// One contact point of its kind.
+    type Point: ContactMeasure;
+    /// Its contact points at one state.
+    type Points: Deref<Target = [Self::Point]>;
+    /// A friction force at a contact point (along its tangents, or a vector).
+    type Friction: Copy;
     /// Joint name.
     fn name(&self) -> &str;
     /// Its part on body i (the bearing, the socket) and on body j (the journal, the ball).
@@ -47,58 +80,37 @@ pub trait ClearanceJoint {
     fn reach(&self) -> f64;
     /// The contact points whose gap is below `reach` [m] (`f64::INFINITY`: all of them,
     /// in the order of their index).
-    fn contacts(&self, i: &Self::State, j: &Self::State, reach: f64) -> ContactPoints;
-    /// Normal force [N] and friction force along the tangents [N] at contact point `p`
-    /// for the impact onset speed `onset_speed` [m/s].
-    fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential);
+    fn contacts(&self, i: &Self::State, j: &Self::State, reach: f64) -> Self::Points;
+    /// Normal force [N] and friction force [N] at contact point `p` for the impact
+    /// onset speed `onset_speed` [m/s].
+    fn force(&self, p: &Self::Point, onset_speed: f64) -> (f64, Self::Friction);
     /// Power [W] contact point `p` dissipates, as `(normal, friction)`.
-    fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64);
+    fn losses(&self, p: &Self::Point, state: &ContactState) -> (f64, f64);
     /// Elastic energy [J] stored at contact point `p`.
-    fn elastic_energy(&self, p: &ContactPoint) -> f64;
+    fn elastic_energy(&self, p: &Self::Point) -> f64;
     /// Adds the contact forces to the loads, each point's with its own state in `states`.
     fn add_to(&self, i: &Self::State, j: &Self::State, states: &[ContactState], qe: &mut Loads);
 }
 
-/// A checked clearance joint: its contact geometry and its laws.
+/// A clearance joint's checked contact data, whatever its geometry: the radii of its
+/// hole (bearing, socket) and its pin (journal, ball), its normal law with the stiffness
+/// given or from the materials (`K = 4/3 E* sqrt(R*)`, [`materials`]), and its friction.
 #[derive(Debug, Clone)]
-pub struct ClearanceRevolute {
-    /// Joint name.
-    pub name: String,
-    /// Where its parts are and their shape: a journal in its bearing.
-    pub geometry: JournalBearing,
+pub struct Laws {
+    /// Radius of the hole [m].
+    pub r_bearing: f64,
+    /// Radius of the pin [m].
+    pub r_journal: f64,
     /// Normal law with its stiffness.
     pub normal: NormalForce,
     /// Friction law (checked).
     pub friction: FrictionSpec,
 }
 
-/// The largest normal force [N] an initial penetration may stand for: a journal that
-/// starts deeper in its bearing than its own normal law presses under 1 MN (100 t) is a
-/// modelling error, not a preloaded contact.
-pub const MAX_INITIAL_CONTACT_FORCE: f64 = 1e6;
-
-impl ClearanceRevolute {
-    /// The resolved contact data reported with a run's result.
-    pub fn data(&self) -> ClearanceData {
-        ClearanceData {
-            joint: self.name.clone(),
-            bearing_radius: self.geometry.r_bearing,
-            journal_radius: self.geometry.r_journal,
-            clearance: self.geometry.clearance,
-            stiffness: self.normal.stiffness,
-            exponent: self.normal.exponent,
-        }
-    }
-
-    /// Checks the joint's contact data; errors name the joint.
-    pub(crate) fn new(
-        j: &Joint,
-        c: &Clearance,
-        bearing: Option<usize>,
-        journal: Option<usize>,
-        res: &Resolver,
-    ) -> Result<Self, Error> {
-        let who = Named::joint(&j.name);
+impl Laws {
+    /// Checks joint `name`'s contact data `c`; errors name the joint.
+    pub fn new(name: &str, c: &Clearance) -> Result<Self, Error> {
+        let who = Named::joint(name);
         let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
             match v {
                 Some(x) if !(x.is_finite() && x > 0.0) => {
@@ -178,6 +190,59 @@ impl ClearanceRevolute {
                 ));
             }
         };
+        Ok(Laws {
+            r_bearing,
+            r_journal,
+            normal: NormalForce::new(name, &c.normal_law, stiffness, d_max_default)?,
+            friction: {
+                friction::check(name, &c.friction)?;
+                c.friction.clone()
+            },
+        })
+    }
+}
+
+/// A checked clearance joint: its contact geometry and its laws.
+#[derive(Debug, Clone)]
+pub struct ClearanceRevolute {
+    /// Joint name.
+    pub name: String,
+    /// Where its parts are and their shape: a journal in its bearing.
+    pub geometry: JournalBearing,
+    /// Normal law with its stiffness.
+    pub normal: NormalForce,
+    /// Friction law (checked).
+    pub friction: FrictionSpec,
+}
+
+/// The largest normal force [N] an initial penetration may stand for: a journal that
+/// starts deeper in its bearing than its own normal law presses under 1 MN (100 t) is a
+/// modelling error, not a preloaded contact.
+pub const MAX_INITIAL_CONTACT_FORCE: f64 = 1e6;
+
+impl ClearanceRevolute {
+    /// The resolved contact data reported with a run's result.
+    pub fn data(&self) -> ClearanceData {
+        ClearanceData {
+            joint: self.name.clone(),
+            bearing_radius: self.geometry.r_bearing,
+            journal_radius: self.geometry.r_journal,
+            clearance: self.geometry.clearance,
+            stiffness: self.normal.stiffness,
+            exponent: self.normal.exponent,
+        }
+    }
+
+    /// Checks the joint's contact data; errors name the joint.
+    pub(crate) fn new(
+        j: &Joint,
+        c: &Clearance,
+        bearing: Option<usize>,
+        journal: Option<usize>,
+        res: &Resolver,
+    ) -> Result<Self, Error> {
+        let who = Named::joint(&j.name);
+        let laws = Laws::new(&j.name, c)?;
         Ok(ClearanceRevolute {
             name: j.name.clone(),
             geometry: JournalBearing {
@@ -185,15 +250,12 @@ impl ClearanceRevolute {
                 s_bearing: res.point(who, "point_i", bearing, &j.point_i)?,
                 journal,
                 s_journal: res.point(who, "point_j", journal, &j.point_j)?,
-                r_bearing,
-                r_journal,
-                clearance: r_bearing - r_journal,
+                r_bearing: laws.r_bearing,
+                r_journal: laws.r_journal,
+                clearance: laws.r_bearing - laws.r_journal,
             },
-            normal: NormalForce::new(&j.name, &c.normal_law, stiffness, d_max_default)?,
-            friction: {
-                friction::check(&j.name, &c.friction)?;
-                c.friction.clone()
-            },
+            normal: laws.normal,
+            friction: laws.friction,
         })
     }
 
@@ -207,6 +269,9 @@ impl ClearanceRevolute {
 
 impl ClearanceJoint for ClearanceRevolute {
     type State = BodyState;
+    type Point = ContactPoint;
+    type Points = ContactPoints;
+    type Friction = Tangential;
 
     fn name(&self) -> &str {
         &self.name

@@ -12,6 +12,7 @@
 use std::f64::consts::{PI, TAU};
 
 use crate::mechanics::drivers::Motion;
+use crate::mechanics::kind::RowEval;
 use crate::mechanics::spatial::body::{BodyRow, BodyState, Vec3};
 
 /// One scalar constraint equation between body i and body j. Vectors and points are in
@@ -69,20 +70,9 @@ pub enum SpatialRowKind {
     },
 }
 
-/// A row evaluated at one state: residual, Jacobian blocks and right-hand sides.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SpatialRowEval {
-    /// Residual `C`.
-    pub c: f64,
-    /// `dC/d(r_i, pi'_i)`.
-    pub jac_i: BodyRow,
-    /// `dC/d(r_j, pi'_j)`.
-    pub jac_j: BodyRow,
-    /// `dC/dt`.
-    pub ct: f64,
-    /// Acceleration right-hand side: `Cq vdot = gamma`.
-    pub gamma: f64,
-}
+/// A spatial row evaluated at one state: residual, Jacobian blocks over `(v, w')` of
+/// each body, and right-hand sides.
+pub type SpatialRowEval = RowEval<BodyRow>;
 
 /// A Jacobian block from its translation part `t` (global) and its rotation part `b`
 /// (body frame).

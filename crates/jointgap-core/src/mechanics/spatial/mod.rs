@@ -4,6 +4,8 @@
 //! (Nikravesh 1988, chapter 6 and 11; docs/spatial.md).
 
 pub mod body;
+pub mod forces;
 pub mod inertia;
 pub mod joints;
+pub mod kind;
 pub mod orientation;

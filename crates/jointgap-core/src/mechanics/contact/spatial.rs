@@ -1,0 +1,177 @@
+//! Spatial clearance joints: a ball in its socket (spherical clearance) and a journal
+//! in its bearing that may tilt (cylindrical clearance), each a contact geometry of
+//! [`geometry`](super::geometry) with the same normal and friction laws as the planar
+//! clearance joint (docs/spatial-clearance.md). A contact point's normal force is its
+//! share of the law's (a journal end carries half) and its friction acts against the
+//! slip vector.
+
+use super::geometry::{contact_ball_socket, contact_cylinder_bearing, BallSocket, CylinderBearing};
+use super::normal::NormalForce;
+use super::point3::{ContactPoint3, ContactPoints3, MaterialPoint3};
+use super::{ClearanceJoint, ContactMeasure, ContactState, MAX_INITIAL_CONTACT_FORCE};
+use crate::error::{Error, Named};
+use crate::mechanics::layout::Loads;
+use crate::mechanics::spatial::body::{self, BodyState, Vec3};
+use crate::model::FrictionSpec;
+use crate::output::ClearanceData;
+
+/// Where a spatial clearance joint's parts are and their shape.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SpatialGeometry {
+    /// A ball (body j) in a spherical socket (body i).
+    BallSocket(BallSocket),
+    /// A journal (body j) in a cylindrical bearing (body i), free to tilt.
+    Cylinder(CylinderBearing),
+}
+
+/// A checked spatial clearance joint: its contact geometry and its laws.
+#[derive(Debug, Clone)]
+pub struct SpatialClearance {
+    /// Joint name.
+    pub name: String,
+    /// Its parts and their shape.
+    pub geometry: SpatialGeometry,
+    /// Normal law with its stiffness.
+    pub normal: NormalForce,
+    /// Friction law (checked).
+    pub friction: FrictionSpec,
+}
+
+impl ContactMeasure for ContactPoint3 {
+    #[inline]
+    fn index(&self) -> usize {
+        self.index
+    }
+    #[inline]
+    fn penetration(&self) -> f64 {
+        self.penetration
+    }
+    #[inline]
+    fn penetration_rate(&self) -> f64 {
+        self.penetration_rate
+    }
+}
+
+/// Adds force `f` (global) at the global point `p` of a body.
+#[inline]
+fn add_force_at(loads: &mut Loads, p: &MaterialPoint3, state: &BodyState, f: &Vec3) {
+    if let Some(qe) = loads.body(p.body) {
+        body::add_force(qe, state, &p.arm, f);
+    }
+}
+
+impl SpatialClearance {
+    /// The radii of the hole and the pin, and the radial clearance.
+    fn radii(&self) -> (f64, f64, f64) {
+        match &self.geometry {
+            SpatialGeometry::BallSocket(g) => (g.r_socket, g.r_ball, g.clearance),
+            SpatialGeometry::Cylinder(g) => (g.r_bearing, g.r_journal, g.clearance),
+        }
+    }
+}
+
+impl ClearanceJoint for SpatialClearance {
+    type State = BodyState;
+    type Point = ContactPoint3;
+    type Points = ContactPoints3;
+    type Friction = Vec3;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn parts(&self) -> [Option<usize>; 2] {
+        match &self.geometry {
+            SpatialGeometry::BallSocket(g) => [g.socket, g.ball],
+            SpatialGeometry::Cylinder(g) => [g.bearing, g.journal],
+        }
+    }
+
+    fn data(&self) -> ClearanceData {
+        let (r_bearing, r_journal, clearance) = self.radii();
+        ClearanceData {
+            joint: self.name.clone(),
+            bearing_radius: r_bearing,
+            journal_radius: r_journal,
+            clearance,
+            stiffness: self.normal.stiffness,
+            exponent: self.normal.exponent,
+        }
+    }
+
+    fn check_initial_penetration(&self, i: &BodyState, j: &BodyState) -> Result<(), Error> {
+        let limit = (MAX_INITIAL_CONTACT_FORCE / self.normal.stiffness).powf(1.0 / self.normal.exponent);
+        let (_, _, clearance) = self.radii();
+        match self.contacts(i, j, f64::INFINITY).iter().find(|p| p.penetration > limit) {
+            None => Ok(()),
+            Some(p) => {
+                let mm = 1e3;
+                Err(Named::joint(&self.name).error_of_element(format!(
+                    "contact point {} starts {:.4} mm deep (radial clearance {:.4} mm), deeper \
+                     than any elastic contact: this joint's normal law (K = {:.4e} N/m^{}) presses \
+                     {:.4} mm deep only under {:.0e} N; likely a wrong point (point_i or point_j), a \
+                     wrong radius, or a length in the wrong unit",
+                    p.index + 1,
+                    mm * p.penetration,
+                    mm * clearance,
+                    self.normal.stiffness,
+                    self.normal.exponent,
+                    mm * limit,
+                    MAX_INITIAL_CONTACT_FORCE,
+                )))
+            }
+        }
+    }
+
+    fn points(&self) -> usize {
+        match &self.geometry {
+            SpatialGeometry::BallSocket(_) => BallSocket::POINTS,
+            SpatialGeometry::Cylinder(g) => g.points(),
+        }
+    }
+
+    fn reach(&self) -> f64 {
+        self.normal.reach()
+    }
+
+    #[inline]
+    fn contacts(&self, i: &BodyState, j: &BodyState, reach: f64) -> ContactPoints3 {
+        let mut out = ContactPoints3::new();
+        match &self.geometry {
+            SpatialGeometry::BallSocket(g) => contact_ball_socket(g, i, j, reach, &mut out),
+            SpatialGeometry::Cylinder(g) => contact_cylinder_bearing(g, i, j, reach, &mut out),
+        }
+        out
+    }
+
+    #[inline]
+    fn force(&self, p: &ContactPoint3, onset_speed: f64) -> (f64, Vec3) {
+        let f_n = p.share * self.normal.force(p.penetration, p.penetration_rate, onset_speed);
+        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Vec3::zeros() };
+        (f_n, f_t)
+    }
+
+    /// As the planar joint's ([`super::ClearanceRevolute`]): the law's damping and
+    /// clipping lose `(F_N - share K delta^n) delta_dot`, friction `-F_T . v_t`.
+    fn losses(&self, p: &ContactPoint3, state: &ContactState) -> (f64, f64) {
+        let (f_n, f_t) = self.force(p, state.onset_for(p.penetration_rate));
+        let elastic = p.share * self.normal.elastic_force(p.penetration);
+        ((f_n - elastic) * p.penetration_rate, -f_t.dot(&p.slip))
+    }
+
+    fn elastic_energy(&self, p: &ContactPoint3) -> f64 {
+        p.share * self.normal.elastic_energy(p.penetration)
+    }
+
+    #[inline]
+    fn add_to(&self, i: &BodyState, j: &BodyState, states: &[ContactState], qe: &mut Loads) {
+        for p in self.contacts(i, j, self.reach()).iter() {
+            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
+            if f_n != 0.0 || f_t != Vec3::zeros() {
+                let f = p.force_on_j(f_n, &f_t);
+                add_force_at(qe, &p.on_j, j, &f);
+                add_force_at(qe, &p.on_i, i, &-f);
+            }
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! The spatial kind's output channels: a joint's reaction on body j as a force and a
+//! moment about the joint point (global axes), a clearance joint's resultant contact
+//! force and eccentricity (in the bearing body's frame) with each contact point's forces,
+//! penetration, slip and mode, the joint coordinates, the drivers' efforts and the
+//! markers' motion (docs/outputs.md).
+
+use super::kind::Kind;
+use super::record::Cursor;
+use crate::dynamics::Workspace;
+use crate::error::Error;
+use crate::mechanics::contact::point3::ContactPoint3;
+use crate::mechanics::contact::spatial::SpatialGeometry;
+use crate::mechanics::contact::{self, ClearanceJoint, Mode};
+use crate::mechanics::drivers::Motion;
+use crate::mechanics::kind::{BodyKind, RowEval};
+use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
+use crate::mechanics::spatial::joints::{perpendiculars, SpatialRowKind};
+use crate::mechanics::spatial::kind::Spatial;
+use crate::model::spatial::{JointKind, SpatialModel};
+use crate::system::{JointInfo, MarkerInfo, System};
+
+/// An ideal joint's channels: the reaction force on body j and its moment about the
+/// joint point, global axes.
+const REACTION_QUANTITIES: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
+
+/// A clearance joint's channels: the joint's own (`fx fy fz`: the resultant contact
+/// force on body j; `ex ey ez`: the eccentricity of the pin's centre in the frame of
+/// body i) and each contact point's (`true`), named as the planar joint's are.
+const CLEARANCE_QUANTITIES: [(&str, bool); 18] = [
+    ("fx", false),
+    ("fy", false),
+    ("fz", false),
+    ("fn", true),
+    ("ft", true),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("ex", false),
+    ("ey", false),
+    ("ez", false),
+    ("slip", true),
+    ("mode", true),
+    ("fnx", true),
+    ("fny", true),
+    ("fnz", true),
+    ("ftx", true),
+    ("fty", true),
+    ("ftz", true),
+];
+
+/// A marker's channels: position, velocity, acceleration, global axes.
+const MARKER_QUANTITIES: [&str; 9] = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"];
+
+const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
+
+/// The channels of a clearance joint of `points` contact points.
+fn clearance_channels(points: usize) -> Vec<(&'static str, Option<usize>)> {
+    let mut out = Vec::new();
+    for (quantity, of_point) in CLEARANCE_QUANTITIES {
+        match (of_point, points) {
+            (true, 1) | (false, _) => out.push((quantity, None)),
+            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
+        }
+    }
+    out
+}
+
+/// The rows of a joint's coordinates: its angle about the axis and its travel along it.
+fn coordinate_rows(j: &JointInfo<Spatial>) -> Vec<SpatialRowKind> {
+    let (Some(a_i), Some(a_j)) = (j.axis, j.axis_j) else { return Vec::new() };
+    let angle = SpatialRowKind::Rotation {
+        axis: a_i,
+        ref_i: perpendiculars(&a_i).0,
+        ref_j: perpendiculars(&a_j).0,
+        offset: 0.0,
+    };
+    let travel = SpatialRowKind::Along { a_i, s_i: j.s_i, s_j: j.s_j, offset: 0.0 };
+    match j.kind {
+        JointKind::Revolute => vec![angle],
+        JointKind::Prismatic => vec![travel],
+        JointKind::Cylindrical => vec![angle, travel],
+        _ => Vec::new(),
+    }
+}
+
+/// `Cq v` of a row over the two bodies.
+fn rate(ev: &RowEval<BodyRow>, bi: &BodyState, bj: &BodyState) -> f64 {
+    let part =
+        |jac: &BodyRow, b: &BodyState| (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>();
+    part(&ev.jac_i, bi) + part(&ev.jac_j, bj)
+}
+
+/// A clearance joint's channels at one state.
+fn put_clearance(
+    out: &mut Cursor,
+    sys: &System<Spatial>,
+    ws: &Workspace<Spatial>,
+    k: usize,
+    (q, v): (&[f64], &[f64]),
+) {
+    let c = &sys.clearances[k];
+    let [bi, bj] = c.parts().map(|b| sys.body_state(b, q, v));
+    let points = c.contacts(&bi, &bj, f64::INFINITY);
+    let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
+    let states = &ws.contacts[first..first + c.points()];
+    let forces: Vec<(f64, Vec3)> =
+        points.iter().map(|p| c.force(p, states[p.index].onset_for(p.penetration_rate))).collect();
+    let f =
+        points.iter().zip(&forces).fold(Vec3::zeros(), |sum, (p, (f_n, f_t))| sum + p.force_on_j(*f_n, f_t));
+    let e = match &c.geometry {
+        SpatialGeometry::BallSocket(g) => g.eccentricity(&bi, &bj),
+        SpatialGeometry::Cylinder(g) => g.eccentricity(&bi, &bj),
+    };
+    let e_local = bi.a.tr_mul(&e);
+    let mode = |p: &ContactPoint3| {
+        let state = &states[p.index];
+        if state.in_contact {
+            state.mode
+        } else {
+            Mode::FreeFlight
+        }
+    };
+    f.iter().for_each(|&x| out.put(x));
+    forces.iter().for_each(|(f_n, _)| out.put(*f_n));
+    forces.iter().for_each(|(_, f_t)| out.put(f_t.norm()));
+    points.iter().for_each(|p| out.put(p.penetration));
+    points.iter().for_each(|p| out.put(p.penetration_rate));
+    e_local.iter().for_each(|&x| out.put(x));
+    points.iter().for_each(|p| out.put(p.slip.norm()));
+    points.iter().for_each(|p| out.put(mode(p) as u8 as f64));
+    for d in 0..3 {
+        points.iter().zip(&forces).for_each(|(p, (f_n, _))| out.put(-p.normal[d] * f_n));
+    }
+    for d in 0..3 {
+        forces.iter().for_each(|(_, f_t)| out.put(f_t[d]));
+    }
+}
+
+impl Kind for Spatial {
+    type Model = SpatialModel;
+
+    fn compile(model: &SpatialModel) -> Result<System<Spatial>, Error> {
+        System::spatial(model)
+    }
+
+    fn magnitude_warnings(_model: &SpatialModel, _sys: &System<Spatial>) -> Vec<String> {
+        Vec::new()
+    }
+
+    fn joint_force_channels(
+        sys: &System<Spatial>,
+        j: &JointInfo<Spatial>,
+    ) -> Vec<(&'static str, Option<usize>)> {
+        match j.clearance {
+            Some(k) => clearance_channels(sys.clearances[k].points()),
+            None => REACTION_QUANTITIES.iter().map(|&q| (q, None)).collect(),
+        }
+    }
+
+    fn joint_force_channel_count(sys: &System<Spatial>, j: &JointInfo<Spatial>) -> usize {
+        match j.clearance {
+            Some(k) => CLEARANCE_QUANTITIES
+                .iter()
+                .map(|&(_, p)| if p { sys.clearances[k].points() } else { 1 })
+                .sum(),
+            None => REACTION_QUANTITIES.len(),
+        }
+    }
+
+    fn put_joint_forces(
+        out: &mut Cursor,
+        sys: &System<Spatial>,
+        ws: &Workspace<Spatial>,
+        j: &JointInfo<Spatial>,
+        (bi, bj): (&BodyState, &BodyState),
+        state: (&[f64], &[f64]),
+        lambda_of: &dyn Fn(usize) -> f64,
+    ) {
+        if let Some(k) = j.clearance {
+            put_clearance(out, sys, ws, k, state);
+            return;
+        }
+        // The generalized reaction on body j, -Cq_j^T lambda: a force (global) and a
+        // moment about the centre of mass (body frame).
+        let mut g = [0.0; 6];
+        for r in j.rows.clone() {
+            let ev = Spatial::eval(&sys.rows[r].kind, bi, bj, NO_MOTION);
+            let l = lambda_of(r);
+            g.iter_mut().zip(&ev.jac_j).for_each(|(g, e)| *g -= e * l);
+        }
+        let f = Vec3::new(g[0], g[1], g[2]);
+        let m = bj.rotate(&Vec3::new(g[3], g[4], g[5])) - bj.rotate(&j.s_j).cross(&f);
+        f.iter().chain(m.iter()).for_each(|&x| out.put(x));
+    }
+
+    fn coordinate_quantities(kind: JointKind) -> &'static [&'static str] {
+        match kind {
+            JointKind::Revolute => &["angle", "omega"],
+            JointKind::Prismatic => &["travel", "speed"],
+            JointKind::Cylindrical => &["angle", "omega", "travel", "speed"],
+            _ => &[],
+        }
+    }
+
+    fn put_joint_coordinates(out: &mut Cursor, j: &JointInfo<Spatial>, bi: &BodyState, bj: &BodyState) {
+        for row in coordinate_rows(j) {
+            let ev = row.eval(bi, bj, NO_MOTION);
+            out.put(ev.c);
+            out.put(rate(&ev, bi, bj));
+        }
+    }
+
+    /// The effort along the driven coordinate: the row's Jacobian over the driven body
+    /// is the unit axis (its rotation part for an angle), so the effort is the
+    /// multiplier's negative on body j and the multiplier itself on body i.
+    fn driver_effort(_ev: &RowEval<BodyRow>, _rotation: bool, on_j: bool, l: f64) -> f64 {
+        if on_j {
+            -l
+        } else {
+            l
+        }
+    }
+
+    const MARKER_QUANTITIES: &'static [&'static str] = &MARKER_QUANTITIES;
+
+    fn put_marker(
+        out: &mut Cursor,
+        sys: &System<Spatial>,
+        ws: &Workspace<Spatial>,
+        m: &MarkerInfo<Spatial>,
+        q: &[f64],
+        v: &[f64],
+    ) {
+        let b = sys.body_state(m.body, q, v);
+        let (a_cm, alpha) = match m.body {
+            None => (Vec3::zeros(), Vec3::zeros()),
+            Some(k) => {
+                let (a, alpha, _) = body::read_acceleration(&ws.qdd[sys.layout.slot(k).v()], &b);
+                (a, alpha)
+            }
+        };
+        let w = b.omega;
+        let p = b.r + b.rotate(&m.s);
+        let pv = b.point_velocity(&m.s);
+        let pa = a_cm + b.rotate(&(alpha.cross(&m.s) + w.cross(&w.cross(&m.s))));
+        p.iter().chain(pv.iter()).chain(pa.iter()).for_each(|&x| out.put(x));
+    }
+}
