@@ -5,7 +5,7 @@ use pyo3::exceptions::{PyKeyboardInterrupt, PyValueError};
 use pyo3::prelude::*;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
-use jointgap_core::simulate::Prepared;
+use jointgap_core::simulate::any::{AnyModel, AnyPrepared};
 
 pyo3::create_exception!(
     _jointgap,
@@ -40,11 +40,8 @@ fn defaults() -> PyResult<String> {
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-fn parse(
-    model_json: &str,
-    options_json: &str,
-) -> PyResult<(jointgap_core::Model, jointgap_core::SimOptions)> {
-    let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
+fn parse(model_json: &str, options_json: &str) -> PyResult<(AnyModel, jointgap_core::SimOptions)> {
+    let model = AnyModel::from_json(model_json).map_err(to_py_err)?;
     let options: jointgap_core::SimOptions =
         serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
     Ok((model, options))
@@ -54,7 +51,7 @@ fn parse(
 /// text, the most recent last: loading a model checks it, and its run, the estimate of
 /// its output size and the check itself then share one compilation. Preparing is a pure
 /// function of the text, so a model found here is the one a new compilation would give.
-static PREPARED: Mutex<Vec<(String, Arc<Prepared>)>> = Mutex::new(Vec::new());
+static PREPARED: Mutex<Vec<(String, Arc<AnyPrepared>)>> = Mutex::new(Vec::new());
 
 /// How many prepared models [`PREPARED`] keeps: a few, for the threads of a study or an
 /// identification that run different models at once; a batch's estimate of its output
@@ -62,25 +59,25 @@ static PREPARED: Mutex<Vec<(String, Arc<Prepared>)>> = Mutex::new(Vec::new());
 const PREPARED_KEPT: usize = 8;
 
 /// The kept prepared models; a panic while one was held leaves the list valid.
-fn kept() -> MutexGuard<'static, Vec<(String, Arc<Prepared>)>> {
+fn kept() -> MutexGuard<'static, Vec<(String, Arc<AnyPrepared>)>> {
     PREPARED.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// The prepared model of `model_json` (parsed as `model`), kept or prepared now.
-fn prepared(model_json: &str, model: &jointgap_core::Model) -> Result<Arc<Prepared>, jointgap_core::Error> {
+fn prepared(model_json: &str, model: &AnyModel) -> Result<Arc<AnyPrepared>, jointgap_core::Error> {
     prepared_keeping(model_json, model, PREPARED_KEPT)
 }
 
 /// [`prepared`], the list then keeping the last `keep` models.
 fn prepared_keeping(
     model_json: &str,
-    model: &jointgap_core::Model,
+    model: &AnyModel,
     keep: usize,
-) -> Result<Arc<Prepared>, jointgap_core::Error> {
+) -> Result<Arc<AnyPrepared>, jointgap_core::Error> {
     if let Some(found) = kept_prepared(model_json) {
         return Ok(found);
     }
-    let prepared = Arc::new(jointgap_core::simulate::prepare(model)?);
+    let prepared = Arc::new(AnyPrepared::new(model)?);
     let mut kept = kept();
     kept.push((model_json.to_string(), Arc::clone(&prepared)));
     let over = kept.len().saturating_sub(keep);
@@ -91,18 +88,15 @@ fn prepared_keeping(
 /// The prepared model of a batch's `model_json`: the kept one (its output size was
 /// estimated), else prepared now for its run alone (a batch without a rate: its models
 /// are not kept, they would push out those of the runs and checks the list is for).
-fn batch_prepared(
-    model_json: &str,
-    model: &jointgap_core::Model,
-) -> Result<Arc<Prepared>, jointgap_core::Error> {
+fn batch_prepared(model_json: &str, model: &AnyModel) -> Result<Arc<AnyPrepared>, jointgap_core::Error> {
     match kept_prepared(model_json) {
         Some(found) => Ok(found),
-        None => Ok(Arc::new(jointgap_core::simulate::prepare(model)?)),
+        None => Ok(Arc::new(AnyPrepared::new(model)?)),
     }
 }
 
 /// The kept prepared model of `model_json`, if any.
-fn kept_prepared(model_json: &str) -> Option<Arc<Prepared>> {
+fn kept_prepared(model_json: &str) -> Option<Arc<AnyPrepared>> {
     kept().iter().rev().find(|(text, _)| text == model_json).map(|(_, p)| Arc::clone(p))
 }
 
@@ -119,9 +113,9 @@ fn compilations() -> usize {
 /// the offending element, as a run would. The prepared model is kept for its run.
 #[pyfunction]
 fn check_model(model_json: &str) -> PyResult<Vec<String>> {
-    let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
+    let model = AnyModel::from_json(model_json).map_err(to_py_err)?;
     let prepared = prepared(model_json, &model).map_err(to_py_err)?;
-    jointgap_core::simulate::check_prepared(&prepared).map_err(to_py_err)
+    prepared.check().map_err(to_py_err)
 }
 
 /// Each clearance joint as the engine resolves it ([`jointgap_core::system::resolved`]: radii,
@@ -129,9 +123,8 @@ fn check_model(model_json: &str) -> PyResult<Vec<String>> {
 /// as a JSON list, without running the model.
 #[pyfunction]
 fn clearance_data(model_json: &str) -> PyResult<String> {
-    let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-    let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
-    let data = jointgap_core::system::resolved::clearances(&model, &system);
+    let model = AnyModel::from_json(model_json).map_err(to_py_err)?;
+    let data = jointgap_core::simulate::any::clearances(&model).map_err(to_py_err)?;
     serde_json::to_string(&data).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -142,13 +135,12 @@ fn clearance_data(model_json: &str) -> PyResult<String> {
 #[pyo3(signature = (model_json, options_json=None))]
 fn channel_names(model_json: &str, options_json: Option<&str>) -> PyResult<Vec<String>> {
     let Some(options_json) = options_json else {
-        let model = jointgap_core::Model::from_json(model_json).map_err(to_py_err)?;
-        let system = jointgap_core::System::new(&model).map_err(to_py_err)?;
-        return Ok(jointgap_core::simulate::record::channel_names(&system, false));
+        let model = AnyModel::from_json(model_json).map_err(to_py_err)?;
+        return jointgap_core::simulate::any::channel_names(&model).map_err(to_py_err);
     };
     let (model, options) = parse(model_json, options_json)?;
     let prepared = prepared(model_json, &model).map_err(to_py_err)?;
-    jointgap_core::simulate::recorded_channels_of(&prepared.system, &options).map_err(to_py_err)
+    prepared.recorded_channels(&options).map_err(to_py_err)
 }
 
 /// How many channels a run of each model with the options records ([`channel_names`]),
@@ -164,9 +156,9 @@ fn channel_counts(
         serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
     let keep = PREPARED_KEPT.max(models_json.len());
     let count = |model_json: &String| {
-        let model = jointgap_core::Model::from_json(model_json).ok()?;
+        let model = AnyModel::from_json(model_json).ok()?;
         let prepared = prepared_keeping(model_json, &model, keep).ok()?;
-        let names = jointgap_core::simulate::recorded_channels_of(&prepared.system, &options).ok()?;
+        let names = prepared.recorded_channels(&options).ok()?;
         Some(names.len())
     };
     Ok(py.allow_threads(|| models_json.iter().map(count).collect()))
@@ -288,7 +280,7 @@ fn simulate<'py>(
     let result = py
         .allow_threads(|| {
             let prepared = prepared(model_json, &model)?;
-            jointgap_core::simulate::simulate_prepared(&prepared, &options, &mut monitor)
+            prepared.run(&options, &mut monitor, std::time::Instant::now())
         })
         .map_err(to_py_err)?;
     if let Some(error) = monitor.error {
@@ -324,9 +316,9 @@ fn simulate_batch<'py>(
     let options: jointgap_core::SimOptions =
         serde_json::from_str(options_json).map_err(|e| PyValueError::new_err(format!("options: {e}")))?;
     check_interval(interval)?;
-    let parsed: Vec<Result<jointgap_core::Model, jointgap_core::Error>> =
-        models_json.iter().map(|m| jointgap_core::Model::from_json(m)).collect();
-    let valid: Vec<(&str, &jointgap_core::Model)> = models_json
+    let parsed: Vec<Result<AnyModel, jointgap_core::Error>> =
+        models_json.iter().map(|m| AnyModel::from_json(m)).collect();
+    let valid: Vec<(&str, &AnyModel)> = models_json
         .iter()
         .zip(&parsed)
         .filter_map(|(json, m)| Some((json.as_str(), m.as_ref().ok()?)))
@@ -337,7 +329,7 @@ fn simulate_batch<'py>(
             let (done, wait) = std::sync::mpsc::channel();
             let (valid, options, control) = (&valid, &options, &control);
             let runs = scope.spawn(move || {
-                let prepare = |(json, model): &(&str, &jointgap_core::Model)| batch_prepared(json, model);
+                let prepare = |(json, model): &(&str, &AnyModel)| batch_prepared(json, model);
                 let results =
                     jointgap_core::simulate::simulate_batch_of(valid, prepare, options, threads, control);
                 let _ = done.send(());

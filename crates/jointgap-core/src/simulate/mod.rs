@@ -3,6 +3,7 @@
 //! recorded.
 
 pub mod all_defaults;
+pub mod any;
 pub mod energy;
 pub mod equations;
 pub mod events;
@@ -171,14 +172,14 @@ pub fn simulate_batch(
     threads: Option<usize>,
     control: &BatchControl,
 ) -> Vec<Option<Result<SimResult, Error>>> {
-    simulate_batch_of(models, prepare, opts, threads, control)
+    simulate_batch_of(models, |m| prepare(m).map(any::AnyPrepared::Planar), opts, threads, control)
 }
 
 /// [`simulate_batch`] of `cases` that `prepare` turns into prepared models, each once, in
 /// the batch's threads as its run starts: a front end that holds some models prepared
 /// already hands them over instead of compiling them again. As in [`simulate_with`], a
 /// run's wall time counts its preparation.
-pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared<K>>, K: Kind>(
+pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<any::AnyPrepared>>(
     cases: &[C],
     prepare: impl Fn(&C) -> Result<P, Error> + Sync,
     opts: &SimOptions,
@@ -189,7 +190,7 @@ pub fn simulate_batch_of<C: Sync, P: std::borrow::Borrow<Prepared<K>>, K: Kind>(
     let simulate_one = |c: &C| {
         opts.check()?;
         let started = std::time::Instant::now();
-        run_prepared(prepare(c)?.borrow(), opts, &mut &*control, started)
+        prepare(c)?.borrow().run(opts, &mut &*control, started)
     };
     let one = |c: &C| (!control.stopped()).then(|| control.case(|| simulate_one(c)));
     let run = || {
@@ -254,7 +255,7 @@ pub fn simulate_prepared<K: Kind>(
 }
 
 /// One run of a prepared model; `started` is when the run's wall time starts.
-fn run_prepared<K: Kind>(
+pub(crate) fn run_prepared<K: Kind>(
     Prepared { system, initial }: &Prepared<K>,
     opts: &SimOptions,
     monitor: &mut dyn Monitor,

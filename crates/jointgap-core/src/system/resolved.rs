@@ -5,8 +5,11 @@
 
 use serde::Serialize;
 
-use crate::mechanics::contact::normal::NormalLaw;
-use crate::model::{FrictionSpec, Model, NormalLawSpec};
+use crate::mechanics::contact::normal::{NormalForce, NormalLaw};
+use crate::mechanics::contact::ClearanceJoint;
+use crate::mechanics::spatial::kind::Spatial;
+use crate::model::spatial::SpatialModel;
+use crate::model::{Clearance, FrictionSpec, Model, NormalLawSpec};
 use crate::output::ClearanceData;
 use crate::system::System;
 
@@ -25,6 +28,25 @@ pub struct ResolvedClearance {
     pub friction: FrictionSpec,
 }
 
+/// One clearance joint resolved: its model entry's `spec`, its normal law and friction
+/// as compiled, and its data.
+fn resolve(
+    spec: &Clearance,
+    normal: &NormalForce,
+    friction: &FrictionSpec,
+    data: ClearanceData,
+) -> ResolvedClearance {
+    let d_max = match normal.law {
+        NormalLaw::AdamsImpact { d_max, .. } => Some(d_max),
+        _ => None,
+    };
+    let mut normal_law = spec.normal_law.clone();
+    if let NormalLawSpec::AdamsImpact { d_max: given, .. } = &mut normal_law {
+        *given = d_max;
+    }
+    ResolvedClearance { data, d_max, normal_law, friction: friction.clone() }
+}
+
 /// Every clearance joint of `model`, compiled as `system`, in model order.
 pub fn clearances(model: &Model, system: &System) -> Vec<ResolvedClearance> {
     system
@@ -32,15 +54,19 @@ pub fn clearances(model: &Model, system: &System) -> Vec<ResolvedClearance> {
         .iter()
         .filter_map(|c| {
             let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
-            let d_max = match c.normal.law {
-                NormalLaw::AdamsImpact { d_max, .. } => Some(d_max),
-                _ => None,
-            };
-            let mut normal_law = spec.normal_law.clone();
-            if let NormalLawSpec::AdamsImpact { d_max: given, .. } = &mut normal_law {
-                *given = d_max;
-            }
-            Some(ResolvedClearance { data: c.data(), d_max, normal_law, friction: c.friction.clone() })
+            Some(resolve(spec, &c.normal, &c.friction, c.data()))
+        })
+        .collect()
+}
+
+/// Every clearance joint of a spatial `model`, compiled as `system`, in model order.
+pub fn spatial_clearances(model: &SpatialModel, system: &System<Spatial>) -> Vec<ResolvedClearance> {
+    system
+        .clearances
+        .iter()
+        .filter_map(|c| {
+            let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
+            Some(resolve(spec, &c.normal, &c.friction, c.data()))
         })
         .collect()
 }
