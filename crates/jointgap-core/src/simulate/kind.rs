@@ -6,7 +6,7 @@ use super::record::Cursor;
 use crate::dynamics::{Contacts, Workspace};
 use crate::error::Error;
 use crate::mechanics::kind::RowEval;
-use crate::system::{JointInfo, MarkerInfo, System};
+use crate::system::{BodyInfo, JointInfo, MarkerInfo, System};
 
 /// A body kind a model can be made of.
 pub trait Kind: Contacts {
@@ -51,6 +51,13 @@ pub trait Kind: Contacts {
     /// A driver's effort (torque or force) on the driven body from its row `ev` and
     /// multiplier `lambda`: on body j, or on body i where j is the ground (`on_j` false).
     fn driver_effort(ev: &RowEval<Self::Row>, rotation: bool, on_j: bool, lambda: f64) -> f64;
+
+    /// A body's channels after its coordinates' (none for a planar body).
+    const BODY_EXTRA: &'static [&'static str] = &[];
+
+    /// Writes body `b`'s [`Kind::BODY_EXTRA`] channels from its positions `q`, velocities
+    /// `v` and accelerations `a`.
+    fn put_body_extra(_out: &mut Cursor, _b: &BodyInfo<Self>, _q: &[f64], _v: &[f64], _a: &[f64]) {}
 
     /// A marker's channels.
     const MARKER_QUANTITIES: &'static [&'static str];

@@ -84,7 +84,7 @@ pub struct Recorder<K: Kind = Planar> {
 pub fn channel_names<K: Kind>(sys: &System<K>, energy: bool) -> Vec<String> {
     let mut names = Vec::new();
     for b in &sys.bodies {
-        names.extend(K::CHANNELS.iter().map(|q| format!("{}.{q}", b.name)));
+        names.extend(K::CHANNELS.iter().chain(K::BODY_EXTRA).map(|q| format!("{}.{q}", b.name)));
     }
     for j in &sys.joints {
         names.extend(K::joint_force_channels(sys, j).into_iter().map(|(q, point)| match point {
@@ -315,17 +315,22 @@ impl<K: Kind> Recorder<K> {
         ws.t_piece = t;
         accelerations(sys, t, q, v, ws)?;
         let mut out = Cursor { values: &mut self.values, kept: &self.kept, next: 0 };
-        let mut put = |x: f64| out.put(x);
-        for slot in sys.layout.slots() {
-            if K::IDENTITY_RATE {
+        if K::IDENTITY_RATE && K::BODY_EXTRA.is_empty() {
+            let mut put = |x: f64| out.put(x);
+            for slot in sys.layout.slots() {
                 q[slot.q()].iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
-            } else {
+            }
+        } else {
+            for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
                 // A sample between step ends comes from the dense output, which keeps a
                 // quaternion unit only to the step's error: the body's orientation is the
                 // normalised one (what every evaluation reads), and that is recorded.
                 let mut positions = q[slot.q()].to_vec();
                 K::normalise(&mut positions);
-                positions.iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| put(x));
+                positions.iter().chain(&v[slot.v()]).chain(&ws.qdd[slot.v()]).for_each(|&x| out.put(x));
+                if !out.skipped(K::BODY_EXTRA.len()) {
+                    K::put_body_extra(&mut out, b, &positions, &v[slot.v()], &ws.qdd[slot.v()]);
+                }
             }
         }
         // Reactions: generalised constraint force on body j is -Cq_j^T lambda.

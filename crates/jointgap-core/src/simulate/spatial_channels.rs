@@ -16,8 +16,9 @@ use crate::mechanics::kind::{BodyKind, RowEval};
 use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
 use crate::mechanics::spatial::joints::{perpendiculars, SpatialRowKind};
 use crate::mechanics::spatial::kind::Spatial;
+use crate::mechanics::spatial::orientation::EulerConvention;
 use crate::model::spatial::{JointKind, SpatialModel};
-use crate::system::{JointInfo, MarkerInfo, System};
+use crate::system::{BodyInfo, JointInfo, MarkerInfo, System};
 
 /// An ideal joint's channels: the reaction force on body j and its moment about the
 /// joint point, global axes.
@@ -49,6 +50,9 @@ const CLEARANCE_QUANTITIES: [(&str, bool); 18] = [
 
 /// A marker's channels: position, velocity, acceleration, global axes.
 const MARKER_QUANTITIES: [&str; 9] = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"];
+
+/// The Euler angles' convention of the outputs.
+const ZYX: EulerConvention = EulerConvention::ZYX;
 
 const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
 
@@ -218,6 +222,24 @@ impl Kind for Spatial {
         } else {
             l
         }
+    }
+
+    /// The Euler angles of the body frame the model gave (ZYX: yaw about z, pitch about
+    /// the turned y, roll about the twice-turned x), and the angular velocity and
+    /// acceleration in global axes.
+    const BODY_EXTRA: &'static [&'static str] =
+        &["yaw", "pitch", "roll", "wgx", "wgy", "wgz", "alphagx", "alphagy", "alphagz"];
+
+    fn put_body_extra(out: &mut Cursor, b: &BodyInfo<Spatial>, q: &[f64], v: &[f64], a: &[f64]) {
+        let state = BodyState::read(q, v);
+        let given = state.orientation * b.inertia.frame.inverse();
+        let [yaw, pitch, roll] = ZYX.angles(&given);
+        let (_, _, alpha) = body::read_acceleration(a, &state);
+        [yaw, pitch, roll]
+            .iter()
+            .chain(state.omega_global().iter())
+            .chain(alpha.iter())
+            .for_each(|&x| out.put(x));
     }
 
     const MARKER_QUANTITIES: &'static [&'static str] = &MARKER_QUANTITIES;

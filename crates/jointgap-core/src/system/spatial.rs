@@ -105,7 +105,7 @@ fn check_bodies<'m>(model: &'m SpatialModel, names: &mut Names<'m>) -> Result<Bo
         ));
         out.index.insert(b.name.as_str(), k);
         out.principal.push(inertia.frame);
-        out.info.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia: inertia.moments });
+        out.info.push(BodyInfo { name: b.name.clone(), mass: b.mass, inertia });
     }
     Ok(out)
 }

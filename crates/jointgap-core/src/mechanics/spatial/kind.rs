@@ -3,6 +3,7 @@
 
 use super::body::{self, BodyRow, BodyState, Vec3, CHANNELS, SPATIAL_BODY};
 use super::forces::SpatialForce;
+use super::inertia::PrincipalInertia;
 use super::joints::SpatialRowKind;
 use crate::mechanics::contact::spatial::SpatialClearance;
 use crate::mechanics::drivers::Motion;
@@ -20,8 +21,9 @@ impl BodyKind for Spatial {
     type Row = BodyRow;
     type State = BodyState;
     type Vector = Vec3;
-    /// Principal moments `(J1, J2, J3)` [kg m^2], about the body frame's axes.
-    type Inertia = Vec3;
+    /// Principal moments `(J1, J2, J3)` [kg m^2] about the body frame's axes, and that
+    /// (principal) frame's turn from the frame the user gave the body in.
+    type Inertia = PrincipalInertia;
     type JointKind = crate::model::spatial::JointKind;
     type RowKind = SpatialRowKind;
     type Force = SpatialForce;
@@ -42,13 +44,13 @@ impl BodyKind for Spatial {
     }
 
     #[inline]
-    fn mass_diagonal(mass: f64, moments: &Vec3) -> BodyRow {
-        body::mass_diagonal(mass, *moments)
+    fn mass_diagonal(mass: f64, inertia: &PrincipalInertia) -> BodyRow {
+        body::mass_diagonal(mass, inertia.moments)
     }
 
     #[inline]
-    fn inverse_mass(mass: f64, moments: &Vec3) -> BodyRow {
-        body::inverse_mass(mass, *moments)
+    fn inverse_mass(mass: f64, inertia: &PrincipalInertia) -> BodyRow {
+        body::inverse_mass(mass, inertia.moments)
     }
 
     #[inline]
@@ -57,8 +59,8 @@ impl BodyKind for Spatial {
     }
 
     #[inline]
-    fn add_inertial(qe: &mut [f64], moments: &Vec3, state: &BodyState) {
-        body::add_gyroscopic(qe, *moments, &state.omega)
+    fn add_inertial(qe: &mut [f64], inertia: &PrincipalInertia, state: &BodyState) {
+        body::add_gyroscopic(qe, inertia.moments, &state.omega)
     }
 
     #[inline]
@@ -101,8 +103,8 @@ impl BodyKind for Spatial {
     }
 
     #[inline]
-    fn kinetic_energy(mass: f64, moments: &Vec3, v: &[f64]) -> f64 {
-        body::kinetic_energy(mass, *moments, v)
+    fn kinetic_energy(mass: f64, inertia: &PrincipalInertia, v: &[f64]) -> f64 {
+        body::kinetic_energy(mass, inertia.moments, v)
     }
 
     #[inline]

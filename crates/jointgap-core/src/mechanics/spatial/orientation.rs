@@ -64,6 +64,10 @@ pub struct EulerConvention {
 }
 
 impl EulerConvention {
+    /// Yaw about z, pitch about the turned y, roll about the twice-turned x: the
+    /// convention of the outputs (and of URDF's `rpy`, angles reversed).
+    pub const ZYX: EulerConvention = EulerConvention { axes: [2, 1, 0] };
+
     /// The convention named `name`, one of [`EULER_CONVENTIONS`] (capitals: intrinsic).
     pub fn parse(name: &str) -> Result<Self, String> {
         let axis = |c: char| "XYZ".find(c);
