@@ -190,6 +190,31 @@ _UNITS = {
     "ex": "m",
     "ey": "m",
     "slip": "m/s",
+    # spatial models
+    "z": "m",
+    "vz": "m/s",
+    "az": "m/s^2",
+    "e0": "",
+    "e1": "",
+    "e2": "",
+    "e3": "",
+    "wx": "rad/s",
+    "wy": "rad/s",
+    "wz": "rad/s",
+    "alphax": "rad/s^2",
+    "alphay": "rad/s^2",
+    "alphaz": "rad/s^2",
+    "fz": "N",
+    "mx": "N*m",
+    "my": "N*m",
+    "mz": "N*m",
+    "ez": "m",
+    "fnx": "N",
+    "fny": "N",
+    "fnz": "N",
+    "ftx": "N",
+    "fty": "N",
+    "ftz": "N",
 }
 
 
@@ -428,10 +453,12 @@ class Result:
             data = StoredChannels(folder / RESULTS_PARQUET, channels, len(time))
         else:
             time, channels, data = _read_results_csv(folder / RESULTS_CSV)
+        from ._schema import CLEARANCE_TYPES  # not at the top: _schema imports this module
+
         impacts: dict[str, list[Impact]] = {
             j["name"]: []
             for j in summary.get("model", {}).get("joints", [])
-            if j.get("type") == "clearance_revolute"
+            if j.get("type") in CLEARANCE_TYPES and j.get("type") != "clearance_cylindrical"
         }
         if (folder / IMPACTS_CSV).exists():
             with open(folder / IMPACTS_CSV, newline="") as f:
@@ -521,15 +548,15 @@ def model_channels(model: Mapping[str, Any]) -> list[str]:
 
 
 def guided_bodies(result: Result) -> list[tuple[str, str]]:
-    """``(body, "x" or "y")`` for every body on a prismatic joint, the coordinate being
-    the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
+    """``(body, "x", "y" or "z")`` for every body on a prismatic joint, the coordinate
+    being the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
     out: list[tuple[str, str]] = []
     for joint in result.model.get("joints", []):
         if joint.get("type") != "prismatic":
             continue
         body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
-        ax, ay = (abs(float(v)) for v in joint.get("axis") or (1.0, 0.0))
-        pair = (str(body), "x" if ax >= ay else "y")
+        axis = [abs(float(v)) for v in joint.get("axis") or (1.0, 0.0)]
+        pair = (str(body), "xyz"[axis.index(max(axis))])  # the first of equal ones
         if pair not in out:
             out.append(pair)
     return out
@@ -545,10 +572,10 @@ def slider_channels(result: Result) -> list[str]:
 def clearance_joints(result: Result) -> list[str]:
     """The clearance joints of a result in model order (then any others that only the
     impact list names, for a result built without its model)."""
+    from ._schema import CLEARANCE_TYPES  # not at the top: _schema imports this module
+
     names = [
-        str(j["name"])
-        for j in result.model.get("joints", [])
-        if j.get("type") == "clearance_revolute"
+        str(j["name"]) for j in result.model.get("joints", []) if j.get("type") in CLEARANCE_TYPES
     ]
     return names + [j for j in result.impacts if j not in names]
 
