@@ -570,13 +570,17 @@ def slider_channels(result: Result) -> list[str]:
 
 
 def clearance_joints(result: Result) -> list[str]:
-    """The clearance joints of a result in model order (then any others that only the
-    impact list names, for a result built without its model)."""
+    """The clearance joints of a result in model order, named as their impact lists
+    are (a joint of several contact points by its points, ``joint.p1``, ...; then any
+    others that only the impact list names, for a result built without its model)."""
     from ._schema import CLEARANCE_TYPES  # not at the top: _schema imports this module
 
-    names = [
-        str(j["name"]) for j in result.model.get("joints", []) if j.get("type") in CLEARANCE_TYPES
-    ]
+    names = []
+    for joint in result.model.get("joints", []):
+        if joint.get("type") in CLEARANCE_TYPES:
+            # a joint of several contact points (cylindrical) by its points, p1, p2, ...
+            points = [c for c in result.impacts if c.startswith(f"{joint['name']}.p")]
+            names += points or [str(joint["name"])]
     return names + [j for j in result.impacts if j not in names]
 
 
