@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import re
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
@@ -33,6 +34,7 @@ from ._schema import (
     JOINT_EQUATIONS,
     SPATIAL_DRIVEN_MOTION,
     SPATIAL_JOINT_EQUATIONS,
+    SPHERE_KEYS,
     convert_element,
 )
 from .errors import ModelError
@@ -865,6 +867,9 @@ class Model:
             return self._located(ModelError(problem))
         owner = self._owner.get(name)
         index = owner[1] if owner is not None and owner[0] == kind else None
+        if index is not None and self._elements[kind][index].get("type") == "clearance_spherical":
+            key = None if key is None else _sphere_words(key)
+            problem = _sphere_words(problem)
         return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
 
     def _located(self, error: ModelError) -> ModelError:
@@ -998,6 +1003,14 @@ def _at_centres_of_mass(model: dict[str, Any]) -> dict[str, Any]:
     for marker in model["markers"]:
         move(marker, "body", "point")
     return model
+
+
+def _sphere_words(text: str) -> str:
+    """An engine message or key about a clearance_spherical joint in the words of its
+    file: ``journal_radius`` is its ``ball_radius`` (:data:`SPHERE_KEYS`)."""
+    for own, engine in SPHERE_KEYS.items():
+        text = re.sub(rf"\b(clearance\.)?{engine}\b", own, text)
+    return text
 
 
 def _count(n: int, kind: str) -> str:
