@@ -358,3 +358,15 @@ def test_the_founding_slider_crank_in_3d_reproduces_the_planar_run(engine: None)
     # the motion stays in the plane
     assert np.abs(spatial["slider.z"]).max() < 1e-12
     assert np.abs(spatial["rod.z"]).max() < 1e-12
+
+
+def test_docs_spatial_field_reference_matches_the_schema() -> None:
+    from jointgap._schema import reference_markdown
+
+    docs = (ROOT / "docs" / "model-file.md").read_text()
+    begin, end = "<!-- spatial-reference:begin -->\n", "<!-- spatial-reference:end -->"
+    section = docs[docs.index(begin) + len(begin) : docs.index(end)]
+    assert section.strip() == reference_markdown(3).strip(), (
+        "docs/model-file.md is out of date: paste jointgap._schema.reference_markdown(3) "
+        "between the spatial reference markers"
+    )
