@@ -270,6 +270,7 @@ def test_dimension_2_is_a_planar_file(tmp_path: Path) -> None:
             "triangle inequality",
         ),
         ("axis = [0, 1, 0]", "axis = [0, 0, 0]", 24, "joint 'pivot'", "axis", "non-zero"),
+        ("axis = [0, 1, 0]\n", "", 18, "joint 'pivot'", "axis", "missing field 'axis'"),
         ('body_j = "arm"', 'body_j = "armm"', 22, "joint 'pivot'", "body_j", "not a body"),
     ],
 )

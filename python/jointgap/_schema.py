@@ -485,7 +485,9 @@ _SPATIAL_JOINT_COMMON = [
 
 
 def _axis(doc: str) -> Param:
-    return Param("axis", "vector", u.DIMENSIONLESS, doc=f"{doc}, in the frame of body_i")
+    return Param(
+        "axis", "vector", u.DIMENSIONLESS, required=True, doc=f"{doc}, in the frame of body_i"
+    )
 
 
 _AXIS_J = Param(
@@ -615,7 +617,13 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         "universal": [
             *_SPATIAL_JOINT_COMMON,
             _axis("body_i's cross axis"),
-            Param("axis_j", "vector", u.DIMENSIONLESS, doc="body_j's cross axis, in its frame"),
+            Param(
+                "axis_j",
+                "vector",
+                u.DIMENSIONLESS,
+                required=True,
+                doc="body_j's cross axis, in its frame",
+            ),
         ],
         "fixed": _SPATIAL_JOINT_COMMON,
         "planar": [*_SPATIAL_JOINT_COMMON, _axis("the plane's normal")],
@@ -625,7 +633,7 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             _axis("the bearing's axis"),
             Param("axis_j", "vector", u.DIMENSIONLESS, doc="the journal's axis, in body_j's frame"),
             *_CLEARANCE,
-            Param("length", "scalar", u.LENGTH, doc="length of the journal"),
+            Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
             Param(
                 "axial_clearance",
                 "scalar",
