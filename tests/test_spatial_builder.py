@@ -246,3 +246,74 @@ def test_a_free_body_falls_under_the_engines_default_gravity(engine: None) -> No
     np.testing.assert_allclose(result["ball.e0"], np.cos(5 * t), atol=1e-8)
     np.testing.assert_allclose(result["ball.e3"], np.sin(5 * t), atol=1e-8)
     assert math.isclose(result["ball.az"][-1], -9.81, rel_tol=1e-9)
+
+
+def test_the_three_orientation_forms_and_the_engine_agree(engine: None) -> None:
+    """The Python rotation matrices (used to move a body to its centre of mass) against
+    the engine's own reading of the same orientation: the quaternion it reports at
+    t = 0 for Euler angles."""
+    from jointgap._spatial_frames import rotation_matrix
+
+    euler = {"euler": {"convention": "ZYX", "angles": [0.3, -0.2, 0.5]}}
+    model = jointgap.Model("turned", dimension=3).add_body(
+        "b", 1, (1, 2, 2.5), orientation={"euler": (0.3, -0.2, 0.5), "convention": "ZYX"}
+    )
+    result = model.simulate(1e-3, rate=1000)
+    e = [float(result[f"b.e{k}"][0]) for k in range(4)]
+    turn = rotation_matrix(euler)
+    assert turn is not None
+    np.testing.assert_allclose(rotation_matrix({"quaternion": e}), turn, atol=1e-12)
+    # the same turn as a quaternion and as an axis and angle
+    angle = 2 * math.acos(e[0])
+    axis = np.array(e[1:]) / math.sin(angle / 2)
+    same = rotation_matrix({"axis_angle": {"axis": list(axis), "angle": angle}})
+    np.testing.assert_allclose(same, turn, atol=1e-12)
+    # intrinsic ZYX: the body's x axis is (cos b cos a, cos b sin a, -sin b)
+    a, b = 0.3, -0.2
+    np.testing.assert_allclose(
+        turn[:, 0], [math.cos(b) * math.cos(a), math.cos(b) * math.sin(a), -math.sin(b)]
+    )
+
+
+def test_a_body_in_its_own_frame_runs_as_in_its_centre_of_mass_frame(engine: None) -> None:
+    """An arm described from its pivot (``com`` 0.25 m along its x axis, turned 30 deg
+    about z and spinning) is the arm described from its centre of mass."""
+    turn = {"axis": (0, 0, 1), "angle": "30 deg"}
+    c30, s30 = math.cos(math.pi / 6), math.sin(math.pi / 6)
+
+    def arm(own_frame: bool) -> jointgap.Model:
+        model = jointgap.Model("arm", dimension=3).add_ground_point("O", (0, 0, 0))
+        if own_frame:
+            model.add_body(
+                "arm",
+                1,
+                (1e-4, 0.02, 0.02),
+                com=(0.25, 0, 0),
+                orientation=turn,
+                angular_velocity=(0, 0, 2),
+                points={"P": (0, 0, 0)},
+            )
+            model.add_marker("tip", "arm", (0.5, 0, 0))
+        else:
+            model.add_body(
+                "arm",
+                1,
+                (1e-4, 0.02, 0.02),
+                position=(0.25 * c30, 0.25 * s30, 0),
+                velocity=(-0.5 * s30, 0.5 * c30, 0),
+                orientation=turn,
+                angular_velocity=(0, 0, 2),
+                points={"P": (-0.25, 0, 0)},
+            )
+            model.add_marker("tip", "arm", (0.25, 0, 0))
+        return model.add_revolute("pivot", "ground", "arm", "O", "P", axis=(0, 1, 1))
+
+    own, centre = arm(True).to_dict(), arm(False).to_dict()
+    body, expected = own["bodies"][0], centre["bodies"][0]
+    for key in ("position", "velocity"):
+        np.testing.assert_allclose(body[key], expected[key], atol=1e-15)
+    assert body["points"] == expected["points"] and "com" not in body
+    assert own["markers"] == centre["markers"]
+    a, b = arm(True).simulate(0.05, rate=1000), arm(False).simulate(0.05, rate=1000)
+    for q in ("tip.x", "tip.y", "tip.z", "arm.wx", "pivot.fz"):
+        np.testing.assert_allclose(a[q], b[q], rtol=1e-9, atol=1e-12)

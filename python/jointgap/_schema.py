@@ -575,17 +575,23 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             doc="orientation of the principal axes in the body frame (with principal moments)",
         ),
         Param(
+            "com",
+            "vector",
+            u.LENGTH,
+            doc="centre of mass in the body frame; by default the frame's origin",
+        ),
+        Param(
             "position",
             "vector",
             u.LENGTH,
-            doc="initial position of the centre of mass (approximate); [0, 0, 0] by default",
+            doc="initial position of the frame's origin (approximate); [0, 0, 0] by default",
         ),
         Param(
             "orientation",
             "orientation",
             doc="initial orientation of the body frame (approximate); unturned by default",
         ),
-        Param("velocity", "vector", u.SPEED, doc="initial velocity of the centre of mass"),
+        Param("velocity", "vector", u.SPEED, doc="initial velocity of the frame's origin"),
         Param(
             "angular_velocity",
             "vector",

@@ -37,6 +37,7 @@ from ._schema import (
     SPHERE_KEYS,
     convert_element,
 )
+from ._spatial_frames import at_centres_of_mass
 from .errors import ModelError
 from .laws import Law
 from .profiles import Profile
@@ -761,7 +762,7 @@ class Model:
             for key, kind in _SECTIONS:
                 model[key] = copy.deepcopy(self._elements[kind])
             model["ground_points"] = copy.deepcopy(self._ground_points)
-            return model
+            return at_centres_of_mass(model)
         return _at_centres_of_mass(
             {
                 "name": self._name,
