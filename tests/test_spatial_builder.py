@@ -317,3 +317,34 @@ def test_a_body_in_its_own_frame_runs_as_in_its_centre_of_mass_frame(engine: Non
     a, b = arm(True).simulate(0.05, rate=1000), arm(False).simulate(0.05, rate=1000)
     for q in ("tip.x", "tip.y", "tip.z", "arm.wx", "pivot.fz"):
         np.testing.assert_allclose(a[q], b[q], rtol=1e-9, atol=1e-12)
+
+
+def test_euler_angles_and_angular_velocity_of_a_spinning_ball(engine: None) -> None:
+    """A ball (equal principal moments) turned by ZYX angles (0.3, -0.2, 0.5) and spinning
+    at 2 rad/s about the global z axis keeps its spin: its yaw grows as 0.3 + 2 t while
+    its pitch and roll stay, and its angular velocity is (0, 0, 2) in global axes and
+    R^T (0, 0, 2) in its own."""
+    model = jointgap.Model("spin", (0, 0, 0), dimension=3).add_body(
+        "ball",
+        1,
+        (0.1, 0.1, 0.1),
+        orientation={"euler": (0.3, -0.2, 0.5), "convention": "ZYX"},
+        angular_velocity=(0, 0, 2),
+    )
+    result = model.simulate(0.5, rate=100, rtol=1e-11, atol=1e-13)
+    t = result.time
+    angles = result.euler_angles("ball", "ZYX")
+    np.testing.assert_allclose(np.unwrap(angles[:, 0]), 0.3 + 2 * t, atol=1e-8)
+    np.testing.assert_allclose(angles[:, 1], -0.2, atol=1e-8)
+    np.testing.assert_allclose(angles[:, 2], 0.5, atol=1e-8)
+    ground = result.angular_velocity("ball")
+    np.testing.assert_allclose(ground, np.tile([0, 0, 2.0], (len(t), 1)), atol=1e-8)
+    from jointgap._spatial_frames import rotation_matrix
+
+    turn = rotation_matrix({"euler": {"convention": "ZYX", "angles": [0.3, -0.2, 0.5]}})
+    assert turn is not None
+    np.testing.assert_allclose(
+        result.angular_velocity("ball", "body")[0], turn.T @ [0, 0, 2], atol=1e-9
+    )
+    with pytest.raises(ValueError, match="convention"):
+        result.euler_angles("ball", "ABC")

@@ -342,6 +342,42 @@ class Result:
         """The options as keyword arguments of :meth:`jointgap.Model.simulate`."""
         return dict(self.options)
 
+    # ------------------------------------------------------------------ spatial bodies
+
+    def euler_angles(self, body: str, convention: str = "ZYX") -> np.ndarray:
+        """A spatial body's orientation as Euler angles [rad], one row ``(a, b, c)`` per
+        sample: intrinsic turns about the axes ``convention`` names (``R = R1(a) R2(b)
+        R3(c)``, the model file's convention; ``ZYX`` is yaw, pitch, roll), of the frame
+        whose quaternion the channels ``<body>.e0 .. e3`` give (the body's principal
+        frame). Computed by SciPy's ``Rotation`` from the quaternion."""
+        convention = str(convention)
+        if len(convention) != 3 or not set(convention) <= set("XYZ"):
+            raise ValueError(
+                f"convention {convention!r}: three of X, Y, Z, e.g. 'ZYX' (intrinsic turns)"
+            )
+        angles: np.ndarray = self._rotation(body).as_euler(convention)
+        return angles
+
+    def angular_velocity(self, body: str, frame: str = "ground") -> np.ndarray:
+        """A spatial body's angular velocity [rad/s], one row ``(wx, wy, wz)`` per
+        sample, in global axes (``frame="ground"``) or in the axes of its principal frame
+        (``frame="body"``: the channels ``<body>.wx .wy .wz``)."""
+        if frame not in ("ground", "body"):
+            raise ValueError(f"frame {frame!r}: 'ground' or 'body'")
+        w = np.stack([self[f"{body}.w{q}"] for q in "xyz"], axis=1)
+        if frame == "body":
+            return w
+        ground: np.ndarray = self._rotation(body).apply(w)
+        return ground
+
+    def _rotation(self, body: str) -> Any:
+        """SciPy's ``Rotation`` of a body's samples, from ``<body>.e0 .. e3`` (scalar
+        first; SciPy takes the scalar last)."""
+        from scipy.spatial.transform import Rotation  # type: ignore[import-untyped]
+
+        q = np.stack([self[f"{body}.e{k}"] for k in (1, 2, 3, 0)], axis=1)
+        return Rotation.from_quat(q)
+
     # ------------------------------------------------------------------ export
 
     def to_pandas(self) -> pd.DataFrame:
