@@ -23,6 +23,7 @@ from typing import Any
 from . import _jointgap
 from . import units as u
 from .errors import ModelError, UnitError
+from .results import CLEARANCE_TYPES
 from .units import Dimension
 
 __all__ = [
@@ -141,9 +142,6 @@ CLEARANCE_KEYS = (
 )
 """The keys of a clearance joint that the engine reads nested in ``clearance`` (a
 clearance_spherical joint's file names them as :data:`SPHERE_KEYS` says)."""
-
-CLEARANCE_TYPES = ("clearance_revolute", "clearance_spherical", "clearance_cylindrical")
-"""The joint types with clearance: contact force elements with impact lists."""
 
 _CLEARANCE = [
     Param("bearing_radius", "scalar", u.LENGTH, doc="radius of the hole (on body_i)"),

@@ -53,6 +53,9 @@ WriteProgress = Callable[[int, int], object]
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
 """Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
 
+CLEARANCE_TYPES = ("clearance_revolute", "clearance_spherical", "clearance_cylindrical")
+"""The joint types with clearance: contact force elements with impact lists."""
+
 RunStatus = Literal["finished", "failed", "interrupted"]
 """How a run ended (:attr:`Result.status`): it reached its end time, it stopped early
 (:attr:`Result.message` says why and when), or Ctrl-C stopped it."""
@@ -489,8 +492,6 @@ class Result:
             data = StoredChannels(folder / RESULTS_PARQUET, channels, len(time))
         else:
             time, channels, data = _read_results_csv(folder / RESULTS_CSV)
-        from ._schema import CLEARANCE_TYPES  # not at the top: _schema imports this module
-
         impacts: dict[str, list[Impact]] = {
             j["name"]: []
             for j in summary.get("model", {}).get("joints", [])
@@ -609,8 +610,6 @@ def clearance_joints(result: Result) -> list[str]:
     """The clearance joints of a result in model order, named as their impact lists
     are (a joint of several contact points by its points, ``joint.p1``, ...; then any
     others that only the impact list names, for a result built without its model)."""
-    from ._schema import CLEARANCE_TYPES  # not at the top: _schema imports this module
-
     names = []
     for joint in result.model.get("joints", []):
         if joint.get("type") in CLEARANCE_TYPES:
