@@ -371,3 +371,15 @@ def test_docs_spatial_field_reference_matches_the_schema() -> None:
         "docs/model-file.md is out of date: paste jointgap._schema.reference_markdown(3) "
         "between the spatial reference markers"
     )
+
+
+@pytest.mark.filterwarnings("ignore::jointgap.RunWarning")
+def test_a_streamed_spatial_run_reads_back(tmp_path: Path, engine: None) -> None:
+    out = tmp_path / "out"
+    model = ROOT / "examples" / "spatial_four_bar_clearance.toml"
+    args = ["run", str(model), "--t-end", "0.005", "--rate", "5000", "--out", str(out)]
+    assert main([*args, "--stream"]) == 0
+    streamed = jointgap.Result.load(out)
+    assert (out / "results.parquet").exists() and "coupler_rocker" in streamed.impacts
+    direct = jointgap.load(model).simulate(0.005, rate=5000)
+    np.testing.assert_array_equal(streamed["coupler_rocker.fnz"], direct["coupler_rocker.fnz"])
