@@ -21,6 +21,7 @@ import hashlib
 import json
 import platform
 import sys
+import tomllib
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -61,12 +62,17 @@ def _benchmark(
     return run
 
 
+def _spatial(path: Path) -> bool:
+    """A spatial model file (``dimension = 3``): not a planar record."""
+    return tomllib.loads(path.read_text()).get("model", {}).get("dimension", 2) == 3
+
+
 def cases() -> Iterator[tuple[str, Callable[[], jointgap.Result]]]:
     """Every case by name: the examples (study files aside), the founding case with each
     integration method, and the benchmark mechanisms (the two-loop chain through its
     singular position at tight tolerance, a chain large enough for the sparse solve)."""
     for path in sorted((ROOT / "examples").glob("*.toml")):
-        if not path.stem.startswith("study_"):
+        if not path.stem.startswith("study_") and not _spatial(path):
             yield path.stem, _example(path.stem)
     for method in ("dopri5", "sdirk4", "radau5"):
         yield f"founding_{method}", _example("slider_crank_clearance", t_end=0.1, method=method)

@@ -1,8 +1,10 @@
 """Model files: read a TOML model into a :class:`~jointgap.Model` (written back by
 :mod:`jointgap._model_writer`).
 
-The format is described in ``docs/model-file.md``. Every error names the file, the line
-(of the offending key, else of the element's ``name``), the element and the problem::
+The format is described in ``docs/model-file.md``; ``dimension = 3`` in ``[model]``
+makes a spatial model, read with the spatial tables of :mod:`jointgap._schema`. Every
+error names the file, the line (of the offending key, else of the element's ``name``),
+the element and the problem::
 
     slider.toml:23: joint 'crank_rod': body_j 'rodd' is not a body of the model
 """
@@ -184,6 +186,17 @@ def _array_hint(section: str) -> ModelError:
     )
 
 
+def _dimension(value: Any) -> int:
+    """``[model]``'s ``dimension``: 3 for a spatial model, 2 (or left out) for a planar one."""
+    if isinstance(value, bool) or value not in (2, 3):
+        raise ModelError(
+            f"dimension = {value!r}: write 3 for a spatial model (2, or nothing, for a planar one)",
+            kind="model",
+            key="dimension",
+        )
+    return int(value)
+
+
 def _build(data: Mapping[str, Any]) -> Model:
     for section, value in data.items():
         if section not in SECTIONS:
@@ -195,11 +208,12 @@ def _build(data: Mapping[str, Any]) -> Model:
             raise _array_hint(section)
         if not is_array and not isinstance(value, dict):
             raise ModelError(f"write [{section}] as a table", key=section)
-    head = data.get("model", {})
-    convert_element("model", head)  # unknown keys, units
-    model = Model(head.get("name", ""), head.get("gravity"))
+    head = dict(data.get("model", {}))
+    dimension = _dimension(head.pop("dimension", 2))
+    convert_element("model", head, dimension=dimension)  # unknown keys, units
+    model = Model(head.get("name", ""), head.get("gravity"), dimension)
     ground = data.get("ground", {})
-    points = convert_element("ground", ground)[0]["points"]
+    points = convert_element("ground", ground, dimension=dimension)[0]["points"]
     for name in points:
         model.add_ground_point(name, ground["points"][name])
     for kind in ("body", "joint", "driver", "force", "marker"):

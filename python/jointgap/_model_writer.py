@@ -26,7 +26,12 @@ def dumps(model: Mapping[str, Any]) -> str:
     numbers, radians)."""
     d = model
     out = ["# jointgap model file; plain numbers are SI (kg, m, s, N, rad)", "", "[model]"]
-    out += [f"name = {_value(d['name'])}", f"gravity = {_value(d['gravity'])}", ""]
+    if d.get("dimension") == 3:  # spatial; gravity may be left to the engine
+        out.append("dimension = 3")
+    out.append(f"name = {_value(d['name'])}")
+    if "gravity" in d:
+        out.append(f"gravity = {_value(d['gravity'])}")
+    out.append("")
     if d["ground_points"]:
         out += ["[ground]", f"points = {_value(d['ground_points'])}", ""]
     for kind, key in (

@@ -23,11 +23,13 @@ from typing import Any
 from . import _jointgap
 from . import units as u
 from .errors import ModelError, UnitError
+from .results import CLEARANCE_TYPES
 from .units import Dimension
 
 __all__ = [
     "Param",
     "ELEMENTS",
+    "SPATIAL_ELEMENTS",
     "convert_element",
     "params_of",
     "types_of",
@@ -68,6 +70,7 @@ class Param:
     bound: str | None = None  # ">0" or ">=0"
     doc: str = ""
     motion: bool = False
+    choices: tuple[str, ...] = ()
 
 
 def _name(doc: str = "unique name of the element") -> Param:
@@ -137,7 +140,8 @@ CLEARANCE_KEYS = (
     "normal_law",
     "friction",
 )
-"""The keys of a clearance_revolute joint that the engine reads nested in ``clearance``."""
+"""The keys of a clearance joint that the engine reads nested in ``clearance`` (a
+clearance_spherical joint's file names them as :data:`SPHERE_KEYS` says)."""
 
 _CLEARANCE = [
     Param("bearing_radius", "scalar", u.LENGTH, doc="radius of the hole (on body_i)"),
@@ -437,9 +441,16 @@ JOINT_EQUATIONS = {"revolute": 2, "prismatic": 2, "fixed": 3, "clearance_revolut
 DRIVEN_MOTION = {"revolute": "rotation", "prismatic": "translation"}
 
 
-def params_of(kind: str, type_: str | None = None) -> list[Param]:
-    """The fields of an element kind (and type, for joints, forces, profiles, shapes)."""
-    entry = ELEMENTS[kind]
+def _table(kind: str, dimension: int) -> list[Param] | dict[str, list[Param]]:
+    if dimension == 3 and kind in SPATIAL_ELEMENTS:
+        return SPATIAL_ELEMENTS[kind]
+    return ELEMENTS[kind]
+
+
+def params_of(kind: str, type_: str | None = None, dimension: int = 2) -> list[Param]:
+    """The fields of an element kind (and type, for joints, forces, profiles, shapes), of
+    a planar model or (``dimension=3``) a spatial one."""
+    entry = _table(kind, dimension)
     if isinstance(entry, dict):
         if type_ is None:
             raise KeyError(f"{kind} needs a type")
@@ -447,31 +458,294 @@ def params_of(kind: str, type_: str | None = None) -> list[Param]:
     return entry
 
 
-def types_of(kind: str) -> list[str]:
+def types_of(kind: str, dimension: int = 2) -> list[str]:
     """The allowed ``type`` values of an element kind (empty when it has no type)."""
-    entry = ELEMENTS[kind]
+    entry = _table(kind, dimension)
     return list(entry) if isinstance(entry, dict) else []
+
+
+# ---------------------------------------------------------------------- spatial models
+
+_SPATIAL_JOINT_COMMON = [
+    _name(),
+    Param(
+        "type",
+        "choice",
+        required=True,
+        doc="spherical, revolute, cylindrical, prismatic, universal, fixed, planar, "
+        "clearance_spherical or clearance_cylindrical",
+    ),
+    Param("body_i", "ref", required=True, doc="first body, or ground"),
+    Param("point_i", "point", u.LENGTH, required=True, doc="joint point on body_i"),
+    Param("body_j", "ref", required=True, doc="second body (reactions are forces on it)"),
+    Param("point_j", "point", u.LENGTH, required=True, doc="joint point on body_j"),
+]
+
+
+def _axis(doc: str) -> Param:
+    return Param(
+        "axis", "vector", u.DIMENSIONLESS, required=True, doc=f"{doc}, in the frame of body_i"
+    )
+
+
+_AXIS_J = Param(
+    "axis_j",
+    "vector",
+    u.DIMENSIONLESS,
+    doc="the axis in the frame of body_j; by default the same line as axis at the placement",
+)
+_ANGLE_INITIAL = [
+    Param("initial", "scalar", u.ANGLE, doc="angle about the axis at t = 0"),
+    Param("initial_rate", "scalar", u.ANGULAR_SPEED, doc="its rate at t = 0"),
+]
+_TRAVEL_INITIAL = [
+    Param("initial", "scalar", u.LENGTH, doc="travel along the axis at t = 0"),
+    Param("initial_rate", "scalar", u.SPEED, doc="its rate at t = 0"),
+]
+_LOAD_FRAME = Param(
+    "frame",
+    "choice",
+    choices=("ground", "body"),
+    doc="axes of the vector: ground (global) or body (turning with it); ground by default",
+)
+
+SPHERE_KEYS = {
+    "socket_radius": "bearing_radius",
+    "ball_radius": "journal_radius",
+    "socket_material": "bearing_material",
+    "ball_material": "journal_material",
+}
+"""A clearance_spherical joint's keys in a model file -> the engine's (those of a
+clearance_revolute's ``clearance`` table; the others keep their names)."""
+
+_SPHERE_CLEARANCE = [
+    Param("socket_radius", "scalar", u.LENGTH, doc="radius of the socket (on body_i)"),
+    Param("ball_radius", "scalar", u.LENGTH, doc="radius of the ball (on body_j)"),
+    Param(
+        "clearance",
+        "scalar",
+        u.LENGTH,
+        doc="radial clearance; give two of socket_radius, ball_radius, clearance",
+    ),
+    Param(
+        "stiffness",
+        "contact_stiffness",
+        doc="contact stiffness K [N/m^n], n the law's exponent; by default from the materials",
+    ),
+    Param(
+        "socket_material",
+        "material",
+        doc="library name (steel, brass, ...) or { youngs_modulus, poisson_ratio }",
+    ),
+    Param("ball_material", "material", doc="as socket_material"),
+    _CLEARANCE[-2],  # normal_law
+    _CLEARANCE[-1],  # friction
+]
+
+SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
+    "model": [
+        Param("name", "text", default="", doc="model name, for reports"),
+        Param(
+            "gravity",
+            "vector",
+            u.ACCELERATION,
+            doc="uniform gravity, global axes; by default the engine's [0, 0, -9.81]",
+        ),
+    ],
+    "ground": [
+        Param("points", "points", u.LENGTH, default={}, doc="named points, global coordinates"),
+    ],
+    "body": [
+        _name(),
+        Param("mass", "scalar", u.MASS, required=True, bound=">0", doc="mass"),
+        Param(
+            "inertia",
+            "inertia",
+            u.INERTIA,
+            required=True,
+            doc="about the centre of mass: principal moments [J1, J2, J3] about the body "
+            "axes (or those of inertia_frame), or the full symmetric 3x3 tensor in the body "
+            "frame",
+        ),
+        Param(
+            "inertia_frame",
+            "orientation",
+            doc="orientation of the principal axes in the body frame (with principal moments)",
+        ),
+        Param(
+            "com",
+            "vector",
+            u.LENGTH,
+            doc="centre of mass in the body frame; by default the frame's origin",
+        ),
+        Param(
+            "position",
+            "vector",
+            u.LENGTH,
+            doc="initial position of the frame's origin (approximate); [0, 0, 0] by default",
+        ),
+        Param(
+            "orientation",
+            "orientation",
+            doc="initial orientation of the body frame (approximate); unturned by default",
+        ),
+        Param("velocity", "vector", u.SPEED, doc="initial velocity of the frame's origin"),
+        Param(
+            "angular_velocity",
+            "vector",
+            u.ANGULAR_SPEED,
+            doc="initial angular velocity, global axes",
+        ),
+        Param("points", "points", u.LENGTH, default={}, doc="named points in the body frame"),
+    ],
+    "joint": {
+        "spherical": _SPATIAL_JOINT_COMMON,
+        "revolute": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the pin's axis"),
+            _AXIS_J,
+            *_ANGLE_INITIAL,
+        ],
+        "cylindrical": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the common axis"),
+            _AXIS_J,
+            *_ANGLE_INITIAL,
+        ],
+        "prismatic": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the sliding direction"),
+            _AXIS_J,
+            *_TRAVEL_INITIAL,
+        ],
+        "universal": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("body_i's cross axis"),
+            Param(
+                "axis_j",
+                "vector",
+                u.DIMENSIONLESS,
+                required=True,
+                doc="body_j's cross axis, in its frame",
+            ),
+        ],
+        "fixed": _SPATIAL_JOINT_COMMON,
+        "planar": [*_SPATIAL_JOINT_COMMON, _axis("the plane's normal")],
+        "clearance_spherical": [*_SPATIAL_JOINT_COMMON, *_SPHERE_CLEARANCE],
+        "clearance_cylindrical": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the bearing's axis"),
+            Param("axis_j", "vector", u.DIMENSIONLESS, doc="the journal's axis, in body_j's frame"),
+            *_CLEARANCE,
+            Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
+            Param(
+                "axial_clearance",
+                "scalar",
+                u.LENGTH,
+                doc="gap on each side between the journal's ends and thrust faces; none by default",
+            ),
+        ],
+    },
+    "driver": [
+        _name(),
+        Param(
+            "joint", "ref", required=True, doc="driven joint (revolute, cylindrical or prismatic)"
+        ),
+        *params_of("driver")[2:],
+    ],
+    "force": {
+        "spring_damper": params_of("force", "spring_damper"),
+        "applied_force": [
+            *_FORCE_HEAD,
+            Param("body", "ref", required=True, doc="loaded body"),
+            Param(
+                "point",
+                "point",
+                u.LENGTH,
+                doc="point of application; by default the centre of mass",
+            ),
+            Param(
+                "force",
+                "vector_signal",
+                u.FORCE,
+                required=True,
+                doc="[fx, fy, fz], or a table {time = [...], value = [[fx, fy, fz], ...]}",
+            ),
+            _LOAD_FRAME,
+        ],
+        "applied_torque": [
+            *_FORCE_HEAD,
+            Param("body", "ref", required=True, doc="loaded body"),
+            Param(
+                "torque",
+                "vector_signal",
+                u.TORQUE,
+                required=True,
+                doc="[mx, my, mz], or a table {time = [...], value = [[mx, my, mz], ...]}",
+            ),
+            _LOAD_FRAME,
+        ],
+    },
+    "marker": [
+        _name("unique name: the channels are name.x, .y, .z, .vx, ... .az"),
+        Param("body", "ref", required=True, doc="the body carrying the point, or ground"),
+        Param("point", "point", u.LENGTH, required=True, doc="the point, in the body's frame"),
+    ],
+}
+"""The fields of a spatial model's elements (``dimension = 3``); the nested tables
+(profile, material, normal_law, friction) are the planar ones of :data:`ELEMENTS`."""
+
+# Number of constraint equations of each spatial joint type.
+SPATIAL_JOINT_EQUATIONS = {
+    "spherical": 3,
+    "revolute": 5,
+    "cylindrical": 4,
+    "prismatic": 5,
+    "universal": 4,
+    "fixed": 6,
+    "planar": 3,
+    "clearance_spherical": 0,
+    "clearance_cylindrical": 0,
+}
+SPATIAL_DRIVEN_MOTION = {
+    "revolute": "rotation",
+    "cylindrical": "rotation",
+    "prismatic": "translation",
+}
 
 
 class _Context:
     """Builds errors naming one element; ``prefix`` dots nested keys (``profile.``)."""
 
-    def __init__(self, kind: str | None, name: str | None, index: int | None, prefix: str = ""):
+    def __init__(
+        self,
+        kind: str | None,
+        name: str | None,
+        index: int | None,
+        prefix: str = "",
+        dimension: int = 2,
+    ):
         self.kind, self.name, self.index, self.prefix = kind, name, index, prefix
+        self.dimension = dimension  # 3 in a spatial model: 3-vectors, its own tables
 
     def error(self, problem: str, key: str | None = None) -> ModelError:
         full = None if key is None else self.prefix + key
         return ModelError(problem, kind=self.kind, name=self.name, index=self.index, key=full)
 
     def nested(self, key: str) -> _Context:
-        return _Context(self.kind, self.name, self.index, f"{self.prefix}{key}.")
+        return _Context(self.kind, self.name, self.index, f"{self.prefix}{key}.", self.dimension)
 
     def label(self, key: str) -> str:
         return self.prefix + key
 
 
 def convert_element(
-    kind: str, raw: Mapping[str, Any], *, index: int | None = None, label: str | None = None
+    kind: str,
+    raw: Mapping[str, Any],
+    *,
+    index: int | None = None,
+    label: str | None = None,
+    dimension: int = 2,
 ) -> tuple[dict[str, Any], str | None]:
     """Converts one element's user values to the engine's SI dictionary.
 
@@ -479,17 +753,21 @@ def convert_element(
     was given in, for a driver or a profile: ``"rotation"`` (angular units),
     ``"translation"`` (linear units) or ``None`` (plain SI numbers only). A key whose
     value is ``None`` takes its default. ``label`` replaces the element's name in
-    messages (for a profile made on its own).
+    messages (for a profile made on its own). ``dimension=3`` reads the element of a
+    spatial model (:data:`SPATIAL_ELEMENTS`).
     """
     name = raw.get("name") if isinstance(raw.get("name"), str) else None
-    ctx = _Context(kind if label is None else label, name, index)
+    ctx = _Context(kind if label is None else label, name, index, dimension=dimension)
     motions: set[str] = set()
     if kind == "joint" and isinstance(raw, Mapping):
         raw = _flatten_clearance(raw, ctx)
     out = _convert_table(kind, raw, ctx, motions)
-    if kind == "joint" and out.get("type") == "clearance_revolute":
+    if kind == "joint" and out.get("type") in CLEARANCE_TYPES:
         nested = {k: out.pop(k) for k in CLEARANCE_KEYS if k in out}
-        out["clearance"] = nested
+        nested.update({SPHERE_KEYS[k]: out.pop(k) for k in SPHERE_KEYS if k in out})
+        out["clearance"] = {k: nested[k] for k in CLEARANCE_KEYS if k in nested}
+    if kind == "body" and dimension == 3:
+        _merge_inertia_frame(out, ctx)
     if len(motions) > 1:
         raise ctx.error("mixes angular units (rad, deg, rpm) and linear units (m, m/s)")
     if kind == "body" and "shape" in out:
@@ -504,15 +782,18 @@ def _flatten_clearance(raw: Mapping[str, Any], ctx: _Context) -> Mapping[str, An
     if not isinstance(nested, Mapping):
         return raw  # absent, or the flat radial clearance
     flat = {k: v for k, v in raw.items() if k != "clearance"}
+    sphere = raw.get("type") == "clearance_spherical"
+    renamed = {engine: own for own, engine in SPHERE_KEYS.items()} if sphere else {}
     for key, value in nested.items():
         if key not in CLEARANCE_KEYS:
             raise ctx.error(
                 f"unknown key 'clearance.{key}' (allowed: {', '.join(CLEARANCE_KEYS)})",
                 f"clearance.{key}",
             )
-        if flat.get(key) is not None:
-            raise ctx.error(f"{key} is given twice (flat and in clearance)", str(key))
-        flat[key] = value
+        own = renamed.get(str(key), str(key))
+        if flat.get(own) is not None:
+            raise ctx.error(f"{own} is given twice (flat and in clearance)", own)
+        flat[own] = value
     return flat
 
 
@@ -533,7 +814,7 @@ def _convert_table(
 ) -> dict[str, Any]:
     if not isinstance(raw, Mapping):
         raise ctx.error(f"expected a table of fields, got {raw!r}")
-    types = types_of(kind)
+    types = types_of(kind, ctx.dimension)
     if types:
         type_ = raw.get("type")
         if type_ is None:
@@ -542,9 +823,9 @@ def _convert_table(
             raise ctx.error(
                 f"unknown {kind} type {type_!r} (allowed: {', '.join(types)})", key="type"
             )
-        params = params_of(kind, type_)
+        params = params_of(kind, type_, ctx.dimension)
     else:
-        params = params_of(kind)
+        params = params_of(kind, dimension=ctx.dimension)
     allowed = [p.key for p in params]
     for key, value in raw.items():
         if key not in allowed and value is not None:
@@ -601,6 +882,8 @@ def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> An
             raise ctx.error(f"{key} must be a non-empty string, got {value!r}", p.key)
         if p.kind == "name":
             _check_name(value, key, ctx, p.key)
+        if p.choices and value not in p.choices:
+            raise ctx.error(f"{key} {value!r}: must be one of {', '.join(p.choices)}", p.key)
         return value
     if p.kind == "scalar":
         return _scalar(p, value, ctx, key, motions)
@@ -613,7 +896,8 @@ def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> An
         return _vector(p, value, ctx, key)
     if p.kind == "points":
         if not isinstance(value, Mapping):
-            raise ctx.error(f"{key} must be a table of name = [x, y], got {value!r}", p.key)
+            form = "[x, y]" if ctx.dimension == 2 else "[x, y, z]"
+            raise ctx.error(f"{key} must be a table of name = {form}, got {value!r}", p.key)
         points = {}
         for pname, xy in value.items():
             _check_name(str(pname), f"{key} name", ctx, f"{p.key}.{pname}")
@@ -625,6 +909,10 @@ def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> An
         return [_scalar(p, v, ctx, f"{key}[{i}]", motions) for i, v in enumerate(value)]
     if p.kind in ("scalar_signal", "vector_signal"):
         return _signal(p, value, ctx, key, motions)
+    if p.kind == "orientation":
+        return _orientation(value, ctx, key, p.key)
+    if p.kind == "inertia":
+        return _inertia(p, value, ctx, key)
     if p.kind == "bool":
         if not isinstance(value, bool):
             raise ctx.error(f"{key} must be true or false, got {value!r}", p.key)
@@ -673,8 +961,10 @@ def _vector(
 ) -> list[float]:
     if hasattr(value, "tolist") and getattr(value, "ndim", 0) > 0:
         value = value.tolist()
-    if isinstance(value, (str, Mapping)) or not isinstance(value, Sequence) or len(value) != 2:
-        raise ctx.error(f"{key} must be a vector [x, y], got {value!r}", param_key or p.key)
+    n = ctx.dimension
+    if isinstance(value, (str, Mapping)) or not isinstance(value, Sequence) or len(value) != n:
+        form = "[x, y]" if n == 2 else "[x, y, z]"
+        raise ctx.error(f"{key} must be a vector {form}, got {value!r}", param_key or p.key)
     assert p.dim is not None
     out = []
     for v in value:
@@ -706,6 +996,121 @@ def _signal(p: Param, value: Any, ctx: _Context, key: str, motions: set[str]) ->
     return {"time": times, "value": vals}
 
 
+_AXIS_VALUE = Param("axis", "vector", u.DIMENSIONLESS)
+_ANGLE_VALUE = Param("angle", "scalar", u.ANGLE)
+_NUMBER_VALUE = Param("value", "scalar", u.DIMENSIONLESS)
+ORIENTATION_FORMS = (
+    "{ axis = [x, y, z], angle = .. }",
+    '{ euler = [a, b, c], convention = "ZYX" }',
+    "{ quaternion = [e0, e1, e2, e3] }",
+)
+"""The three ways a model file writes an orientation (the engine's own forms,
+``{axis_angle = {axis, angle}}`` and ``{euler = {convention, angles}}``, also load)."""
+
+
+def _orientation(value: Any, ctx: _Context, key: str, param_key: str) -> dict[str, Any]:
+    """An orientation as the engine reads it: ``{"quaternion": [..]}``, ``{"axis_angle":
+    {"axis", "angle"}}`` or ``{"euler": {"convention", "angles"}}`` (SI, radians); the
+    engine checks the quaternion's norm, the axis and the convention."""
+    if hasattr(value, "to_dict"):
+        value = value.to_dict()
+    if not isinstance(value, Mapping):
+        raise ctx.error(f"{key} must be one of {', '.join(ORIENTATION_FORMS)}", param_key)
+    forms = {
+        frozenset({"axis", "angle"}),
+        frozenset({"axis_angle"}),
+        frozenset({"euler", "convention"}),
+        frozenset({"euler"}),
+        frozenset({"quaternion"}),
+    }
+    if frozenset(value) not in forms:
+        raise ctx.error(
+            f"{key} = {dict(value)!r}: write one of {', '.join(ORIENTATION_FORMS)}", param_key
+        )
+    if "quaternion" in value:
+        q = value["quaternion"]
+        if isinstance(q, (str, Mapping)) or not isinstance(q, Sequence) or len(q) != 4:
+            raise ctx.error(f"{key}.quaternion must be [e0, e1, e2, e3], got {q!r}", param_key)
+        return {
+            "quaternion": [_scalar(_NUMBER_VALUE, v, ctx, f"{key}.quaternion", set()) for v in q]
+        }
+    if "axis_angle" in value:
+        inner = value["axis_angle"]
+        if not isinstance(inner, Mapping) or set(inner) != {"axis", "angle"}:
+            raise ctx.error(f"{key}.axis_angle must be {{ axis, angle }}, got {inner!r}", param_key)
+        value = inner
+    if "axis" in value:
+        axis = _vector(_AXIS_VALUE, value["axis"], ctx, f"{key}.axis", param_key)
+        angle = _scalar(_ANGLE_VALUE, value["angle"], ctx, f"{key}.angle", set())
+        return {"axis_angle": {"axis": axis, "angle": angle}}
+    euler, convention = value["euler"], value.get("convention")
+    if isinstance(euler, Mapping):
+        if set(euler) != {"convention", "angles"} or convention is not None:
+            raise ctx.error(
+                f"{key}.euler must be {{ convention, angles }}, got {euler!r}", param_key
+            )
+        euler, convention = euler["angles"], euler["convention"]
+    if not isinstance(convention, str):
+        raise ctx.error(f'{key}.convention must name the axes, e.g. "ZYX"', param_key)
+    angles = _vector(_ANGLE_VALUE, euler, ctx, f"{key}.euler", param_key)
+    return {"euler": {"convention": convention, "angles": angles}}
+
+
+def _inertia(p: Param, value: Any, ctx: _Context, key: str) -> dict[str, Any]:
+    """Principal moments ``[J1, J2, J3]`` as ``{"principal": {"moments"}}``, a 3x3 tensor
+    as ``{"tensor"}``; the engine's own forms load too. The engine checks that the
+    inertia is one a rigid body can have (positive definite, triangle inequality)."""
+    if hasattr(value, "tolist") and getattr(value, "ndim", 0) > 0:
+        value = value.tolist()
+    scalar = Param(p.key, "scalar", p.dim)
+    if isinstance(value, Mapping) and set(value) == {"principal"}:
+        inner = value["principal"]
+        if not isinstance(inner, Mapping) or not set(inner) <= {"moments", "frame"}:
+            raise ctx.error(f"{key}.principal must be {{ moments, frame }}, got {inner!r}", p.key)
+        out = _inertia(p, inner.get("moments"), ctx, key)
+        if inner.get("frame") is not None:
+            out["principal"]["frame"] = _orientation(inner["frame"], ctx, f"{key}.frame", p.key)
+        return out
+    if isinstance(value, Mapping) and set(value) == {"tensor"}:
+        value = value["tensor"]
+    rows = value if isinstance(value, Sequence) and not isinstance(value, str) else None
+    if rows is not None and len(rows) == 3:
+        if all(isinstance(r, Sequence) and not isinstance(r, str) for r in rows):
+            if all(len(r) == 3 for r in rows):
+                tensor = [
+                    [_scalar(scalar, v, ctx, f"{key}[{i}][{k}]", set()) for k, v in enumerate(r)]
+                    for i, r in enumerate(rows)
+                ]
+                return {"tensor": tensor}
+        elif not any(isinstance(r, (Sequence, Mapping)) and not isinstance(r, str) for r in rows):
+            moments = [_scalar(scalar, v, ctx, f"{key}[{i}]", set()) for i, v in enumerate(rows)]
+            return {"principal": {"moments": moments}}
+    raise ctx.error(
+        f"{key} must be principal moments [J1, J2, J3] or a 3x3 tensor [[..], [..], [..]], "
+        f"got {value!r}",
+        p.key,
+    )
+
+
+def _merge_inertia_frame(body: dict[str, Any], ctx: _Context) -> None:
+    """A spatial body's ``inertia_frame`` (the principal axes' orientation) moved into its
+    principal inertia, where the engine reads it."""
+    frame = body.pop("inertia_frame", None)
+    if frame is None:
+        return
+    principal = body["inertia"].get("principal")
+    if principal is None:
+        raise ctx.error(
+            "inertia_frame goes with principal moments [J1, J2, J3], not with a full tensor",
+            "inertia_frame",
+        )
+    if "frame" in principal:
+        raise ctx.error(
+            "the principal frame is given twice (inertia_frame and in inertia)", "inertia_frame"
+        )
+    principal["frame"] = frame
+
+
 _TITLES = {
     "model": "[model]",
     "ground": "[ground]",
@@ -722,10 +1127,13 @@ _TITLES = {
 }
 
 
-def reference_markdown() -> str:
-    """Markdown tables of every element's fields, as included in ``docs/model-file.md``."""
+def reference_markdown(dimension: int = 2) -> str:
+    """Markdown tables of every element's fields, as included in ``docs/model-file.md``:
+    those of a planar model, or (``dimension=3``) of a spatial one."""
     lines: list[str] = []
-    for kind, entry in ELEMENTS.items():
+    table = SPATIAL_ELEMENTS if dimension == 3 else ELEMENTS
+    form = "[x, y]" if dimension == 2 else "[x, y, z]"
+    for kind, entry in table.items():
         groups = entry.items() if isinstance(entry, dict) else [(None, entry)]
         for type_, params in groups:
             lines += [f"#### `{_TITLES[kind].format(type_)}`", ""]
@@ -733,7 +1141,8 @@ def reference_markdown() -> str:
             for p in params:
                 if p.key == "type":
                     continue
-                lines.append(f"| `{p.key}` | {_unit_text(p)} | {_default_text(p)} | {_notes(p)} |")
+                notes = _notes(p, form)
+                lines.append(f"| `{p.key}` | {_unit_text(p)} | {_default_text(p)} | {notes} |")
             lines.append("")
     return "\n".join(lines)
 
@@ -763,7 +1172,7 @@ def _default_text(p: Param) -> str:
     return f"{p.default:g}"
 
 
-def _notes(p: Param) -> str:
+def _notes(p: Param, vector: str = "[x, y]") -> str:
     bound = {">0": "> 0; ", ">=0": ">= 0; "}.get(p.bound or "", "")
-    form = {"point": "; a point name or [x, y]", "vector": "; [x, y]"}.get(p.kind, "")
+    form = {"point": f"; a point name or {vector}", "vector": f"; {vector}"}.get(p.kind, "")
     return f"{bound}{p.doc}{form}"

@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import re
 from collections.abc import Callable, Mapping, Sequence
 from os import PathLike
 from typing import TYPE_CHECKING, Any, Protocol
@@ -31,8 +32,12 @@ from ._schema import (
     DRIVEN_MOTION,
     GROUND,
     JOINT_EQUATIONS,
+    SPATIAL_DRIVEN_MOTION,
+    SPATIAL_JOINT_EQUATIONS,
+    SPHERE_KEYS,
     convert_element,
 )
+from ._spatial_frames import at_centres_of_mass
 from .errors import ModelError
 from .laws import Law
 from .profiles import Profile
@@ -45,8 +50,22 @@ __all__ = ["Model"]
 Quantity = float | str
 Vector = Sequence[Quantity]
 PointRef = str | Vector
+Orientation = Mapping[str, Any]
+"""A spatial body's orientation: ``{"axis": (x, y, z), "angle": "30 deg"}``,
+``{"euler": ("30 deg", 0, 0), "convention": "ZYX"}`` or ``{"quaternion": (e0, e1, e2,
+e3)}`` (scalar first)."""
+Inertia = Quantity | Sequence[Quantity] | Sequence[Sequence[Quantity]]
+"""A moment of inertia (planar), principal moments ``(J1, J2, J3)`` or a 3x3 tensor
+(spatial), about the centre of mass."""
 
 _KINDS = ("body", "joint", "driver", "force", "marker")
+_SECTIONS = (
+    ("bodies", "body"),
+    ("joints", "joint"),
+    ("drivers", "driver"),
+    ("forces", "force"),
+    ("markers", "marker"),
+)
 _RESERVED = (GROUND, "system")
 _MOTION_UNITS = {"rotation": "angular units (rad, deg, rpm)", "translation": "linear units (m)"}
 
@@ -60,17 +79,27 @@ class Locator(Protocol):
 
 
 class Model:
-    """A planar mechanism: moving rigid bodies, ideal joints, drivers and force elements.
+    """A mechanism: moving rigid bodies, ideal joints, drivers and force elements.
 
-    The ground (the fixed frame) is implicit and named ``ground``; its named points are
-    added with :meth:`add_ground_point`. ``gravity`` defaults to (0, -9.81) m/s^2: a
-    vertical plane with y up.
+    Planar by default; ``dimension=3`` makes a spatial mechanism (3-vectors, orientations,
+    spatial joints; a model file says ``dimension = 3`` in ``[model]``). The ground (the
+    fixed frame) is implicit and named ``ground``; its named points are added with
+    :meth:`add_ground_point`. ``gravity`` defaults to (0, -9.81) m/s^2 in a planar model
+    (a vertical plane with y up) and to the engine's (0, 0, -9.81) in a spatial one.
     """
 
-    def __init__(self, name: str = "", gravity: Vector | None = None) -> None:
-        fields, _ = convert_element("model", {"name": name, "gravity": gravity})
+    def __init__(self, name: str = "", gravity: Vector | None = None, dimension: int = 2) -> None:
+        if dimension not in (2, 3):
+            raise ModelError(
+                f"dimension = {dimension!r}: 2 (planar) or 3 (spatial)",
+                kind="model",
+                key="dimension",
+            )
+        self._dimension = dimension
+        raw = {"name": name, "gravity": gravity}
+        fields, _ = convert_element("model", raw, dimension=dimension)
         self._name: str = fields["name"]
-        self._gravity: list[float] = fields["gravity"]
+        self._gravity: list[float] | None = fields.get("gravity")
         self._elements: dict[str, list[dict[str, Any]]] = {k: [] for k in _KINDS}
         self._motions: list[str | None] = []  # per driver: units it was given in
         self._owner: dict[str, tuple[str, int]] = {}  # element name -> (kind, index)
@@ -85,9 +114,20 @@ class Model:
         return self._name
 
     @property
-    def gravity(self) -> tuple[float, float]:
-        """Gravity vector [m/s^2]."""
-        return (self._gravity[0], self._gravity[1])
+    def dimension(self) -> int:
+        """2 for a planar model, 3 for a spatial one."""
+        return self._dimension
+
+    @property
+    def spatial(self) -> bool:
+        """True for a spatial model (``dimension == 3``)."""
+        return self._dimension == 3
+
+    @property
+    def gravity(self) -> tuple[float, ...] | None:
+        """Gravity vector [m/s^2]; None in a spatial model that leaves it to the engine's
+        default, (0, 0, -9.81)."""
+        return None if self._gravity is None else tuple(self._gravity)
 
     @property
     def bodies(self) -> dict[str, dict[str, Any]]:
@@ -115,9 +155,9 @@ class Model:
         return self._view("marker")
 
     @property
-    def ground_points(self) -> dict[str, tuple[float, float]]:
+    def ground_points(self) -> dict[str, tuple[float, ...]]:
         """Named points of the ground [m], global coordinates."""
-        return {k: (v[0], v[1]) for k, v in self._ground_points.items()}
+        return {k: tuple(v) for k, v in self._ground_points.items()}
 
     @property
     def source(self) -> str | None:
@@ -128,19 +168,26 @@ class Model:
         return {e["name"]: copy.deepcopy(e) for e in self._elements[kind]}
 
     def degrees_of_freedom(self, with_drivers: bool = False) -> int:
-        """Nominal degrees of freedom (Gruebler): 3 per body less the joint equations,
-        less one per driver if ``with_drivers``. Redundant constraints, which the engine
-        reports as warnings of :meth:`check`, add to the true count."""
-        n = 3 * len(self._elements["body"])
-        n -= sum(JOINT_EQUATIONS[j["type"]] for j in self._elements["joint"])
+        """Nominal degrees of freedom (Gruebler): 3 per body (6 in a spatial model) less
+        the joint equations, less one per driver if ``with_drivers``. Redundant
+        constraints, which the engine reports as warnings of :meth:`check`, add to the
+        true count."""
+        n = (6 if self.spatial else 3) * len(self._elements["body"])
+        n -= self.joint_equations()
         if with_drivers:
             n -= len(self._elements["driver"])
         return n
 
+    def joint_equations(self) -> int:
+        """The number of constraint equations of the joints (none for a clearance joint)."""
+        table = SPATIAL_JOINT_EQUATIONS if self.spatial else JOINT_EQUATIONS
+        return sum(table[j["type"]] for j in self._elements["joint"])
+
     def __repr__(self) -> str:
         shown = [k for k in _KINDS if k != "marker" or self._elements[k]]
         counts = ", ".join(_count(len(self._elements[k]), k) for k in shown)
-        return f"<Model {self._name!r}: {counts}>"
+        kind = " (spatial)" if self.spatial else ""
+        return f"<Model {self._name!r}{kind}: {counts}>"
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Model) and self.to_dict() == other.to_dict()
@@ -153,7 +200,7 @@ class Model:
         self,
         name: str,
         mass: Quantity,
-        inertia: Quantity,
+        inertia: Inertia,
         position: Vector | None = None,
         angle: Quantity | None = None,
         velocity: Vector | None = None,
@@ -161,6 +208,10 @@ class Model:
         points: Mapping[str, Vector] | None = None,
         shape: Mapping[str, Any] | None = None,
         com: Vector | None = None,
+        *,
+        orientation: Orientation | None = None,
+        angular_velocity: Vector | None = None,
+        inertia_frame: Orientation | None = None,
     ) -> Model:
         """Adds a rigid body, described in its own frame.
 
@@ -185,6 +236,17 @@ class Model:
                 ``{"type": "disk", "radius": ..}`` (block and disk centred on the centre
                 of mass); the engine ignores it.
             com: the centre of mass in the body frame [m]; by default the origin.
+
+        A spatial body (``Model(..., dimension=3)``) has its frame at its centre of mass
+        and takes 3-vectors; instead of ``angle``, ``omega``, ``shape`` and ``com``:
+
+        Args:
+            inertia: principal moments ``(J1, J2, J3)`` [kg m^2] about the body axes (or
+                those of ``inertia_frame``), or the full symmetric 3x3 tensor in the body
+                frame.
+            orientation: approximate initial orientation (:data:`Orientation`).
+            angular_velocity: initial angular velocity [rad/s], global axes.
+            inertia_frame: the principal axes' orientation in the body frame.
         """
         raw = {
             "name": name,
@@ -197,6 +259,9 @@ class Model:
             "points": points,
             "shape": shape,
             "com": com,
+            "orientation": orientation,
+            "angular_velocity": angular_velocity,
+            "inertia_frame": inertia_frame,
         }
         return self._add("body", raw)
 
@@ -204,7 +269,7 @@ class Model:
         """Names a point fixed in the ground, global coordinates [m]."""
         if name in self._ground_points:
             raise ModelError(f"duplicate point '{name}'", kind="ground", key=f"points.{name}")
-        fields, _ = convert_element("ground", {"points": {name: xy}})
+        fields, _ = convert_element("ground", {"points": {name: xy}}, dimension=self._dimension)
         self._ground_points.update(fields["points"])
         return self
 
@@ -218,15 +283,21 @@ class Model:
         *,
         initial: Quantity | None = None,
         initial_rate: Quantity | None = None,
+        axis: Vector | None = None,
+        axis_j: Vector | None = None,
     ) -> Model:
         """Adds a pin joint: ``point_i`` of ``body_i`` and ``point_j`` of ``body_j``
         coincide. Points are point names or vectors [m] in the body frame (for the
         ground: global coordinates); both are required.
 
         ``initial`` and ``initial_rate`` set the joint's relative angle ``phi_j - phi_i``
-        [rad] and its rate [rad/s] at t = 0; assembly solves the other coordinates."""
+        [rad] and its rate [rad/s] at t = 0; assembly solves the other coordinates.
+
+        In a spatial model ``axis`` (in the frame of ``body_i``) is the pin's axis, and
+        ``axis_j`` (in the frame of ``body_j``) the same line on body j, by default the
+        one at the initial placement."""
         return self._add_joint(
-            "revolute", name, body_i, body_j, point_i, point_j, None, initial, initial_rate
+            "revolute", name, body_i, body_j, point_i, point_j, axis, initial, initial_rate, axis_j
         )
 
     def add_prismatic(
@@ -240,14 +311,16 @@ class Model:
         *,
         initial: Quantity | None = None,
         initial_rate: Quantity | None = None,
+        axis_j: Vector | None = None,
     ) -> Model:
         """Adds a slider: ``point_j`` stays on the line through ``point_i`` along ``axis``
         (a direction in the frame of ``body_i``), and the relative angle is fixed.
 
         ``initial`` and ``initial_rate`` set the travel of ``point_j`` from ``point_i``
-        along the axis [m] and its rate [m/s] at t = 0; assembly solves the rest."""
+        along the axis [m] and its rate [m/s] at t = 0; assembly solves the rest. In a
+        spatial model, ``axis_j`` is the axis in the frame of ``body_j``."""
         return self._add_joint(
-            "prismatic", name, body_i, body_j, point_i, point_j, axis, initial, initial_rate
+            "prismatic", name, body_i, body_j, point_i, point_j, axis, initial, initial_rate, axis_j
         )
 
     def add_fixed(
@@ -261,6 +334,75 @@ class Model:
         """Welds two bodies: the points coincide and the relative angle is fixed."""
         return self._add_joint("fixed", name, body_i, body_j, point_i, point_j)
 
+    def add_spherical(
+        self, name: str, body_i: str, body_j: str, point_i: PointRef, point_j: PointRef
+    ) -> Model:
+        """Spatial: a ball joint; ``point_i`` of ``body_i`` and ``point_j`` of ``body_j``
+        coincide (3 equations)."""
+        return self._add_joint("spherical", name, body_i, body_j, point_i, point_j)
+
+    def add_cylindrical(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        axis: Vector,
+        point_i: PointRef,
+        point_j: PointRef,
+        *,
+        axis_j: Vector | None = None,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
+    ) -> Model:
+        """Spatial: the joint's axes (``axis`` in the frame of ``body_i`` through
+        ``point_i``, ``axis_j`` in that of ``body_j``, by default the same line at the
+        placement) stay on one line; turning about it and sliding along it are free (4
+        equations). ``initial`` and ``initial_rate``: the angle about the axis [rad] and
+        its rate at t = 0. A driver on it turns it."""
+        return self._add_joint(
+            "cylindrical",
+            name,
+            body_i,
+            body_j,
+            point_i,
+            point_j,
+            axis,
+            initial,
+            initial_rate,
+            axis_j,
+        )
+
+    def add_universal(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        axis: Vector,
+        axis_j: Vector,
+        point_i: PointRef,
+        point_j: PointRef,
+    ) -> Model:
+        """Spatial: Hooke's joint; the points coincide and the cross axes (``axis`` in the
+        frame of ``body_i``, ``axis_j`` in that of ``body_j``) stay perpendicular (4
+        equations)."""
+        return self._add_joint(
+            "universal", name, body_i, body_j, point_i, point_j, axis, None, None, axis_j
+        )
+
+    def add_planar(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        axis: Vector,
+        point_i: PointRef,
+        point_j: PointRef,
+    ) -> Model:
+        """Spatial: ``point_j`` stays in the plane of ``body_i`` through ``point_i`` with
+        normal ``axis`` (frame of ``body_i``), and the two normals stay parallel (3
+        equations)."""
+        return self._add_joint("planar", name, body_i, body_j, point_i, point_j, axis)
+
     def _add_joint(
         self,
         type_: str,
@@ -272,6 +414,7 @@ class Model:
         axis: Vector | None = None,
         initial: Quantity | None = None,
         initial_rate: Quantity | None = None,
+        axis_j: Vector | None = None,
     ) -> Model:
         raw = {
             "name": name,
@@ -281,6 +424,7 @@ class Model:
             "body_j": body_j,
             "point_j": point_j,
             "axis": axis,
+            "axis_j": axis_j,
             "initial": initial,
             "initial_rate": initial_rate,
         }
@@ -339,6 +483,97 @@ class Model:
             "journal_material": journal_material,
             "normal_law": normal_law,
             "friction": friction,
+        }
+        return self._add("joint", raw)
+
+    def add_clearance_spherical(
+        self,
+        name: str,
+        socket_body: str,
+        ball_body: str,
+        point_socket: PointRef,
+        point_ball: PointRef,
+        *,
+        socket_radius: Quantity | None = None,
+        ball_radius: Quantity | None = None,
+        clearance: Quantity | None = None,
+        stiffness: Quantity | None = None,
+        socket_material: str | Mapping[str, Any] | None = None,
+        ball_material: str | Mapping[str, Any] | None = None,
+        normal_law: Law | Mapping[str, Any],
+        friction: Law | Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Spatial: a ball joint with clearance, a contact force between the socket (on
+        ``socket_body`` centred at ``point_socket``; ``body_i`` in a model file) and the
+        ball (on ``ball_body`` at ``point_ball``; ``body_j``). Two of ``socket_radius``,
+        ``ball_radius``, ``clearance`` [m]; ``stiffness`` or the two materials; the laws
+        as for :meth:`add_clearance_revolute`. Channels ``<name>.fx fy fz ex ey ez`` and
+        ``fn ft penetration ...`` of its contact point, and its impact list."""
+        raw = {
+            "name": name,
+            "type": "clearance_spherical",
+            "body_i": socket_body,
+            "point_i": point_socket,
+            "body_j": ball_body,
+            "point_j": point_ball,
+            "socket_radius": socket_radius,
+            "ball_radius": ball_radius,
+            "clearance": clearance,
+            "stiffness": stiffness,
+            "socket_material": socket_material,
+            "ball_material": ball_material,
+            "normal_law": normal_law,
+            "friction": friction,
+        }
+        return self._add("joint", raw)
+
+    def add_clearance_cylindrical(
+        self,
+        name: str,
+        bearing_body: str,
+        journal_body: str,
+        axis: Vector,
+        point_bearing: PointRef,
+        point_journal: PointRef,
+        *,
+        length: Quantity,
+        axis_j: Vector | None = None,
+        axial_clearance: Quantity | None = None,
+        bearing_radius: Quantity | None = None,
+        journal_radius: Quantity | None = None,
+        clearance: Quantity | None = None,
+        stiffness: Quantity | None = None,
+        bearing_material: str | Mapping[str, Any] | None = None,
+        journal_material: str | Mapping[str, Any] | None = None,
+        normal_law: Law | Mapping[str, Any],
+        friction: Law | Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Spatial: a revolute joint with radial clearance whose journal may tilt: a
+        bearing on ``bearing_body`` (centre ``point_bearing``, ``axis`` in its frame) and
+        a journal of ``length`` [m] on ``journal_body`` (centre ``point_journal``,
+        ``axis_j`` in its frame, by default the same line at the placement), touching at
+        either end. ``axial_clearance`` [m] adds thrust faces. The contact data as for
+        :meth:`add_clearance_revolute`. Channels ``<name>.fx fy fz ex ey ez`` and, per
+        contact point ``p<i>``, ``<name>.p<i>.fn ...``; an impact list per point."""
+        raw = {
+            "name": name,
+            "type": "clearance_cylindrical",
+            "body_i": bearing_body,
+            "point_i": point_bearing,
+            "body_j": journal_body,
+            "point_j": point_journal,
+            "axis": axis,
+            "axis_j": axis_j,
+            "bearing_radius": bearing_radius,
+            "journal_radius": journal_radius,
+            "clearance": clearance,
+            "stiffness": stiffness,
+            "bearing_material": bearing_material,
+            "journal_material": journal_material,
+            "normal_law": normal_law,
+            "friction": friction,
+            "length": length,
+            "axial_clearance": axial_clearance,
         }
         return self._add("joint", raw)
 
@@ -418,26 +653,45 @@ class Model:
         }
         return self._add("force", raw)
 
-    def add_force(self, name: str, body: str, force: Any, point: PointRef | None = None) -> Model:
+    def add_force(
+        self,
+        name: str,
+        body: str,
+        force: Any,
+        point: PointRef | None = None,
+        *,
+        frame: str | None = None,
+    ) -> Model:
         """Applies a force [N] in global axes at a point of a body (by default its centre
         of mass).
 
         ``force`` is a constant ``(fx, fy)`` or a table against time:
         ``(times, [(fx, fy), ...])`` or ``{"time": [...], "value": [...]}`` (linear
-        between points, held outside)."""
+        between points, held outside). In a spatial model it is ``(fx, fy, fz)``, in the
+        axes of ``frame``: ``"ground"`` (global, the default) or ``"body"`` (turning with
+        the body)."""
         raw = {
             "name": name,
             "type": "applied_force",
             "body": body,
             "point": point,
             "force": _signal(force),
+            "frame": frame,
         }
         return self._add("force", raw)
 
-    def add_torque(self, name: str, body: str, torque: Any) -> Model:
+    def add_torque(self, name: str, body: str, torque: Any, *, frame: str | None = None) -> Model:
         """Applies a torque [N m], counter-clockwise positive: a constant, or a table
-        ``(times, values)`` / ``{"time": [...], "value": [...]}``."""
-        raw = {"name": name, "type": "applied_torque", "body": body, "torque": _signal(torque)}
+        ``(times, values)`` / ``{"time": [...], "value": [...]}``. In a spatial model a
+        vector ``(mx, my, mz)`` in the axes of ``frame``, ``"ground"`` (default) or
+        ``"body"``."""
+        raw = {
+            "name": name,
+            "type": "applied_torque",
+            "body": body,
+            "torque": _signal(torque),
+            "frame": frame,
+        }
         return self._add("force", raw)
 
     def add_marker(self, name: str, body: str, point: PointRef, frame: str | None = None) -> Model:
@@ -456,7 +710,7 @@ class Model:
 
     def _add(self, kind: str, raw: Mapping[str, Any]) -> Model:
         index = len(self._elements[kind])
-        fields, motion = convert_element(kind, raw, index=index)
+        fields, motion = convert_element(kind, raw, index=index, dimension=self._dimension)
         name = fields["name"]
         if name in _RESERVED:
             raise ModelError(f"the name '{name}' is reserved", kind=kind, index=index, key="name")
@@ -483,7 +737,7 @@ class Model:
         if motion is None or owner is None or owner[0] != "joint":
             return  # plain numbers, or a missing joint: the engine reports the latter
         joint = self._elements["joint"][owner[1]]
-        expected = DRIVEN_MOTION.get(joint["type"])
+        expected = (SPATIAL_DRIVEN_MOTION if self.spatial else DRIVEN_MOTION).get(joint["type"])
         if expected is not None and expected != motion:
             raise ModelError(
                 f"profile is given in {_MOTION_UNITS[motion]} but joint '{joint['name']}' is "
@@ -498,11 +752,21 @@ class Model:
 
     def to_dict(self) -> dict[str, Any]:
         """The model as the engine reads it: plain data, SI units and radians, every body
-        in its centre-of-mass frame (:func:`_at_centres_of_mass`)."""
+        in its centre-of-mass frame (:func:`_at_centres_of_mass`). A spatial model's
+        starts with ``"dimension": 3`` and leaves out what its elements leave to the
+        engine's defaults."""
+        if self.spatial:
+            model: dict[str, Any] = {"dimension": 3, "name": self._name}
+            if self._gravity is not None:
+                model["gravity"] = list(self._gravity)
+            for key, kind in _SECTIONS:
+                model[key] = copy.deepcopy(self._elements[kind])
+            model["ground_points"] = copy.deepcopy(self._ground_points)
+            return at_centres_of_mass(model)
         return _at_centres_of_mass(
             {
                 "name": self._name,
-                "gravity": list(self._gravity),
+                "gravity": list(self._gravity or ()),
                 "bodies": copy.deepcopy(self._elements["body"]),
                 "joints": copy.deepcopy(self._elements["joint"]),
                 "drivers": copy.deepcopy(self._elements["driver"]),
@@ -520,6 +784,7 @@ class Model:
     def from_dict(cls, data: Mapping[str, Any]) -> Model:
         """Rebuilds a model from :meth:`to_dict` output (e.g. a run's ``summary.json``)."""
         known = {
+            "dimension",
             "name",
             "gravity",
             "bodies",
@@ -532,7 +797,7 @@ class Model:
         unknown = sorted(set(data) - known)
         if unknown:
             raise ModelError(f"unknown key '{unknown[0]}' (allowed: {', '.join(sorted(known))})")
-        model = cls(data.get("name", ""), data.get("gravity"))
+        model = cls(data.get("name", ""), data.get("gravity"), data.get("dimension", 2))
         for name, xy in (data.get("ground_points") or {}).items():
             model.add_ground_point(name, xy)
         for kind, key in (("body", "bodies"), ("joint", "joints"), ("driver", "drivers")):
@@ -603,6 +868,9 @@ class Model:
             return self._located(ModelError(problem))
         owner = self._owner.get(name)
         index = owner[1] if owner is not None and owner[0] == kind else None
+        if index is not None and self._elements[kind][index].get("type") == "clearance_spherical":
+            key = None if key is None else _sphere_words(key)
+            problem = _sphere_words(problem)
         return self._located(ModelError(problem, kind=kind, name=name, index=index, key=key))
 
     def _located(self, error: ModelError) -> ModelError:
@@ -736,6 +1004,14 @@ def _at_centres_of_mass(model: dict[str, Any]) -> dict[str, Any]:
     for marker in model["markers"]:
         move(marker, "body", "point")
     return model
+
+
+def _sphere_words(text: str) -> str:
+    """An engine message or key about a clearance_spherical joint in the words of its
+    file: ``journal_radius`` is its ``ball_radius`` (:data:`SPHERE_KEYS`)."""
+    for own, engine in SPHERE_KEYS.items():
+        text = re.sub(rf"\b(clearance\.)?{engine}\b", own, text)
+    return text
 
 
 def _count(n: int, kind: str) -> str:

@@ -53,6 +53,9 @@ WriteProgress = Callable[[int, int], object]
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
 """Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
 
+CLEARANCE_TYPES = ("clearance_revolute", "clearance_spherical", "clearance_cylindrical")
+"""The joint types with clearance: contact force elements with impact lists."""
+
 RunStatus = Literal["finished", "failed", "interrupted"]
 """How a run ended (:attr:`Result.status`): it reached its end time, it stopped early
 (:attr:`Result.message` says why and when), or Ctrl-C stopped it."""
@@ -190,6 +193,31 @@ _UNITS = {
     "ex": "m",
     "ey": "m",
     "slip": "m/s",
+    # spatial models
+    "z": "m",
+    "vz": "m/s",
+    "az": "m/s^2",
+    "e0": "",
+    "e1": "",
+    "e2": "",
+    "e3": "",
+    "wx": "rad/s",
+    "wy": "rad/s",
+    "wz": "rad/s",
+    "alphax": "rad/s^2",
+    "alphay": "rad/s^2",
+    "alphaz": "rad/s^2",
+    "fz": "N",
+    "mx": "N*m",
+    "my": "N*m",
+    "mz": "N*m",
+    "ez": "m",
+    "fnx": "N",
+    "fny": "N",
+    "fnz": "N",
+    "ftx": "N",
+    "fty": "N",
+    "ftz": "N",
 }
 
 
@@ -317,6 +345,42 @@ class Result:
         """The options as keyword arguments of :meth:`jointgap.Model.simulate`."""
         return dict(self.options)
 
+    # ------------------------------------------------------------------ spatial bodies
+
+    def euler_angles(self, body: str, convention: str = "ZYX") -> np.ndarray:
+        """A spatial body's orientation as Euler angles [rad], one row ``(a, b, c)`` per
+        sample: intrinsic turns about the axes ``convention`` names (``R = R1(a) R2(b)
+        R3(c)``, the model file's convention; ``ZYX`` is yaw, pitch, roll), of the frame
+        whose quaternion the channels ``<body>.e0 .. e3`` give (the body's principal
+        frame). Computed by SciPy's ``Rotation`` from the quaternion."""
+        convention = str(convention)
+        if len(convention) != 3 or not set(convention) <= set("XYZ"):
+            raise ValueError(
+                f"convention {convention!r}: three of X, Y, Z, e.g. 'ZYX' (intrinsic turns)"
+            )
+        angles: np.ndarray = self._rotation(body).as_euler(convention)
+        return angles
+
+    def angular_velocity(self, body: str, frame: str = "ground") -> np.ndarray:
+        """A spatial body's angular velocity [rad/s], one row ``(wx, wy, wz)`` per
+        sample, in global axes (``frame="ground"``) or in the axes of its principal frame
+        (``frame="body"``: the channels ``<body>.wx .wy .wz``)."""
+        if frame not in ("ground", "body"):
+            raise ValueError(f"frame {frame!r}: 'ground' or 'body'")
+        w = np.stack([self[f"{body}.w{q}"] for q in "xyz"], axis=1)
+        if frame == "body":
+            return w
+        ground: np.ndarray = self._rotation(body).apply(w)
+        return ground
+
+    def _rotation(self, body: str) -> Any:
+        """SciPy's ``Rotation`` of a body's samples, from ``<body>.e0 .. e3`` (scalar
+        first; SciPy takes the scalar last)."""
+        from scipy.spatial.transform import Rotation  # type: ignore[import-untyped]
+
+        q = np.stack([self[f"{body}.e{k}"] for k in (1, 2, 3, 0)], axis=1)
+        return Rotation.from_quat(q)
+
     # ------------------------------------------------------------------ export
 
     def to_pandas(self) -> pd.DataFrame:
@@ -431,7 +495,7 @@ class Result:
         impacts: dict[str, list[Impact]] = {
             j["name"]: []
             for j in summary.get("model", {}).get("joints", [])
-            if j.get("type") == "clearance_revolute"
+            if j.get("type") in CLEARANCE_TYPES and j.get("type") != "clearance_cylindrical"
         }
         if (folder / IMPACTS_CSV).exists():
             with open(folder / IMPACTS_CSV, newline="") as f:
@@ -521,15 +585,15 @@ def model_channels(model: Mapping[str, Any]) -> list[str]:
 
 
 def guided_bodies(result: Result) -> list[tuple[str, str]]:
-    """``(body, "x" or "y")`` for every body on a prismatic joint, the coordinate being
-    the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
+    """``(body, "x", "y" or "z")`` for every body on a prismatic joint, the coordinate
+    being the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
     out: list[tuple[str, str]] = []
     for joint in result.model.get("joints", []):
         if joint.get("type") != "prismatic":
             continue
         body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
-        ax, ay = (abs(float(v)) for v in joint.get("axis") or (1.0, 0.0))
-        pair = (str(body), "x" if ax >= ay else "y")
+        axis = [abs(float(v)) for v in joint.get("axis") or (1.0, 0.0)]
+        pair = (str(body), "xyz"[axis.index(max(axis))])  # the first of equal ones
         if pair not in out:
             out.append(pair)
     return out
@@ -543,13 +607,15 @@ def slider_channels(result: Result) -> list[str]:
 
 
 def clearance_joints(result: Result) -> list[str]:
-    """The clearance joints of a result in model order (then any others that only the
-    impact list names, for a result built without its model)."""
-    names = [
-        str(j["name"])
-        for j in result.model.get("joints", [])
-        if j.get("type") == "clearance_revolute"
-    ]
+    """The clearance joints of a result in model order, named as their impact lists
+    are (a joint of several contact points by its points, ``joint.p1``, ...; then any
+    others that only the impact list names, for a result built without its model)."""
+    names = []
+    for joint in result.model.get("joints", []):
+        if joint.get("type") in CLEARANCE_TYPES:
+            # a joint of several contact points (cylindrical) by its points, p1, p2, ...
+            points = [c for c in result.impacts if c.startswith(f"{joint['name']}.p")]
+            names += points or [str(joint["name"])]
     return names + [j for j in result.impacts if j not in names]
 
 

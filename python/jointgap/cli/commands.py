@@ -24,7 +24,6 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from .._schema import JOINT_EQUATIONS
 from ..errors import ModelError, RunWarning
 from ..model import Model
 from ..results import RESULTS_PARQUET, SUMMARY_JSON, Result, channel_unit, main_channels
@@ -372,7 +371,7 @@ def _check(args: argparse.Namespace) -> int:
     model = _load(args.model)
     warnings = model.check()
     counts = _counts(model)
-    equations = sum(JOINT_EQUATIONS[j["type"]] for j in model.joints.values())
+    equations = model.joint_equations()
     print(f"{model.name or Path(args.model).stem} ({args.model}): valid")
     n_points = len(model.ground_points)
     print(f"  {counts}, {n_points} ground point{'' if n_points == 1 else 's'}")
