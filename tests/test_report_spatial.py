@@ -191,3 +191,17 @@ def test_missing_pose_channels_are_named(run) -> None:
         spatial_section(partial)
     with pytest.raises(ReportError, match="dimension"):
         spatial_section(Result(time=run.time, channels=[], data=np.zeros((0, len(run.time)))))
+
+
+def test_a_saved_spatial_run_reports_in_3d(run, tmp_path) -> None:
+    """``jointgap report FOLDER`` on what ``jointgap run`` writes: the same 3D page."""
+    from jointgap.report import folder_report_data
+
+    run.save(tmp_path / "run")
+    data = folder_report_data(tmp_path / "run")
+    assert data["run"]["spatial"] is True
+    assert data["run"]["impact_counts"] == {c: len(v) for c, v in run.impacts.items()}
+    assert (
+        data["run"]["frames"]["bodies"]["tip"]["q"][0]
+        == (run_report_data(run)["run"]["frames"]["bodies"]["tip"]["q"][0])
+    )
