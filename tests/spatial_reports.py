@@ -90,3 +90,23 @@ def spatial_run() -> Any:
     from jointgap._engine import run_options, simulate
 
     return simulate(ball_and_hinge_pendulum(), run_options(T_END, rate=RATE))
+
+
+def ideal_pendulum() -> dict[str, Any]:
+    """The same pendulum with ideal joints: a spherical joint for the ball, a revolute
+    joint about the bearing's axis for the journal."""
+    model = ball_and_hinge_pendulum()
+    model["name"] = "ball_and_hinge_pendulum_ideal"
+    ball, elbow = model["joints"]
+    for joint, kind in ((ball, "spherical"), (elbow, "revolute")):
+        joint["type"] = kind
+        for key in ("clearance", "length", "axial_clearance"):
+            joint.pop(key, None)
+    return model
+
+
+def ideal_run() -> Any:
+    """The ideal pendulum's run, on the same samples as :func:`spatial_run`."""
+    from jointgap._engine import run_options, simulate
+
+    return simulate(ideal_pendulum(), run_options(T_END, rate=RATE))

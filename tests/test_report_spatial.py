@@ -12,7 +12,7 @@ import pytest
 from jointgap.report import ReportError, render, run_report_data, write_run_report
 from jointgap.report.spatial import orientation_matrix, principal_frame, spatial_section
 from jointgap.results import Result
-from spatial_reports import ball_and_hinge_pendulum, spatial_run
+from spatial_reports import ball_and_hinge_pendulum, ideal_run, spatial_run
 
 pytestmark = pytest.mark.usefixtures("engine")
 
@@ -205,3 +205,23 @@ def test_a_saved_spatial_run_reports_in_3d(run, tmp_path) -> None:
         data["run"]["frames"]["bodies"]["tip"]["q"][0]
         == (run_report_data(run)["run"]["frames"]["bodies"]["tip"]["q"][0])
     )
+
+
+def test_against_the_ideal_run(run) -> None:
+    """With the ideal twin: its marker path dashed beside the run's, the plots overlaid,
+    and the marker's deviation from its ideal path in the deviation table."""
+    ideal = ideal_run()
+    section = run_report_data(run, ideal=ideal)["run"]
+    paths = [(p["marker"], p["ideal"]) for p in section["scene"]["paths"]]
+    assert paths == [("end", False), ("end", True)]
+    end_x = next(p for p in section["plots"] if p["id"] == "end.x")
+    assert [s["label"] for s in end_x["series"]] == ["clearance", "ideal"]
+    deviation = next(t for t in section["tables"] if t["id"] == "deviation")
+    rows = {r[0]: r for r in deviation["rows"]}
+    assert list(rows) == ["end.x", "end.y", "end.z"]
+    for q in "xyz":
+        gap = np.abs(run[f"end.{q}"] - ideal[f"end.{q}"])
+        assert rows[f"end.{q}"][4] == pytest.approx(float(gap.max()), rel=1e-12)
+    # The clearances let the end wander by more than they are wide (a lever), not by
+    # the arm's length.
+    assert 2e-4 < rows["end.z"][4] < 0.05

@@ -30,12 +30,14 @@ from scipy.spatial.transform import Rotation  # type: ignore[import-untyped]
 from .._schema import GROUND
 from ..errors import ReportError
 from ..results import Result, clearance_joints, effort_channels
+from ..statistics import contact_statistics, deviation_from_ideal
 from .encode import rounded
 from .run import DEFAULT_MAX_POINTS, _plots
 from .scene import DEFAULT_MAX_FRAMES, auto_magnify, frame_indices
 from .tables import (
     Table,
     contact_table,
+    deviation_table,
     impact_table,
     model_table,
     options_table,
@@ -47,6 +49,7 @@ __all__ = [
     "is_spatial",
     "orientation_matrix",
     "principal_frame",
+    "spatial_deviation_channels",
     "spatial_plotted_channels",
     "spatial_section",
 ]
@@ -173,6 +176,38 @@ def _path_indices(xyz: np.ndarray, max_points: int) -> np.ndarray:
     return np.unique(np.concatenate(([0, n - 1], keep)))
 
 
+def _marker_paths(
+    run: Result, markers: Sequence[Mapping[str, Any]], max_points: int, ideal: bool
+) -> list[dict[str, Any]]:
+    """Each marker's whole path (global, thinned evenly along it), of the run or of the
+    ideal run (drawn dashed)."""
+    out = []
+    for m in markers:
+        channels = [f"{m['name']}.{q}" for q in "xyz"]
+        if not all(ch in run for ch in channels):
+            continue
+        xyz = np.vstack([np.asarray(run[ch]) for ch in channels])
+        keep = _path_indices(xyz, max_points)
+        out.append(
+            {
+                "marker": str(m["name"]),
+                "ideal": ideal,
+                "x": rounded(xyz[0, keep]),
+                "y": rounded(xyz[1, keep]),
+                "z": rounded(xyz[2, keep]),
+            }
+        )
+    return out
+
+
+def spatial_deviation_channels(result: Result) -> list[str]:
+    """The channels a spatial run is compared on with its ideal run: each marker's
+    position (an end effector's deviation from its ideal path) and every driver's
+    effort, those recorded."""
+    chosen = [f"{m['name']}.{q}" for m in result.model.get("markers", []) for q in "xyz"]
+    return [c for c in chosen + effort_channels(result) if c in result]
+
+
 def spatial_plotted_channels(result: Result) -> list[str]:
     """The channels a spatial report plots: driver efforts, each contact point's normal
     force, each marker's position, and the constraint error (those recorded)."""
@@ -224,11 +259,13 @@ def spatial_section(
     labels: Sequence[str] | None = None,
 ) -> dict[str, Any]:
     """Everything the page needs to draw one spatial run in 3D (the counterpart of
-    :func:`jointgap.report.run_section`; an ``ideal`` run is overlaid in the plots).
+    :func:`jointgap.report.run_section`).
 
     Args:
         result: the run, with its spatial model (``Result.model``, the engine's JSON).
-        ideal: the same mechanism with ideal joints, overlaid in the plots.
+        ideal: the same mechanism with ideal joints: overlaid in the plots, its marker
+            paths drawn dashed, and the deviation table
+            (:func:`spatial_deviation_channels`).
         source: the model file, shown in the model table.
         magnify: the clearance joints' markers in the 3D view are drawn at the bearing
             centre plus ``magnify`` times the eccentricity; default
@@ -366,21 +403,9 @@ def spatial_section(
     if not (math.isfinite(factor) and factor > 0):
         raise ReportError(f"magnify must be a positive number, not {magnify}")
 
-    paths = []
-    for m in markers:
-        channels = [f"{m['name']}.{q}" for q in "xyz"]
-        if not all(ch in result for ch in channels):
-            continue
-        xyz = np.vstack([np.asarray(result[ch]) for ch in channels])
-        keep = _path_indices(xyz, max_points)
-        paths.append(
-            {
-                "marker": m["name"],
-                "x": rounded(xyz[0, keep]),
-                "y": rounded(xyz[1, keep]),
-                "z": rounded(xyz[2, keep]),
-            }
-        )
+    paths = _marker_paths(result, markers, max_points, ideal=False)
+    if ideal is not None:
+        paths += _marker_paths(ideal, markers, max_points, ideal=True)
 
     frames = {
         "time": rounded(time[index], 9),
@@ -401,8 +426,6 @@ def spatial_section(
         if labels is not None
         else (("clearance", "ideal") if ideal is not None else (name, ""))
     )
-    from ..statistics import contact_statistics
-
     stats = contact_statistics(result)
     tables: list[Table] = [
         model_table(result, source),
@@ -413,6 +436,10 @@ def spatial_section(
         tables.append(contact_table(stats))
     if result.impacts:
         tables.append(impact_table(result))
+    if ideal is not None and len(ideal.time):
+        compared = [c for c in spatial_deviation_channels(result) if c in ideal]
+        if compared:
+            tables.append(deviation_table(deviation_from_ideal(result, ideal, compared)))
     plots = _plots(result, ideal, names, max_points, spatial_plotted_channels(result))
     used = {s["x"] for p in plots for s in p["series"] if isinstance(s["x"], str)}
     impacts = [{"joint": j, "t": i.onset_time} for j, lst in result.impacts.items() for i in lst]

@@ -495,7 +495,8 @@ class Mechanism3D extends View3D {
     traces.push({ type: "scatter3d", mode: "markers", name: "markers", x: [], y: [], z: [], text: scene.markers.map((m) => m.name), hoverinfo: "text", marker: { size: 4, color: "#ff7f0e" } });
     const dynamic = traces.map((_, k) => k);
     for (const p of scene.paths) {
-      traces.push(line(`${p.marker} path`, "#ff7f0e", 2, { x: p.x, y: p.y, z: p.z, opacity: 0.6 }));
+      const style = p.ideal ? { color: "#555", width: 2, dash: "dash" } : { color: "#ff7f0e", width: 2 };
+      traces.push(line(`${p.marker} path${p.ideal ? " (ideal)" : ""}`, null, 2, { x: p.x, y: p.y, z: p.z, opacity: 0.7, line: style }));
     }
     if (scene.ground.length) {
       traces.push({ type: "scatter3d", mode: "markers", name: "ground points", x: scene.ground.map((p) => p[0]), y: scene.ground.map((p) => p[1]), z: scene.ground.map((p) => p[2]), text: scene.ground_names, hoverinfo: "text", marker: { size: 4, symbol: "square", color: "#777" } });
