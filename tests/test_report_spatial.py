@@ -225,3 +225,23 @@ def test_against_the_ideal_run(run) -> None:
     # The clearances let the end wander by more than they are wide (a lever), not by
     # the arm's length.
     assert 2e-4 < rows["end.z"][4] < 0.05
+
+
+def test_a_tensor_with_two_equal_moments_is_flagged() -> None:
+    """Its principal axes in the plane of the equal moments are not unique: the page
+    says the body may be drawn turned about its symmetry axis."""
+    c, s = np.cos(0.3), np.sin(0.3)
+    about_x = np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+    symmetric = about_x @ np.diag([2e-3, 2e-3, 1e-3]) @ about_x.T
+    model = ball_and_hinge_pendulum()
+    model["bodies"][1]["inertia"] = {"tensor": symmetric.tolist()}
+    model["joints"], model["markers"] = [], []  # the bodies alone: poses are all it needs
+    names = [f"{b}.{q}" for b in ("arm", "tip") for q in ("x", "y", "z", "e0", "e1", "e2", "e3")]
+    data = np.zeros((len(names), 2))
+    data[[names.index("arm.e0"), names.index("tip.e0")]] = 1.0
+    result = Result(time=[0.0, 0.1], channels=names, data=data, model=model)
+    (note,) = spatial_section(result)["scene"]["notes"]
+    assert note.startswith("body 'tip': its inertia tensor has two equal principal moments")
+    # The test model's tip (three distinct moments) draws without a note.
+    model["bodies"][1]["inertia"] = ball_and_hinge_pendulum()["bodies"][1]["inertia"]
+    assert spatial_section(result)["scene"]["notes"] == []

@@ -46,6 +46,7 @@ from .tables import (
 
 __all__ = [
     "CLEARANCE_TYPES",
+    "ambiguous_frame",
     "is_spatial",
     "orientation_matrix",
     "principal_frame",
@@ -96,7 +97,8 @@ def principal_frame(body: Mapping[str, Any]) -> np.ndarray:
     axes, each turned to point along its own, a left-handed triad mended by reversing
     the axis farthest from its own. Where two principal moments are equal and the tensor
     is not diagonal, the axes in their plane are not unique and the engine's may differ
-    from these: that body is then drawn turned about its symmetry axis (docs/report.md).
+    from these: that body may then be drawn turned about its symmetry axis, and the page
+    says so (:func:`ambiguous_frame`, docs/report.md).
     """
     inertia = body.get("inertia", {})
     if "principal" in inertia:
@@ -112,6 +114,20 @@ def principal_frame(body: Mapping[str, Any]) -> np.ndarray:
         k = int(np.argmin(np.diag(axes)))
         axes[:, k] = -axes[:, k]
     return axes
+
+
+def ambiguous_frame(body: Mapping[str, Any]) -> bool:
+    """Whether a body's inertia is a tensor, not diagonal, with two principal moments
+    equal (to 1e-6 relative): its principal axes in their plane are not unique, and the
+    engine's may differ from :func:`principal_frame`'s."""
+    tensor = body.get("inertia", {}).get("tensor")
+    if tensor is None:
+        return False
+    j = np.asarray(tensor, dtype=float)
+    if not np.any(j - np.diag(np.diag(j))):
+        return False
+    moments = np.linalg.eigvalsh(0.5 * (j + j.T))
+    return bool(np.min(np.diff(moments)) <= 1e-6 * np.max(np.abs(moments)))
 
 
 def _point(body: Mapping[str, Any] | None, ref: Any, ground: Mapping[str, Any]) -> list[float]:
@@ -460,6 +476,13 @@ def spatial_section(
             "triad": _TRIAD_FRACTION * size,
             "magnify": factor,
             "paths": paths,
+            "notes": [
+                f"body '{n}': its inertia tensor has two equal principal moments, so its "
+                "principal axes in their plane are not unique: it may be drawn turned about "
+                "its symmetry axis (give its inertia as principal moments with a frame)"
+                for n, b in bodies.items()
+                if ambiguous_frame(b)
+            ],
         },
         "frames": frames,
         "times": {

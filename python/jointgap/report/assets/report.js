@@ -663,6 +663,7 @@ function renderSpatialRun(run) {
   el("p", { class: "jg-note", id: "magnify-note" }, left,
     "drag: rotate · wheel: zoom · the mode bar: pan, reset" +
       (run.scene.clearances.length ? `; pins drawn at the bearing centre plus ${jgFormat(run.scene.magnify)} times the eccentricity, coloured blue free flight, red impact, green continuous contact` : ""));
+  for (const note of run.scene.notes) el("p", { class: "jg-warning jg-frame-note" }, left, note);
   p.ready = Promise.all(views.filter((v) => v.ready).map((v) => v.ready));
   return p;
 }
