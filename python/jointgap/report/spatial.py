@@ -342,7 +342,9 @@ def spatial_section(
         body = str(marker["body"])
         p = _point(owner(body), marker.get("point"), ground)
         add(body, p)
-        markers.append({"name": str(marker["name"]), "body": body, "point": p})
+        markers.append(
+            {"name": str(marker["name"]), "body": None if body == GROUND else body, "point": p}
+        )
 
     quats = {n: _body_quaternions(result, b, index) for n, b in bodies.items()}
     centres = {
