@@ -15,6 +15,7 @@ $(DEPS_STAMP): pyproject.toml
 	$(PY) -m pip install -q --disable-pip-version-check "maturin>=1.5,<2" \
 		"numpy>=1.26" "scipy>=1.11" "pandas>=2.0" "matplotlib>=3.8" \
 		"pyarrow>=14" "dask[distributed]>=2024.1" "tomlkit>=0.12" \
+		"plotly>=6,<8" \
 		"pytest>=8" "ruff>=0.5" "mypy>=1.10"
 	touch $(DEPS_STAMP)
 

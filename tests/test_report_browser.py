@@ -13,10 +13,12 @@ import json
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 from browser import Browser, BrowserError, Page, find_chromium
 from jointgap.report import write_folder_report, write_run_report
 from report_folders import compare_folder, study_folder
+from spatial_reports import spatial_run
 
 pytestmark = pytest.mark.usefixtures("engine")
 
@@ -50,6 +52,13 @@ def reports(tmp_path_factory):
         "founding": (write_run_report(founding, folder / "founding.html", ideal=ideal), founding),
         "two": (write_run_report(two, folder / "two.html"), two),
     }
+
+
+@pytest.fixture(scope="module")
+def spatial_report(tmp_path_factory):
+    """The 3D report of a spatial run (tests/spatial_reports.py), with its result."""
+    result = spatial_run()
+    return write_run_report(result, tmp_path_factory.mktemp("spatial") / "spatial.html"), result
 
 
 def open_clean(browser: Browser, path: Path) -> Page:
@@ -219,6 +228,72 @@ def test_comparison_and_study_reports_open_cleanly(browser, examples, tmp_path) 
     page.close()
     info = json.loads((folder / "study.json").read_text())
     assert info["n_cases"] == 6
+
+
+MECHANISM_3D = "document.getElementById('mechanism-3d')"
+
+
+def drawn(page: Page, frame: int) -> None:
+    """Waits until every 3D view shows ``frame`` (each says so once plotly has drawn it)."""
+    page.wait_for(
+        "[...document.querySelectorAll('#mechanism-3d, .jg-orbit-3d')]"
+        f".every(v => v.dataset.frame === '{frame}')"
+    )
+
+
+def test_spatial_report_draws_in_3d_and_animates(browser, spatial_report) -> None:
+    path, result = spatial_report
+    page = open_clean(browser, path)  # plotly inlined: nothing fetched, nothing logged
+    # plotly's WebGL scenes: the mechanism and one orbit per clearance joint.
+    assert js(page, f"{MECHANISM_3D}.querySelectorAll('canvas').length") > 0
+    names = js(page, f"{MECHANISM_3D}.data.map(t => t.name)")
+    assert names[:2] == ["arm", "tip"] and "end path" in names and "joints" in names
+    for joint in ("ball", "elbow"):
+        orbit = f"document.getElementById('orbit-{joint}')"
+        assert js(page, f"{orbit}.querySelectorAll('canvas').length") > 0, joint
+        assert js(page, f"{orbit}.data.map(t => t.type)") == ["surface", "scatter3d", "scatter3d"]
+    drawn(page, 0)
+    read = (
+        f"[{MECHANISM_3D}.data[1].x.slice(), {MECHANISM_3D}.data[1].z.slice(),"
+        " document.getElementById('orbit-elbow').data[2].x[0],"
+        " Number(document.getElementById('time-slider').value)]"
+    )
+    before = js(page, read)
+    assert before[3] == 0
+    js(page, "document.getElementById('play').click()")
+    page.wait_for("Number(document.getElementById('time-slider').value) > 100")
+    js(page, "document.getElementById('play').click()")  # pause
+    frame = js(page, "Number(document.getElementById('time-slider').value)")
+    drawn(page, frame)  # the views catch up with the last frame asked for
+    after = js(page, read)
+    assert after[3] == frame > before[3]
+    assert after[0] != before[0] and after[1] != before[1]  # the tip swung
+    assert after[2] != before[2]  # and the journal moved in its bearing
+    # The tip's sticks as drawn: its pose (model frame) applied to its points.
+    tip = result.model["bodies"][1]
+    k = frame
+    x = np.array(after[0]), np.array(after[1])
+    assert x[0][-1] == pytest.approx(float(result["end.x"][k]), abs=1e-6)
+    assert x[1][-1] == pytest.approx(float(result["end.z"][k]), abs=1e-6)
+    assert len(x[0]) == len(tip["points"])
+    page.screenshot(ARTIFACTS / "report_spatial.png")
+    page.close()
+
+
+def test_spatial_impact_row_moves_the_3d_views(browser, spatial_report) -> None:
+    path, result = spatial_report
+    page = open_clean(browser, path)
+    onset = result.impacts["elbow.p1"][5].onset_time
+    row = js(
+        page,
+        "[...document.querySelectorAll('#impacts tbody tr')]"
+        ".findIndex(r => r.cells[0].textContent === 'elbow.p1' && r.cells[1].textContent === '6')",
+    )
+    js(page, f"document.querySelectorAll('#impacts tbody tr')[{row}].click()")
+    frame = js(page, "Number(document.getElementById('time-slider').value)")
+    assert result.time[frame] == pytest.approx(onset, abs=0.5 / 5000)
+    drawn(page, frame)
+    page.close()
 
 
 def test_browser_reports_script_errors(browser, tmp_path) -> None:

@@ -36,6 +36,8 @@ inlined) from SOURCE:
                                  parameter, the table of cases, the figures
   a model file (MODEL.toml)      runs it first (--t-end, --rate... as 'jointgap run';
                                  --ideal IDEAL.toml runs the ideal model beside it)
+A spatial model's run (dimension = 3) is drawn in 3D (rotate, zoom; each clearance
+joint's pin orbit in its sphere or cylinder, magnified), plotly.js inlined.
 Default output: SOURCE/report.html for a folder, out/<model name>/report.html for a
 model file. Details: docs/report.md.
 """

@@ -8,7 +8,9 @@ at the animation's time, and the summary: model, options, contact statistics, th
 impact list and the run statistics. The same page compares a clearance run with an
 ideal one (overlaid plots, a ghost of the ideal mechanism, the deviation table) or with
 a measurement (the aligned signals, their difference and spectra, the error measures),
-and shows a study (settings, metrics against parameters, the table of cases, figures)::
+and shows a study (settings, metrics against parameters, the table of cases, figures).
+A spatial model's run (``"dimension": 3``) is drawn in 3D with plotly's WebGL scenes,
+plotly.js inlined (:mod:`jointgap.report.spatial`)::
 
     import jointgap
     from jointgap.report import write_run_report
@@ -39,6 +41,7 @@ from .sources import (
     folder_report_data,
 )
 from .sources import report_data as run_report_data
+from .spatial import is_spatial, spatial_section
 
 if TYPE_CHECKING:
     from ..results import Result
@@ -54,10 +57,12 @@ __all__ = [
     "folder_kind",
     "folder_report_data",
     "frame_indices",
+    "is_spatial",
     "plotted_channels",
     "render",
     "run_report_data",
     "run_section",
+    "spatial_section",
     "write",
     "write_folder_report",
     "write_run_report",

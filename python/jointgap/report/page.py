@@ -14,7 +14,7 @@ from typing import Any
 
 from .encode import strict
 
-__all__ = ["ASSETS", "render", "write"]
+__all__ = ["ASSETS", "plotly_script", "render", "write"]
 
 ASSETS = ("report.css", "plot.js", "report.js")
 """The inlined files of ``jointgap/report/assets``, in page order."""
@@ -32,14 +32,26 @@ def _json_for_script(data: Any) -> str:
     return text.replace("<", "\\u003c").replace(">", "\\u003e").replace("&", "\\u0026")
 
 
+def plotly_script() -> str:
+    """plotly.js as its Python wheel ships it (``plotly/package_data/plotly.min.js``):
+    the 3D view of a spatial run draws with it, inlined so that the page needs no
+    network."""
+    path = resources.files("plotly").joinpath("package_data", "plotly.min.js")
+    return path.read_text(encoding="utf-8")
+
+
 def render(data: dict[str, Any]) -> str:
-    """The page as text: ``data`` (see :mod:`jointgap.report`) with its ``title``."""
+    """The page as text: ``data`` (see :mod:`jointgap.report`) with its ``title``;
+    with plotly.js inlined when it holds a spatial run (``data["run"]["spatial"]``)."""
     page = _asset(_TEMPLATE)
     css, plot_js, report_js = (_asset(name) for name in ASSETS)
-    for script in (plot_js, report_js):
+    run = data.get("run") or {}
+    plotly_js = plotly_script() if run.get("spatial") else ""
+    for script in (plot_js, report_js, plotly_js):
         if "</script" in script.lower():
             raise RuntimeError("an inlined script contains '</script'")
     parts = {
+        "plotly_js": f"<script>\n{plotly_js}\n</script>" if plotly_js else "",
         "title": html.escape(str(data.get("title", "jointgap report"))),
         "generator": html.escape(str(data.get("generator", "jointgap"))),
         "css": css,

@@ -94,11 +94,16 @@ def _series(
 
 
 def _plots(
-    result: Result, ideal: Result | None, labels: tuple[str, str], max_points: int
+    result: Result,
+    ideal: Result | None,
+    labels: tuple[str, str],
+    max_points: int,
+    channels: Sequence[str] | None = None,
 ) -> list[dict[str, Any]]:
+    """The plots of ``channels`` (default :func:`plotted_channels`)."""
     out = []
     spikes = impact_samples(result)
-    for channel in plotted_channels(result):
+    for channel in plotted_channels(result) if channels is None else channels:
         series = [_series(result, channel, labels[0], max_points, "run", spikes)]
         if ideal is not None and channel in ideal and len(ideal.time):
             series.append(

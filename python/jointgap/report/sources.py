@@ -20,6 +20,7 @@ from ..results import SUMMARY_JSON, Result, clearance_joints
 from .compare import comparison_section
 from .run import DEFAULT_MAX_POINTS, run_section
 from .scene import DEFAULT_MAX_FRAMES
+from .spatial import is_spatial, spatial_section
 from .study import STUDY_JSON, study_section
 
 if TYPE_CHECKING:
@@ -90,7 +91,9 @@ def report_data(
     max_frames: int = DEFAULT_MAX_FRAMES,
     max_points: int = DEFAULT_MAX_POINTS,
 ) -> dict[str, Any]:
-    """The data of a run's report (what the page embeds as JSON).
+    """The data of a run's report (what the page embeds as JSON); a spatial model's
+    (``"dimension": 3``) draws its mechanism and orbits in 3D
+    (:func:`jointgap.report.spatial.spatial_section`).
 
     Args:
         result: the run, with its model.
@@ -117,7 +120,7 @@ def report_data(
         "title": title,
         "subtitle": _subtitle(result, _generator()),
         "generator": _generator(),
-        "run": run_section(
+        "run": (spatial_section if is_spatial(result.model) else run_section)(
             result,
             ideal=ideal,
             source=source,

@@ -79,8 +79,9 @@ def model_table(result: Result, source: str | None = None) -> Table:
         items.append((kind, f"{len(names)}: {', '.join(names)}" if names else "0"))
     g = model.get("gravity")
     if g is not None:
-        items.append(("gravity [m/s^2]", f"({float(g[0]):g}, {float(g[1]):g})"))
-    for joint in clearance_joints(result):
+        items.append(("gravity [m/s^2]", "(" + ", ".join(f"{float(x):g}" for x in g) + ")"))
+    # A spatial joint of several contact points is listed by its name, not its points'.
+    for joint in dict.fromkeys([*clearance_joints(result), *result.clearances]):
         data = result.clearances.get(joint)
         if not data:
             continue

@@ -410,6 +410,264 @@ class Player {
   }
 }
 
+// ------------------------------------------------------------------------ 3D view (spatial runs)
+
+// plotly.js (inlined only in a spatial run's page) draws the mechanism and the orbits
+// in WebGL scenes: drag rotates, wheel zooms, its mode bar pans and resets.
+const AXIS_COLOURS = ["#d62728", "#2ca02c", "#1f77b4"];
+const MODE_SCALE = [[0, MODE_COLOURS[0]], [0.5, MODE_COLOURS[1]], [1, MODE_COLOURS[2]]];
+const PLOTLY_CONFIG = { displaylogo: false, responsive: true };
+
+// v turned by the unit quaternion q = [e0, e1, e2, e3] (scalar first).
+function qRotate(q, v) {
+  const [w, x, y, z] = q;
+  const tx = 2 * (y * v[2] - z * v[1]);
+  const ty = 2 * (z * v[0] - x * v[2]);
+  const tz = 2 * (x * v[1] - y * v[0]);
+  return [v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)];
+}
+
+// Redraws a plotly view at the latest frame asked for, one redraw at a time: frames
+// asked for while one is drawn are skipped, never queued. `dataset.frame` says which
+// frame the view shows once it is drawn.
+class View3D {
+  constructor(div, traces, layout) {
+    this.div = div;
+    this.busy = false;
+    this.want = null;
+    this.ready = Plotly.newPlot(div, traces, layout, PLOTLY_CONFIG);
+  }
+
+  show(k) {
+    this.want = k;
+    if (!this.busy) this._draw();
+  }
+
+  _draw() {
+    this.busy = true;
+    const k = this.want;
+    this.ready
+      .then(() => this.update(k))
+      .then(() => {
+        this.div.dataset.frame = String(k);
+        this.busy = false;
+        if (this.want !== k) this._draw();
+      })
+      .catch((e) => console.error(e));
+  }
+}
+
+// A scene with fixed axes over the box lo..hi (padded), in true proportions: the
+// axes do not rescale as the mechanism moves.
+function scene3d(title, lo, hi) {
+  const span = Math.max(...[0, 1, 2].map((c) => hi[c] - lo[c]), 1e-12);
+  const pad = 0.08 * span;
+  const ranges = [0, 1, 2].map((c) => [lo[c] - pad, hi[c] + pad]);
+  const axis = (c) => ({ title: { text: `${"xyz"[c]}${title}` }, range: ranges[c], autorange: false, showspikes: false });
+  const ratio = (c) => (ranges[c][1] - ranges[c][0]) / (span + 2 * pad);
+  return {
+    scene: {
+      aspectmode: "manual",
+      aspectratio: { x: ratio(0), y: ratio(1), z: ratio(2) },
+      xaxis: axis(0),
+      yaxis: axis(1),
+      zaxis: axis(2),
+    },
+    margin: { l: 0, r: 0, t: 10, b: 0 },
+    uirevision: "keep",
+    showlegend: true,
+    legend: { x: 0, y: 1 },
+  };
+}
+
+class Mechanism3D extends View3D {
+  constructor(parent, run) {
+    const scene = run.scene;
+    const div = el("div", { id: "mechanism-3d", class: "jg-3d" }, parent);
+    const line = (name, colour, width, extra) =>
+      Object.assign({ type: "scatter3d", mode: "lines", name, x: [], y: [], z: [], line: { color: colour, width } }, extra || {});
+    const traces = scene.bodies.map((b) =>
+      line(b.name, "#34495e", 7, { mode: "lines+markers", marker: { size: 3, color: "#34495e" } })
+    );
+    AXIS_COLOURS.forEach((c, k) => traces.push(line(k === 0 ? "body frames (x, y, z)" : `body frames ${"xyz"[k]}`, c, 4, { showlegend: k === 0 })));
+    traces.push({ type: "scatter3d", mode: "markers", name: "joints", x: [], y: [], z: [], text: scene.joints.map((j) => j.name), hoverinfo: "text", marker: { size: 5, color: "#ffffff", line: { color: "#111", width: 1 } } });
+    traces.push({ type: "scatter3d", mode: "markers", name: `pins (clearance × ${jgFormat(scene.magnify)})`, x: [], y: [], z: [], text: scene.clearances.map((c) => c.joint), hoverinfo: "text", marker: { size: 6, color: [], cmin: 0, cmax: 2, colorscale: MODE_SCALE } });
+    traces.push({ type: "scatter3d", mode: "markers", name: "markers", x: [], y: [], z: [], text: scene.markers.map((m) => m.name), hoverinfo: "text", marker: { size: 4, color: "#ff7f0e" } });
+    const dynamic = traces.map((_, k) => k);
+    for (const p of scene.paths) {
+      const style = p.ideal ? { color: "#555", width: 2, dash: "dash" } : { color: "#ff7f0e", width: 2 };
+      traces.push(line(`${p.marker} path${p.ideal ? " (ideal)" : ""}`, null, 2, { x: p.x, y: p.y, z: p.z, opacity: 0.7, line: style }));
+    }
+    if (scene.ground.length) {
+      traces.push({ type: "scatter3d", mode: "markers", name: "ground points", x: scene.ground.map((p) => p[0]), y: scene.ground.map((p) => p[1]), z: scene.ground.map((p) => p[2]), text: scene.ground_names, hoverinfo: "text", marker: { size: 4, symbol: "square", color: "#777" } });
+    }
+    super(div, traces, scene3d(" [m]", scene.bounds[0], scene.bounds[1]));
+    this.run = run;
+    this.scene = scene;
+    this.frames = run.frames;
+    this.dynamic = dynamic;
+  }
+
+  // A point of a body (its model frame) in global axes at frame k; the ground's as is.
+  place(body, p, k) {
+    if (body === null) return p;
+    const b = this.frames.bodies[body];
+    const r = qRotate([b.q[0][k], b.q[1][k], b.q[2][k], b.q[3][k]], p);
+    return [b.x[k] + r[0], b.y[k] + r[1], b.z[k] + r[2]];
+  }
+
+  update(k) {
+    const xs = [];
+    const ys = [];
+    const zs = [];
+    const push = (pts) => {
+      xs.push(pts.map((p) => (p ? p[0] : null)));
+      ys.push(pts.map((p) => (p ? p[1] : null)));
+      zs.push(pts.map((p) => (p ? p[2] : null)));
+    };
+    for (const b of this.scene.bodies) push(b.sticks.map((p) => this.place(b.name, p, k)));
+    const L = this.scene.triad;
+    for (let a = 0; a < 3; a++) {
+      const pts = [];
+      const tip = [0, 0, 0];
+      tip[a] = L;
+      for (const b of this.scene.bodies) pts.push(this.place(b.name, [0, 0, 0], k), this.place(b.name, tip, k), null);
+      push(pts);
+    }
+    push(this.scene.joints.map((j) => this.place(j.body, j.point, k)));
+    const m = this.scene.magnify;
+    const colours = [];
+    push(this.scene.clearances.map((c) => {
+      const j = this.frames.joints[c.joint];
+      colours.push(j.mode[k]);
+      const e = [m * (j.ex[k] || 0), m * (j.ey[k] || 0), m * (j.ez[k] || 0)];
+      return this.place(c.bearing_body, [c.point[0] + e[0], c.point[1] + e[1], c.point[2] + e[2]], k);
+    }));
+    push(this.scene.markers.map((mk) => this.place(mk.body, mk.point, k)));
+    return Plotly.restyle(this.div, { x: xs, y: ys, z: zs }, this.dynamic).then(() =>
+      Plotly.restyle(this.div, { "marker.color": [colours] }, [this.dynamic.length - 2])
+    );
+  }
+}
+
+// Points of a sphere (no axis) or a cylinder about `axis` of radius r, from station
+// lo to hi, as a plotly surface.
+function clearanceSurface(r, axis, lo, hi) {
+  const n = 32;
+  const xs = [];
+  const ys = [];
+  const zs = [];
+  let p = [1, 0, 0];
+  let q = [0, 1, 0];
+  if (axis) {
+    const a = axis;
+    const t = Math.abs(a[0]) < 0.9 ? [1, 0, 0] : [0, 1, 0];
+    const cross = (u, v) => [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    p = cross(a, t);
+    const np = Math.hypot(...p);
+    p = p.map((v) => v / np);
+    q = cross(a, p);
+  }
+  const rows = axis ? 2 : n / 2 + 1;
+  for (let i = 0; i < rows; i++) {
+    const rx = [];
+    const ry = [];
+    const rz = [];
+    for (let j = 0; j <= n; j++) {
+      const u = (2 * Math.PI * j) / n;
+      let v;
+      if (axis) {
+        const s = i === 0 ? lo : hi;
+        v = [0, 1, 2].map((c) => r * (Math.cos(u) * p[c] + Math.sin(u) * q[c]) + s * axis[c]);
+      } else {
+        const w = (Math.PI * i) / (rows - 1);
+        v = [r * Math.sin(w) * Math.cos(u), r * Math.sin(w) * Math.sin(u), r * Math.cos(w)];
+      }
+      rx.push(v[0]);
+      ry.push(v[1]);
+      rz.push(v[2]);
+    }
+    xs.push(rx);
+    ys.push(ry);
+    zs.push(rz);
+  }
+  return { type: "surface", x: xs, y: ys, z: zs, opacity: 0.18, showscale: false, hoverinfo: "skip", colorscale: [[0, "#888"], [1, "#888"]], name: "clearance", showlegend: true };
+}
+
+class Orbit3D extends View3D {
+  constructor(parent, orbit, frames) {
+    const box = el("div", { class: "jg-orbit", "data-joint": orbit.joint }, parent);
+    el("h3", {}, box, `${orbit.joint}: ${orbit.axis ? "journal" : "ball"} centre [µm]`);
+    const div = el("div", { id: "orbit-" + cssId(orbit.joint), class: "jg-orbit-3d" }, box);
+    const um = 1e6;
+    const ex = orbit.ex.map((v) => (v === null ? null : v * um));
+    const ey = orbit.ey.map((v) => (v === null ? null : v * um));
+    const ez = orbit.ez.map((v) => (v === null ? null : v * um));
+    const c = orbit.clearance * um;
+    let lo = -c;
+    let hi = c;
+    if (orbit.axis) {
+      for (let i = 0; i < ex.length; i++) {
+        if (ex[i] === null) continue;
+        const s = ex[i] * orbit.axis[0] + ey[i] * orbit.axis[1] + ez[i] * orbit.axis[2];
+        lo = Math.min(lo, s);
+        hi = Math.max(hi, s);
+      }
+    }
+    const surface = clearanceSurface(c, orbit.axis, lo, hi);
+    const extent = [[surface.x.flat(), ex], [surface.y.flat(), ey], [surface.z.flat(), ez]].map((parts) =>
+      parts.flat().reduce(([a, b], x) => (x === null ? [a, b] : [Math.min(a, x), Math.max(b, x)]), [Infinity, -Infinity])
+    );
+    const traces = [
+      surface,
+      { type: "scatter3d", mode: "lines", name: "orbit", x: ex, y: ey, z: ez, line: { width: 3, color: orbit.mode, cmin: 0, cmax: 2, colorscale: MODE_SCALE } },
+      { type: "scatter3d", mode: "markers", name: "now", x: [0], y: [0], z: [0], marker: { size: 6, color: [0], cmin: 0, cmax: 2, colorscale: MODE_SCALE, line: { color: "#111", width: 1 } } },
+    ];
+    super(div, traces, scene3d(" [µm]", extent.map((v) => v[0]), extent.map((v) => v[1])));
+    this.orbit = orbit;
+    this.frames = frames.joints[orbit.joint];
+    const legend = el("div", { class: "jg-mode-legend" }, box);
+    MODE_NAMES.forEach((name, k) => {
+      const item = el("span", {}, legend);
+      el("span", { class: "jg-swatch" }, item).style.borderColor = MODE_COLOURS[k];
+      item.appendChild(document.createTextNode(name));
+    });
+    const shape = orbit.axis ? `cylinder about the axis (${orbit.axis.map((v) => jgFormat(v)).join(", ")})` : "sphere";
+    el("p", { class: "jg-note" }, box, `bearing frame${orbit.bearing_body ? " (" + orbit.bearing_body + ")" : " (ground)"}; grey: the clearance ${shape}, radius ${jgFormat(c)} µm${orbit.thinned ? `; drawn through ${orbit.ex.length} of ${orbit.thinned} samples, evenly along the path` : ""}`);
+    this.readout = el("p", { class: "jg-readout" }, box, "");
+  }
+
+  update(k) {
+    const f = this.frames;
+    const um = 1e6;
+    const e = [(f.ex[k] || 0) * um, (f.ey[k] || 0) * um, (f.ez[k] || 0) * um];
+    this.readout.textContent = `|e| = ${Math.hypot(...e).toFixed(1)} µm, ${MODE_NAMES[f.mode[k]] || "-"}`;
+    return Plotly.restyle(this.div, { x: [[e[0]]], y: [[e[1]]], z: [[e[2]]], "marker.color": [[f.mode[k]]] }, [2]);
+  }
+}
+
+function renderSpatialRun(run) {
+  const mech = section("mechanism-section", "Mechanism in 3D");
+  const grid = el("div", { class: run.orbits.length ? "jg-grid" : "jg-grid jg-single" }, mech);
+  const left = el("div", { class: "jg-anim" }, grid);
+  const right = el("div", { class: "jg-orbits", id: "orbits" }, grid);
+  const mechanism = new Mechanism3D(left, run);
+  const views = [mechanism, ...run.orbits.map((o) => new Orbit3D(right, o, run.frames))];
+  const plotsSection = section("plots-section", "Channels");
+  el("p", { class: "jg-note" }, plotsSection,
+    "wheel: zoom in time (shift+wheel: values) · drag: pan · shift+drag: zoom to a box · double-click: reset · click: move the animation there" +
+      (run.impacts.length ? " · orange lines: impact onsets" : ""));
+  const p = new Player(left, run, views);
+  const plots = plotGroup(plotsSection, run.plots, run.impacts.map((i) => i.t), (t) => p.seek(t), run.times);
+  views.push({ show: (k, t) => plots.forEach((pl) => pl.setCursor(t)) });
+  el("p", { class: "jg-note", id: "magnify-note" }, left,
+    "drag: rotate · wheel: zoom · the mode bar: pan, reset" +
+      (run.scene.clearances.length ? `; pins drawn at the bearing centre plus ${jgFormat(run.scene.magnify)} times the eccentricity, coloured blue free flight, red impact, green continuous contact` : ""));
+  for (const note of run.scene.notes) el("p", { class: "jg-warning jg-frame-note" }, left, note);
+  p.ready = Promise.all(views.filter((v) => v.ready).map((v) => v.ready));
+  return p;
+}
+
 // ------------------------------------------------------------------------ sections
 
 // specs' series may name a shared array of `times` as their x ("run", "ideal").
@@ -506,7 +764,7 @@ function main() {
       const warn = el("p", { class: "jg-warning" }, document.getElementById("report"), `the run ${data.run.message || "failed"}: everything shown stops there`);
       warn.id = "run-failed";
     }
-    player = renderRun(data.run);
+    player = data.run.spatial ? renderSpatialRun(data.run) : renderRun(data.run);
   }
   const seek = player ? (t) => player.seek(t) : null;
   if (data.comparison) {
@@ -517,7 +775,8 @@ function main() {
   if (data.study) renderStudy(data.study);
   if (player) player.showFrame(0);
   window.jointgapReport = { data, player };
-  document.body.dataset.ready = "true";
+  // A 3D view is ready when plotly has drawn it.
+  Promise.resolve(player && player.ready).then(() => (document.body.dataset.ready = "true"));
 }
 
 main();
