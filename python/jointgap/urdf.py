@@ -38,7 +38,15 @@ from . import units as u
 from ._schema import CLEARANCE_KEYS, convert_element
 from .errors import ModelError
 
-__all__ = ["UrdfJoint", "UrdfLink", "UrdfRobot", "engine_model", "load_urdf", "read_urdf"]
+__all__ = [
+    "UrdfJoint",
+    "UrdfLink",
+    "UrdfRobot",
+    "engine_model",
+    "load_urdf",
+    "read_overlay",
+    "read_urdf",
+]
 
 Matrix = npt.NDArray[np.float64]
 
@@ -618,17 +626,23 @@ def load_urdf(
     robot = read_urdf(path)
     layout = _layout(robot, str(path))
     if overlay is not None:
-        where = None
-        if not isinstance(overlay, Mapping):
-            where = str(overlay)
-            try:
-                overlay = tomllib.loads(Path(overlay).read_text())
-            except FileNotFoundError:
-                raise _error("no such overlay file", where) from None
-            except tomllib.TOMLDecodeError as exc:
-                raise _error(f"overlay: {exc}", where) from None
-        _apply(layout, robot, overlay, where)
+        where = None if isinstance(overlay, Mapping) else str(overlay)
+        _apply(layout, robot, read_overlay(overlay), where)
     return layout.model
+
+
+def read_overlay(overlay: str | PathLike[str] | Mapping[str, Any]) -> Mapping[str, Any]:
+    """An overlay as a dict: a TOML file read, or the dict itself. Raises ModelError
+    naming the file when it is missing or not TOML."""
+    if isinstance(overlay, Mapping):
+        return overlay
+    where = str(overlay)
+    try:
+        return tomllib.loads(Path(overlay).read_text())
+    except FileNotFoundError:
+        raise _error("no such overlay file", where) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise _error(f"overlay: {exc}", where) from None
 
 
 def engine_model(model: Mapping[str, Any]) -> dict[str, Any]:
