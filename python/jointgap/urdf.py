@@ -446,9 +446,10 @@ def _drive(
     radius ``arm`` and the given mass) on an ideal revolute joint ``<joint>_drive`` of the
     parent body, coupled to the child body by a tangential spring-damper ``<joint>_mesh``
     at radius ``arm`` (a gear mesh of torsional stiffness ``stiffness`` and damping
-    ``damping``: linear k = stiffness / arm^2, c = damping / arm^2, free length arm, so
-    that the journal's small radial motion in its clearance hardly strains it). Returns
-    the driven joint's name."""
+    ``damping``: linear k = stiffness / arm^2, c = damping / arm^2, free length arm).
+    The spring also pulls the journal along its line with k: a long arm keeps that pull
+    small against the contact forces (a shift across the spring's line strains it only
+    to second order). Returns the driven joint's name."""
     name = entry["name"]
     values: dict[str, float] = {}
     for key in DRIVE_KEYS:
