@@ -14,7 +14,7 @@ import pytest
 from jointgap import ModelError
 from jointgap._engine import run_options, simulate
 from jointgap.results import Result
-from jointgap.urdf import engine_model, load_urdf, read_urdf
+from jointgap.urdf import engine_model, load_robot, load_urdf, read_urdf
 
 # A double pendulum with turned frames everywhere: a tilted shoulder, an elbow origin and
 # an inertial frame with all three rpy angles, an off-diagonal inertia tensor, a
@@ -358,3 +358,13 @@ def test_arm_example_runs_with_elbow_clearance(examples: Path, tmp_path: Path) -
     assert 0.05e-3 < peak < 0.02
     assert sum(len(v) for v in result.runs[1].impacts.values()) > 0
     assert plot_path_deviation(result, tmp_path / "figures").is_file()
+
+
+def test_an_overlay_that_names_its_urdf_is_a_model(examples: Path, tmp_path: Path) -> None:
+    model = load_robot(examples / "arm_clearance.toml")
+    assert model == load_urdf(examples / "arm.urdf", examples / "arm_clearance.toml")
+    assert len([b for b in model["body"] if b["name"] != "elbow_rotor"]) == 6
+    lost = tmp_path / "lost.toml"
+    lost.write_text('gravity = [0, 0, "-9.81 m/s^2"]')
+    with pytest.raises(ModelError, match="lost.toml: urdf = None: the overlay must name"):
+        load_robot(lost)

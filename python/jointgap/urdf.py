@@ -43,6 +43,7 @@ __all__ = [
     "UrdfLink",
     "UrdfRobot",
     "engine_model",
+    "load_robot",
     "load_urdf",
     "read_overlay",
     "read_urdf",
@@ -61,8 +62,8 @@ JOINT_TYPES = {
 CLEARANCE_TYPES = ("clearance_cylindrical", "clearance_spherical")
 """Joint types an overlay may give a URDF joint."""
 
-OVERLAY_KEYS = ("gravity", "joint", "driver", "marker")
-"""Top-level tables of an overlay."""
+OVERLAY_KEYS = ("urdf", "gravity", "joint", "driver", "marker")
+"""Top-level keys of an overlay (``urdf``: the robot's file, for :func:`load_robot`)."""
 
 DRIVE_KEYS = ("stiffness", "damping", "arm", "mass")
 """Keys of a clearance joint's ``drive`` table (all required)."""
@@ -630,6 +631,17 @@ def load_urdf(
         where = None if isinstance(overlay, Mapping) else str(overlay)
         _apply(layout, robot, read_overlay(overlay), where)
     return layout.model
+
+
+def load_robot(overlay: str | PathLike[str]) -> dict[str, Any]:
+    """The model of an overlay file that names its robot, ``urdf = "arm.urdf"`` (a path
+    relative to the overlay's folder): :func:`load_urdf` of that URDF with the overlay.
+    Such a file is a model file of its own (``jointgap.load``, ``jointgap run``)."""
+    spec = read_overlay(overlay)
+    robot = spec.get("urdf")
+    if not isinstance(robot, str):
+        raise _error(f"urdf = {robot!r}: the overlay must name its URDF file", str(overlay))
+    return load_urdf(Path(overlay).parent / robot, overlay)
 
 
 def read_overlay(overlay: str | PathLike[str] | Mapping[str, Any]) -> Mapping[str, Any]:
