@@ -368,3 +368,47 @@ def test_an_overlay_that_names_its_urdf_is_a_model(examples: Path, tmp_path: Pat
     lost.write_text('gravity = [0, 0, "-9.81 m/s^2"]')
     with pytest.raises(ModelError, match="lost.toml: urdf = None: the overlay must name"):
         load_robot(lost)
+
+
+ONE_LINK = """<robot name="one_link">
+  <link name="base"/>
+  <link name="arm">
+    <inertial><origin xyz="0.25 0 0" rpy="0 0 0"/><mass value="2.0"/>
+      <inertia ixx="0.0005" ixy="0" ixz="0" iyy="0.041667" iyz="0" izz="0.041667"/></inertial>
+  </link>
+  <link name="tip"/>
+  <joint name="pivot" type="revolute"><parent link="base"/><child link="arm"/>
+    <origin xyz="0 0 0" rpy="0 0 0"/><axis xyz="0 0 1"/></joint>
+  <joint name="end" type="fixed"><parent link="arm"/><child link="tip"/>
+    <origin xyz="0.5 0 0" rpy="0 0 0"/></joint>
+</robot>
+"""
+
+
+def test_drive_train_has_the_torsional_stiffness_it_is_given(tmp_path: Path) -> None:
+    """A 0.5 m link on a pivot with clearance, its rotor started at constant speed w
+    without gravity or damping: the link lags the rotor by phi(t) = (w / W) sin(W t),
+    W = sqrt(K_t / J_O) (J_O = J_G + m d^2 about the pivot), as long as the clearance is
+    small against the link; a spring set as K_t instead of K_t / arm^2 would be off by a
+    factor arm^2 = 0.25 in W^2."""
+    path = tmp_path / "one_link.urdf"
+    path.write_text(ONE_LINK)
+    k_t, speed, j_o = 100.0, 0.5, 0.041667 + 2.0 * 0.25**2
+    overlay = {
+        "gravity": [0, 0, 0],
+        "joint": {
+            "pivot": {
+                **CONTACT,
+                "type": "clearance_cylindrical",
+                "clearance": "0.01 mm",
+                "drive": {"stiffness": k_t, "damping": 0.0, "arm": "0.5 m", "mass": 0.1},
+            }
+        },
+        "driver": {"pivot": {"profile": {"type": "constant_speed", "speed": speed}}},
+        "marker": {"tip": {"link": "tip"}},
+    }
+    result = _run(load_urdf(path, overlay), 0.2, rate=2000)
+    t = np.asarray(result.time)
+    lag = speed * t - np.unwrap(np.arctan2(result["tip.y"], result["tip.x"]))
+    omega = math.sqrt(k_t / j_o)
+    assert np.max(np.abs(lag - speed / omega * np.sin(omega * t))) < 0.02 * speed / omega

@@ -468,9 +468,14 @@ def _drive(
             raise ModelError(
                 f"drive.{key} {exc}", kind="joint", name=name, key=f"drive.{key}", file=where
             ) from None
-        if not values[key] > 0:
+        bound = ">= 0" if key == "damping" else "> 0"
+        if not (values[key] >= 0 if key == "damping" else values[key] > 0):
             raise ModelError(
-                f"drive.{key} must be > 0", kind="joint", name=name, key=f"drive.{key}", file=where
+                f"drive.{key} = {values[key]:g}: must be {bound}",
+                kind="joint",
+                name=name,
+                key=f"drive.{key}",
+                file=where,
             )
     unknown = set(drive) - set(DRIVE_KEYS)
     if unknown:
