@@ -17,8 +17,8 @@ from jointgap.results import Result
 from jointgap.urdf import engine_model, load_robot, load_urdf, read_urdf
 
 # A double pendulum with turned frames everywhere: a tilted shoulder, an elbow origin and
-# an inertial frame with all three rpy angles, an off-diagonal inertia tensor, a
-# prismatic joint and a massless tool frame on a fixed joint (merged into its parent).
+# an inertial frame with all three rpy angles, an off-diagonal inertia tensor, a carriage
+# on a prismatic joint and a massless tool frame on a fixed joint (merged into its parent).
 SHOULDER = ([0.1, -0.05, 1.0], [0.2, -0.1, 0.3])
 ELBOW = ([0.5, 0.02, 0.0], [0.0, 0.25, -0.4])
 LOWER_INERTIAL = ([0.2, 0.01, -0.02], [0.3, 0.2, 0.1])
@@ -30,6 +30,12 @@ UPPER_INERTIA = np.diag([0.001, 0.0425, 0.0425])
 TOOL = ([0.4, 0.0, 0.03], [0.0, 0.0, 0.0])
 AXIS_SHOULDER = [0.0, 1.0, 0.0]
 AXIS_ELBOW = [0.0, 0.6, 0.8]
+# A carriage sliding on the upper link.
+SLIDE = ([0.3, 0.0, 0.05], [0.1, 0.0, 0.5])
+AXIS_SLIDE = [0.6, 0.0, 0.8]
+CARRIAGE_INERTIAL = ([0.0, 0.02, 0.0], [0.0, 0.0, 0.3])
+CARRIAGE_MASS = 0.5
+CARRIAGE_INERTIA = np.diag([2e-4, 3e-4, 4e-4])
 
 
 def _origin(xyz_rpy: tuple[list[float], list[float]]) -> str:
@@ -57,6 +63,10 @@ URDF = f"""<?xml version="1.0"?>
       {_inertia(LOWER_INERTIA)}</inertial>
   </link>
   <link name="tool"/>
+  <link name="carriage">
+    <inertial>{_origin(CARRIAGE_INERTIAL)}<mass value="{CARRIAGE_MASS}"/>
+      {_inertia(CARRIAGE_INERTIA)}</inertial>
+  </link>
   <joint name="shoulder" type="continuous">
     <parent link="base"/><child link="upper"/>{_origin(SHOULDER)}
     <axis xyz="{" ".join(map(str, AXIS_SHOULDER))}"/>
@@ -69,12 +79,18 @@ URDF = f"""<?xml version="1.0"?>
   <joint name="tip" type="fixed">
     <parent link="lower"/><child link="tool"/>{_origin(TOOL)}
   </joint>
+  <joint name="slide" type="prismatic">
+    <parent link="upper"/><child link="carriage"/>{_origin(SLIDE)}
+    <axis xyz="{" ".join(map(str, AXIS_SLIDE))}"/>
+    <limit lower="-0.1" upper="0.1" effort="20" velocity="0.5"/>
+  </joint>
 </robot>
 """
 
 # Points of the lower link (its frame) followed as markers: three independent directions
 # fix its orientation as well as its position.
 LOWER_POINTS = {"l0": [0.0, 0.0, 0.0], "lx": [0.1, 0.0, 0.0], "ly": [0.0, 0.1, 0.0]}
+CARRIAGE_POINTS = {"c0": [0.0, 0.0, 0.0], "cx": [0.1, 0.0, 0.0], "cy": [0.0, 0.1, 0.0]}
 
 
 # -- Forward kinematics, written here from the URDF conventions --------------------------
@@ -113,11 +129,18 @@ def _turn(axis: list[float], angle: float) -> np.ndarray:
     return t
 
 
-def _forward(q_shoulder: float, q_elbow: float) -> dict[str, np.ndarray]:
-    """Link frames in the ground: T = origin * turn(axis, q) down the chain."""
+def _slide(axis: list[float], travel: float) -> np.ndarray:
+    t = np.eye(4)
+    t[:3, 3] = travel * np.asarray(axis) / np.linalg.norm(axis)
+    return t
+
+
+def _forward(q_shoulder: float, q_elbow: float, q_slide: float) -> dict[str, np.ndarray]:
+    """Link frames in the ground: T = origin * turn(axis, q) (or slide) down the tree."""
     upper = _transform(SHOULDER) @ _turn(AXIS_SHOULDER, q_shoulder)
     lower = upper @ _transform(ELBOW) @ _turn(AXIS_ELBOW, q_elbow)
-    return {"upper": upper, "lower": lower, "tool": lower @ _transform(TOOL)}
+    carriage = upper @ _transform(SLIDE) @ _slide(AXIS_SLIDE, q_slide)
+    return {"upper": upper, "lower": lower, "tool": lower @ _transform(TOOL), "carriage": carriage}
 
 
 def _at(frame: np.ndarray, point: list[float]) -> np.ndarray:
@@ -136,7 +159,8 @@ def urdf(tmp_path: Path) -> Path:
 
 def _markers() -> dict[str, Any]:
     lower = {name: {"link": "lower", "point": p} for name, p in LOWER_POINTS.items()}
-    return {"tip": {"link": "tool"}, **lower}
+    carriage = {name: {"link": "carriage", "point": p} for name, p in CARRIAGE_POINTS.items()}
+    return {"tip": {"link": "tool"}, **lower, **carriage}
 
 
 def _run(model: dict[str, Any], t_end: float, **options: Any) -> Result:
@@ -155,7 +179,7 @@ def _set(model: dict[str, Any], joint: str, **values: float) -> None:
 def test_reads_links_joints_and_limits(urdf: Path) -> None:
     robot = read_urdf(urdf)
     assert robot.root == "base"
-    assert list(robot.joints) == ["shoulder", "elbow", "tip"]
+    assert list(robot.joints) == ["shoulder", "elbow", "slide", "tip"]
     assert robot.joints["elbow"].limits == {
         "lower": -2.0,
         "upper": 2.5,
@@ -166,15 +190,16 @@ def test_reads_links_joints_and_limits(urdf: Path) -> None:
     np.testing.assert_allclose(robot.joints["elbow"].axis, AXIS_ELBOW, atol=1e-15)
     model = load_urdf(urdf)
     assert model["model"]["dimension"] == 3
-    assert [b["name"] for b in model["body"]] == ["upper", "lower"]  # tool merged
+    assert [b["name"] for b in model["body"]] == ["upper", "lower", "carriage"]  # tool merged
     assert [(j["name"], j["type"]) for j in model["joint"]] == [
         ("shoulder", "revolute"),
         ("elbow", "revolute"),
+        ("slide", "prismatic"),
     ]
 
 
-@pytest.mark.parametrize("q", [(0.0, 0.0), (0.7, -1.1)])
-def test_kinematics_match_forward_kinematics(urdf: Path, q: tuple[float, float]) -> None:
+@pytest.mark.parametrize("q", [(0.0, 0.0, 0.0), (0.7, -1.1, 0.06)])
+def test_kinematics_match_forward_kinematics(urdf: Path, q: tuple[float, float, float]) -> None:
     """Marker positions at t = 0 (the assembled configuration with the joints turned by
     q from the URDF zero configuration) against the chain of transforms composed here.
     The engine measures a joint's angle from its own reference directions, so the zero
@@ -183,15 +208,21 @@ def test_kinematics_match_forward_kinematics(urdf: Path, q: tuple[float, float])
     zero = _run(model, 1e-3, rate=1000)
     _set(model, "shoulder", initial=zero["shoulder.angle"][0] + q[0])
     _set(model, "elbow", initial=zero["elbow.angle"][0] + q[1])
+    _set(model, "slide", initial=zero["slide.travel"][0] + q[2])
     result = _run(model, 1e-3, rate=1000)
     frames = _forward(*q)
     expected = {"tip": _at(frames["tool"], [0, 0, 0])}
     expected |= {name: _at(frames["lower"], p) for name, p in LOWER_POINTS.items()}
+    expected |= {name: _at(frames["carriage"], p) for name, p in CARRIAGE_POINTS.items()}
     for name, point in expected.items():
         got = [result[f"{name}.{c}"][0] for c in "xyz"]
         np.testing.assert_allclose(got, point, atol=1e-9, err_msg=name)
     # The centre of mass of each body at its link's inertial origin.
-    for body, inertial in (("upper", UPPER_INERTIAL), ("lower", LOWER_INERTIAL)):
+    for body, inertial in (
+        ("upper", UPPER_INERTIAL),
+        ("lower", LOWER_INERTIAL),
+        ("carriage", CARRIAGE_INERTIAL),
+    ):
         got = [result[f"{body}.{c}"][0] for c in "xyz"]
         np.testing.assert_allclose(
             got, frames[body][:3, 3] + frames[body][:3, :3] @ inertial[0], atol=1e-9
@@ -206,14 +237,16 @@ def test_mass_and_inertia_rotated_into_the_ground(urdf: Path) -> None:
     rate = 2.5
     _set(model, "shoulder", initial_rate=rate)
     _set(model, "elbow", initial_rate=0.0)
+    _set(model, "slide", initial_rate=0.0)
     result = _run(model, 1e-3, rate=1000)
-    frames = _forward(0.0, 0.0)
+    frames = _forward(0.0, 0.0, 0.0)
     pivot = frames["upper"][:3, 3]
     axis = frames["upper"][:3, :3] @ np.asarray(AXIS_SHOULDER)
     j_pivot = np.zeros((3, 3))
     for body, inertial, mass, tensor in (
         ("upper", UPPER_INERTIAL, UPPER_MASS, UPPER_INERTIA),
         ("lower", LOWER_INERTIAL, LOWER_MASS, LOWER_INERTIA),
+        ("carriage", CARRIAGE_INERTIAL, CARRIAGE_MASS, CARRIAGE_INERTIA),
     ):
         frame = frames[body] @ _transform(inertial)
         r = frame[:3, 3] - pivot
@@ -351,7 +384,9 @@ def test_arm_example_runs_with_elbow_clearance(examples: Path, tmp_path: Path) -
     the bearing and its drive train winds up under the load)."""
     from jointgap.robot_path import path_deviation, plot_path_deviation
 
-    result = path_deviation(examples / "arm.urdf", examples / "arm_clearance.toml", "tool", 0.1)
+    result = path_deviation(
+        examples / "arm" / "arm.urdf", examples / "arm" / "arm_clearance.toml", "tool", 0.1
+    )
     np.testing.assert_allclose(result.ideal[:, 0], [1.04, 0.11, 0.15], atol=1e-9)
     assert result.deviation[0] < 1e-9
     peak, _ = result.largest
@@ -361,8 +396,10 @@ def test_arm_example_runs_with_elbow_clearance(examples: Path, tmp_path: Path) -
 
 
 def test_an_overlay_that_names_its_urdf_is_a_model(examples: Path, tmp_path: Path) -> None:
-    model = load_robot(examples / "arm_clearance.toml")
-    assert model == load_urdf(examples / "arm.urdf", examples / "arm_clearance.toml")
+    model = load_robot(examples / "arm" / "arm_clearance.toml")
+    assert model == load_urdf(
+        examples / "arm" / "arm.urdf", examples / "arm" / "arm_clearance.toml"
+    )
     assert len([b for b in model["body"] if b["name"] != "elbow_rotor"]) == 6
     lost = tmp_path / "lost.toml"
     lost.write_text('gravity = [0, 0, "-9.81 m/s^2"]')

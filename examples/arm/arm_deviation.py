@@ -1,9 +1,9 @@
-"""The URDF arm (examples/arm.urdf) moved along the trajectory of
-examples/arm_clearance.toml, with the elbow's clearance and with every joint ideal: the
+"""The URDF arm (examples/arm/arm.urdf) moved along the trajectory of
+examples/arm/arm_clearance.toml, with the elbow's clearance and with every joint ideal: the
 tool point's deviation from the ideal path, printed and drawn in
 <folder>/tool_deviation.png (docs/urdf.md).
 
-    python examples/arm_deviation.py [folder] [t_end]
+    python examples/arm/arm_deviation.py [folder] [t_end]
 """
 
 from __future__ import annotations
