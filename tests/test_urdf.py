@@ -368,6 +368,16 @@ def test_bad_input_is_named(tmp_path: Path, text: str, overlay: Any, message: st
         load_urdf(path, overlay)
 
 
+def test_overlay_errors_name_the_line(urdf: Path, tmp_path: Path) -> None:
+    overlay = tmp_path / "over.toml"
+    overlay.write_text('gravity = [0, 0, "-9.81 m/s^2"]\n\n[joint.elbow]\ntype = "gap"\n')
+    with pytest.raises(ModelError, match=r"over.toml:3: joint 'elbow': overlay type = 'gap'"):
+        load_urdf(urdf, overlay)
+    overlay.write_text('[driver.wrist.profile]\ntype = "constant_speed"\nspeed = 1.0\n')
+    with pytest.raises(ModelError, match=r"over.toml:1: joint 'wrist': overlay \[driver.wrist\]"):
+        load_urdf(urdf, overlay)
+
+
 def test_missing_files_are_named(tmp_path: Path, urdf: Path) -> None:
     with pytest.raises(ModelError, match="nothere.urdf: no such URDF file"):
         load_urdf(tmp_path / "nothere.urdf")

@@ -634,7 +634,10 @@ def load_urdf(
     layout = _layout(robot, str(path))
     if overlay is not None:
         where = None if isinstance(overlay, Mapping) else str(overlay)
-        _apply(layout, robot, read_overlay(overlay), where)
+        try:
+            _apply(layout, robot, read_overlay(overlay), where)
+        except ModelError as exc:
+            raise _with_line(exc) from None
     return layout.model
 
 
@@ -647,6 +650,23 @@ def load_robot(overlay: str | PathLike[str]) -> dict[str, Any]:
     if not isinstance(robot, str):
         raise _error(f"urdf = {robot!r}: the overlay must name its URDF file", str(overlay))
     return load_urdf(Path(overlay).parent / robot, overlay)
+
+
+def _with_line(error: ModelError) -> ModelError:
+    """The error with the line of its element's table in the overlay file (the first
+    line that opens ``[joint.NAME``, ``[driver.NAME`` or ``[marker.NAME``), when found."""
+    if error.file is None or error.line is not None or not error.name:
+        return error
+    tables = {"joint": ("joint", "driver"), "driver": ("driver",), "marker": ("marker",)}
+    heads = tuple(f"[{t}.{error.name}" for t in tables.get(error.kind or "", ()))
+    try:
+        lines = Path(error.file).read_text().splitlines()
+    except OSError:
+        return error
+    for number, text in enumerate(lines, 1):
+        if text.strip().startswith(heads):
+            return error.located(error.file, number)
+    return error
 
 
 def read_overlay(overlay: str | PathLike[str] | Mapping[str, Any]) -> Mapping[str, Any]:
