@@ -70,6 +70,7 @@ bench: install valgrind
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/scaling.py
 	$(PY) benchmarks/run.py
+	$(PY) benchmarks/spatial.py
 
 # Exudyn goes into its own venv, never into .venv or the package's dependencies.
 PEER_VENV := benchmarks/peers/.venv
