@@ -76,11 +76,12 @@ bench: install valgrind
 PEER_VENV := benchmarks/peers/.venv
 PEER_STAMP := $(PEER_VENV)/.deps-installed
 
-## bench-peers: the compiled, SciPy and Exudyn peers of the founding clearance case (about 9 min)
+## bench-peers: the compiled, SciPy and Exudyn peers of the founding clearance case, and Exudyn on the spatial four-bar (about 12 min)
 bench-peers: install $(PEER_STAMP)
 	$(PY) benchmarks/peers/compiled_minimal.py
 	$(PY) benchmarks/peers/scipy_slider_crank.py
 	$(PY) benchmarks/peers/exudyn_slider_crank.py
+	$(PY) benchmarks/peers/exudyn_spatial.py
 
 $(PEER_STAMP):
 	test -x $(PEER_VENV)/bin/python || python3 -m venv $(PEER_VENV)
