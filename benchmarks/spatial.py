@@ -9,7 +9,8 @@ rocker 120 mm: the crank turns fully (the coupler's length stays at least 70 mm 
 the range of distances the rocker's tip can reach). All three links are solid round steel
 bars of 20 mm diameter (density 7850 kg/m^3): mass rho pi d^2 / 4 L, moment of inertia
 m (L^2 / 12 + d^2 / 16) across the bar and m d^2 / 8 along it. Gravity -9.81 m/s^2 along
-z. The crank is driven at a constant 300 rpm from t = 0. The coupler's spin about its own
+z. The crank is driven at a constant 300 rpm from t = 0, every body starting with the
+loop's velocities at that speed (the ball centred in its socket). The coupler's spin about its own
 axis (between the two ball joints) is a free coordinate of the RSSR, as in every real one.
 
 With clearance, the coupler-rocker spherical joint becomes a ``clearance_spherical``
@@ -18,7 +19,7 @@ joint: a 10 mm socket in the rocker, the coupler's ball 0.2 mm smaller (radial c
 concave seat), Lankarani-Nikravesh law with restitution 0.9, frictionless.
 
 For each model and rtol 1e-6 and 1e-8 (atol = 1e-3 x rtol, method ``auto``, 0.2 s: one
-crank turn, the rocker's angular velocity at 10 kHz): accepted and rejected steps, force
+crank turn, the rocker's angular speed at 10 kHz): accepted and rejected steps, force
 evaluations, impacts, and the engine's wall time per simulated second (median of REPEATS
 runs, the model given to ``jointgap._jointgap.simulate`` as JSON); then the cost of one
 evaluation (wall time over evaluations) against the planar founding case
@@ -52,7 +53,7 @@ PLANAR_T_END, PLANAR_CHANNEL = 0.5, "slider.ax"  # as benchmarks/run.py's cleara
 
 T_END = 0.2  # simulated time of each spatial run [s]: one crank turn
 RATE = 10_000.0  # output rate of every run [Hz]
-CHANNEL = "rocker.wx"  # the one channel a spatial run records (rocker's angular velocity)
+CHANNEL = "ground_rocker.omega"  # the one channel a spatial run records: the rocker's speed
 RTOLS = (1e-6, 1e-8)
 REPEATS = 3
 
@@ -90,6 +91,28 @@ def closing_angle(crank_pin: np.ndarray) -> float:
     return 0.5 * (lo + hi)
 
 
+def loop_velocities(b: np.ndarray, c: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Each body's velocity and angular velocity (global) at t = 0, the crank at
+    CRANK_SPEED: the rocker's tip moves as psi' y x (C - D0) = v_B + w x (C - B), with the
+    coupler's w normal to C - B (its free spin zero); three equations in psi' and w."""
+    z, y = np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0])
+    w_crank = CRANK_SPEED * z
+    v_b = np.cross(w_crank, b - PIVOT)
+    u = (c - b) / np.linalg.norm(c - b)
+    e1 = np.cross(u, z) / np.linalg.norm(np.cross(u, z))
+    e2 = np.cross(u, e1)
+    lhs = np.column_stack(
+        [np.cross(y, c - ROCKER_PIVOT), -np.cross(e1, c - b), -np.cross(e2, c - b)]
+    )
+    psi_dot, w1, w2 = np.linalg.solve(lhs, v_b)
+    w_coupler, w_rocker = w1 * e1 + w2 * e2, psi_dot * y
+    return {
+        "crank": (np.cross(w_crank, 0.5 * (PIVOT + b) - PIVOT), w_crank),
+        "coupler": (v_b + np.cross(w_coupler, 0.5 * (b + c) - b), w_coupler),
+        "rocker": (np.cross(w_rocker, 0.5 * (ROCKER_PIVOT + c) - ROCKER_PIVOT), w_rocker),
+    }
+
+
 def bar(name: str, start: np.ndarray, end: np.ndarray, points: dict[str, np.ndarray]) -> dict:
     """A solid round steel bar from ``start`` to ``end``: its centre of mass at mid-length,
     its frame parallel to the ground's, its inertia tensor in that frame; ``points`` are
@@ -110,10 +133,22 @@ def bar(name: str, start: np.ndarray, end: np.ndarray, points: dict[str, np.ndar
     }
 
 
-def four_bar(clearance: bool) -> dict[str, Any]:
-    """The spatial four-bar's engine JSON (SI units), crank at angle 0 at t = 0."""
+def moving(body: dict[str, Any], velocities: dict[str, tuple[np.ndarray, np.ndarray]]) -> dict:
+    """``body`` with its velocity and angular velocity at t = 0."""
+    v, w = velocities[body["name"]]
+    return {**body, "velocity": v.tolist(), "angular_velocity": w.tolist()}
+
+
+LANKARANI_NIKRAVESH = {"type": "lankarani_nikravesh", "exponent": 1.5, "restitution": 0.9}
+
+
+def four_bar(clearance: bool, normal_law: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The spatial four-bar's engine JSON (SI units), crank at angle 0 at t = 0; with
+    ``clearance``, the ball's normal law is ``normal_law`` (Lankarani-Nikravesh, restitution
+    0.9, by default)."""
     b = PIVOT + np.array([CRANK, 0.0, 0.0])
     c = rocker_tip(closing_angle(b))
+    start = loop_velocities(b, c)
     ball: dict[str, Any] = {
         "name": "coupler_rocker",
         "type": "spherical",
@@ -129,7 +164,7 @@ def four_bar(clearance: bool) -> dict[str, Any]:
             "clearance": CLEARANCE,
             "bearing_material": STEEL,
             "journal_material": STEEL,
-            "normal_law": {"type": "lankarani_nikravesh", "exponent": 1.5, "restitution": 0.9},
+            "normal_law": normal_law or LANKARANI_NIKRAVESH,
         }
     return {
         "dimension": 3,
@@ -137,9 +172,9 @@ def four_bar(clearance: bool) -> dict[str, Any]:
         "gravity": [0.0, 0.0, -9.81],
         "ground_points": {"O": PIVOT.tolist(), "D": ROCKER_PIVOT.tolist()},
         "bodies": [
-            bar("crank", PIVOT, b, {"O": PIVOT, "B": b}),
-            bar("coupler", b, c, {"B": b, "C": c}),
-            bar("rocker", ROCKER_PIVOT, c, {"D": ROCKER_PIVOT, "C": c}),
+            moving(bar("crank", PIVOT, b, {"O": PIVOT, "B": b}), start),
+            moving(bar("coupler", b, c, {"B": b, "C": c}), start),
+            moving(bar("rocker", ROCKER_PIVOT, c, {"D": ROCKER_PIVOT, "C": c}), start),
         ],
         "joints": [
             {
