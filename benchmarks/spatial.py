@@ -287,6 +287,9 @@ def main() -> None:
         "on the model's JSON, method `auto`, atol = 1e-3 x rtol; wall time the median of "
         f"{REPEATS} runs; steps accepted + rejected; evaluations: the engine's "
         "`rhs_evaluations`; cost per evaluation: wall time / evaluations (recording included).",
+        "The ideal runs take a few hundred evaluations: their time is mostly the run's fixed "
+        "cost (compiling the model, assembly, the recorded samples), so their cost per "
+        "evaluation is not an evaluation's.",
         "",
         "| case | rtol | steps | evaluations | impacts | wall per simulated s [s] | "
         "us per evaluation | x planar |",
