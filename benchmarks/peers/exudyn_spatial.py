@@ -39,7 +39,7 @@ for the Exudyn runs, as exudyn_slider_crank.py does:
     .venv/bin/python benchmarks/peers/exudyn_spatial.py [--quick]
 
 Writes benchmarks/output/peers_exudyn_spatial.md and
-benchmarks/results/peers_exudyn_spatial.json. About 2-3 minutes on 2 shared cores.
+benchmarks/results/peers_exudyn_spatial.json. About 3.5 minutes on 2 shared cores.
 """
 
 from __future__ import annotations
