@@ -10,8 +10,9 @@ the range of distances the rocker's tip can reach). All three links are solid ro
 bars of 20 mm diameter (density 7850 kg/m^3): mass rho pi d^2 / 4 L, moment of inertia
 m (L^2 / 12 + d^2 / 16) across the bar and m d^2 / 8 along it. Gravity -9.81 m/s^2 along
 z. The crank is driven at a constant 300 rpm from t = 0, every body starting with the
-loop's velocities at that speed (the ball centred in its socket). The coupler's spin about its own
-axis (between the two ball joints) is a free coordinate of the RSSR, as in every real one.
+loop's velocities at that speed (the ball centred in its socket). The coupler's spin about
+its own axis (between the two ball joints) is a free coordinate of the RSSR, as in every
+real one.
 
 With clearance, the coupler-rocker spherical joint becomes a ``clearance_spherical``
 joint: a 10 mm socket in the rocker, the coupler's ball 0.2 mm smaller (radial clearance
@@ -26,7 +27,7 @@ evaluation (wall time over evaluations) against the planar founding case
 (examples/slider_crank_clearance.toml, 0.5 s, ``slider.ax`` at 10 kHz, the same rtols),
 measured in the same run.
 
-    .venv/bin/python benchmarks/spatial.py          # about a minute here
+    .venv/bin/python benchmarks/spatial.py          # about 20 s here
 
 Writes benchmarks/output/spatial.md and benchmarks/results/spatial.json.
 """
