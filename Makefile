@@ -71,16 +71,18 @@ bench: install valgrind
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/scaling.py
 	$(PY) benchmarks/run.py
+	$(PY) benchmarks/spatial.py
 
 # Exudyn goes into its own venv, never into .venv or the package's dependencies.
 PEER_VENV := benchmarks/peers/.venv
 PEER_STAMP := $(PEER_VENV)/.deps-installed
 
-## bench-peers: the compiled, SciPy and Exudyn peers of the founding clearance case (about 9 min)
+## bench-peers: the compiled, SciPy and Exudyn peers of the founding clearance case, and Exudyn on the spatial four-bar (about 12 min)
 bench-peers: install $(PEER_STAMP)
 	$(PY) benchmarks/peers/compiled_minimal.py
 	$(PY) benchmarks/peers/scipy_slider_crank.py
 	$(PY) benchmarks/peers/exudyn_slider_crank.py
+	$(PY) benchmarks/peers/exudyn_spatial.py
 
 $(PEER_STAMP):
 	test -x $(PEER_VENV)/bin/python || python3 -m venv $(PEER_VENV)
