@@ -140,11 +140,16 @@ def _strip_comment(line: str) -> str:
 
 
 def load(path: str | PathLike[str]) -> Model:
-    """Reads a TOML model file and checks it with the engine.
+    """Reads a TOML model file (or a URDF robot, ``*.urdf``: :mod:`jointgap.urdf`) and
+    checks it with the engine.
 
     Raises :class:`~jointgap.ModelError` naming the file, the line, the element and the
     problem; OSError when the file cannot be read.
     """
+    if Path(path).suffix.lower() == ".urdf":
+        from .urdf import load_urdf
+
+        return _checked(_build(load_urdf(path)))
     data = Path(path).read_bytes()
     try:
         text = data.decode("utf-8")
@@ -171,11 +176,20 @@ def loads(text: str, path: str = "<string>") -> Model:
         if single is not None:
             raise _array_hint(single[0]).located(path, single[1]) from None
         raise ModelError(f"invalid TOML: {exc}", file=path, line=line) from None
+    if "urdf" in data:  # an overlay naming its robot: a model of its own
+        from .urdf import load_robot
+
+        return _checked(_build(load_robot(path)))
     try:
         model = _build(data)
     except ModelError as exc:
         raise source.locate(exc) from None
     model._source = source
+    return _checked(model)
+
+
+def _checked(model: Model) -> Model:
+    """The model, checked by the engine."""
     model.check()
     return model
 

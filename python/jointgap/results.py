@@ -218,6 +218,15 @@ _UNITS = {
     "ftx": "N",
     "fty": "N",
     "ftz": "N",
+    "yaw": "rad",
+    "pitch": "rad",
+    "roll": "rad",
+    "wgx": "rad/s",
+    "wgy": "rad/s",
+    "wgz": "rad/s",
+    "alphagx": "rad/s^2",
+    "alphagy": "rad/s^2",
+    "alphagz": "rad/s^2",
 }
 
 
@@ -363,15 +372,13 @@ class Result:
 
     def angular_velocity(self, body: str, frame: str = "ground") -> np.ndarray:
         """A spatial body's angular velocity [rad/s], one row ``(wx, wy, wz)`` per
-        sample, in global axes (``frame="ground"``) or in the axes of its principal frame
-        (``frame="body"``: the channels ``<body>.wx .wy .wz``)."""
+        sample, in global axes (``frame="ground"``: the engine's channels ``<body>.wgx
+        .wgy .wgz``) or in the axes of its principal frame (``frame="body"``: the
+        channels ``<body>.wx .wy .wz``)."""
         if frame not in ("ground", "body"):
             raise ValueError(f"frame {frame!r}: 'ground' or 'body'")
-        w = np.stack([self[f"{body}.w{q}"] for q in "xyz"], axis=1)
-        if frame == "body":
-            return w
-        ground: np.ndarray = self._rotation(body).apply(w)
-        return ground
+        names = "wx wy wz" if frame == "body" else "wgx wgy wgz"
+        return np.stack([self[f"{body}.{q}"] for q in names.split()], axis=1)
 
     def _rotation(self, body: str) -> Any:
         """SciPy's ``Rotation`` of a body's samples, from ``<body>.e0 .. e3`` (scalar

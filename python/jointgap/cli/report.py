@@ -17,8 +17,6 @@ if TYPE_CHECKING:
 __all__ = ["COMMANDS", "REPORT_HTML", "add_commands", "report_after_run"]
 
 REPORT_HTML = "report.html"
-NO_SPATIAL_REPORT = "the 3D report of spatial models is not available yet"
-"""What ``--report`` and ``report`` say of a spatial model until its 3D report exists."""
 
 _REPORT_DESCRIPTION = """\
 Write one self-contained HTML file (no network needed to view it, every script
@@ -91,13 +89,11 @@ def _size(path: Path) -> str:
 
 def _report(args: argparse.Namespace) -> int:
     from ..report import folder_report_data, run_report_data, write
-    from ..results import SUMMARY_JSON, Result
+    from ..results import Result
 
     source = Path(args.source)
     options = {"magnify": args.magnify, "max_frames": args.max_frames}
     if source.is_dir():
-        if (source / SUMMARY_JSON).exists() and Result.load(source).model.get("dimension") == 3:
-            raise ValueError(f"{source}: {NO_SPATIAL_REPORT}")
         ideal = Result.load(Path(args.ideal)) if args.ideal else None
         data = folder_report_data(source, ideal=ideal, **options)
         out = Path(args.out) if args.out else source / REPORT_HTML
@@ -105,8 +101,6 @@ def _report(args: argparse.Namespace) -> int:
         if args.t_end is None:
             raise ValueError(f"{source}: --t-end is needed to run the model for its report")
         model = _load(str(source))
-        if model.spatial:
-            raise ValueError(f"{source}: {NO_SPATIAL_REPORT}")
         run_options = _run_options(args)
         with progress_line(args.t_end) as progress:
             result = model.simulate(args.t_end, progress=progress, **run_options)
@@ -144,8 +138,6 @@ def report_after_run(
     warning, not a failure: the results are written)."""
     from ..report import ReportError, write_run_report
 
-    if result.model.get("dimension") == 3:
-        return [f"warning    no report: {NO_SPATIAL_REPORT} (the results are written)"]
     target = Path(path) if path else out / REPORT_HTML
     try:
         written_path = write_run_report(result, target, ideal=ideal, source=model_file)
