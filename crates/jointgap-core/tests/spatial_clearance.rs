@@ -410,3 +410,95 @@ fn ball_friction_opposes_the_slip_and_only_takes_energy() {
         "lost {lost:e} J, friction's work {friction_work:e} J"
     );
 }
+
+// --- a journal in its bearing -------------------------------------------------------
+
+/// A journal (its centre at its centre of mass, its axis the body's z axis) of length
+/// `L`, centred in a bearing on the ground along the global z axis but tilted by `theta`
+/// about the y axis, so that its end at `+L/2` (point 2) sits `(L/2) sin(theta)` towards
+/// +x and its end at `-L/2` (point 1) as far towards -x; it moves towards +x at `v0`,
+/// without gravity. By hand, point 2 meets the wall after `(c - (L/2) sin(theta)) / v0`
+/// and point 1, `c` and more away, has not touched by then. While point 2 alone presses,
+/// its force `F = (p2.fnx, p2.fny, p2.fnz)` acts at the end's rim, on the line through
+/// the end's centre, so its moment about the journal's centre is `(L/2) a_J x F`: the
+/// end force times its arm. It must be what turns the journal (`J alpha' + w' x J w'`,
+/// body frame), it opposes the tilt, and `F` is what moves the centre (`m a`). Each
+/// end's penetration is checked against its offset from the bearing axis by hand.
+#[test]
+fn tilted_journal_touches_at_one_end_and_its_moment_is_force_times_arm() {
+    let (m, inertia) = (0.4, [3e-5, 3.2e-5, 1e-5]);
+    let (r_b, c, len, k_law): (f64, f64, f64, f64) = (10e-3, 0.2e-3, 40e-3, 1e10);
+    let half = 0.5 * len;
+    let theta = (0.5 * c / half).asin();
+    let v0 = 0.2;
+    let model = json!({
+        "dimension": 3,
+        "gravity": [0.0, 0.0, 0.0],
+        "bodies": [{
+            "name": "journal", "mass": m, "inertia": {"principal": {"moments": inertia}},
+            "position": [0.0, 0.0, 0.0],
+            "orientation": {"axis_angle": {"axis": [0.0, 1.0, 0.0], "angle": theta}},
+            "velocity": [v0, 0.0, 0.0]
+        }],
+        "joints": [{
+            "name": "gap", "type": "clearance_cylindrical", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+            "body_j": "journal", "point_j": [0.0, 0.0, 0.0], "axis": [0.0, 0.0, 1.0], "axis_j": [0.0, 0.0, 1.0],
+            "length": len,
+            "clearance": {"bearing_radius": r_b, "clearance": c, "stiffness": k_law,
+                          "normal_law": {"type": "hertz"}, "friction": {"type": "none"}}
+        }]
+    });
+    let t_first = (c - half * theta.sin()) / v0;
+    let res = run(&model, &options(2.0 * t_first, 1e7, 1e-10, 1e-14));
+    let points: Vec<_> = res.impacts.iter().map(|j| (j.joint.as_str(), j.point)).collect();
+    assert_eq!(points, [("gap", Some(1)), ("gap", Some(2))]);
+    let (first, second) = (&res.impacts[0].impacts, &res.impacts[1].impacts);
+    assert!(!second.is_empty(), "point 2 never touched");
+    let hit = &second[0];
+    assert!(
+        (hit.onset_time / t_first - 1.0).abs() < 1e-8,
+        "point 2 touches at {}, not {t_first}",
+        hit.onset_time
+    );
+    assert!((hit.onset_speed / v0 - 1.0).abs() < 1e-6, "onset speed {}", hit.onset_speed);
+    let left = hit.onset_time + hit.duration.expect("point 2 separated");
+    assert!(first.iter().all(|i| i.onset_time > left), "point 1 touched first: {first:?}");
+    let p = |q: &str, k: usize| channel(&res, &format!("gap.{q}"))[k];
+    let mut alone = 0;
+    for k in 0..res.time.len() {
+        let at = res.time[k];
+        let e = quaternion(&res, "journal", k);
+        let centre = triple(&res, ["journal.x", "journal.y", "journal.z"], k);
+        let a_j = rotate(e, [0.0, 0.0, 1.0]);
+        for (name, side) in [("p1", -1.0), ("p2", 1.0)] {
+            let end = add(centre, scale(a_j, side * half));
+            let depth = end[0].hypot(end[1]) - c;
+            let pen = p(&format!("{name}.penetration"), k);
+            assert!((pen - depth).abs() < 1e-12, "{name}: penetration {pen:e} vs {depth:e} at {at}");
+        }
+        if !(p("p2.fn", k) > 0.0 && p("p1.fn", k) == 0.0) {
+            continue;
+        }
+        alone += 1;
+        let f = [p("p2.fnx", k), p("p2.fny", k), p("p2.fnz", k)];
+        assert!(f[0] < 0.0, "the +x wall pushes towards -x: {f:?}");
+        assert!((norm(f) - p("p2.fn", k)).abs() < 1e-9 * norm(f));
+        let moment = cross(scale(a_j, half), f);
+        assert!(moment[1] < 0.0, "the moment must untilt the journal: {moment:?}");
+        assert!(
+            (norm(moment) - half * norm(f) * a_j[2]).abs() < 1e-12 * norm(moment) + 1e-9 * half * norm(f)
+        );
+        let w = triple(&res, ["journal.wx", "journal.wy", "journal.wz"], k);
+        let alpha = triple(&res, ["journal.alphax", "journal.alphay", "journal.alphaz"], k);
+        let jw = [0, 1, 2].map(|i| inertia[i] * w[i]);
+        let response = add([0, 1, 2].map(|i| inertia[i] * alpha[i]), cross(w, jw));
+        let expected = unrotate(e, moment);
+        assert!(
+            norm(sub(response, expected)) < 1e-6 * norm(moment),
+            "J alpha' + w' x J w' = {response:?} vs the end force's moment {expected:?} at {at}"
+        );
+        let acc = triple(&res, ["journal.ax", "journal.ay", "journal.az"], k);
+        assert!(norm(sub(scale(acc, m), f)) < 1e-6 * norm(f), "m a {acc:?} vs {f:?} at {at}");
+    }
+    assert!(alone > 100, "{alone} samples with point 2 alone in contact");
+}
