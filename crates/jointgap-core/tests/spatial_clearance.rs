@@ -554,7 +554,9 @@ fn slider_crank_clearance_3d() -> Value {
 /// z and the quaternions), so the difference shrinks with the tolerance: measured NRMSE
 /// of `slider.ax` 1.6e-5, 2.4e-6, 3.1e-7 and 1.3e-8 at rtol 1e-8 to 1e-11; onset times
 /// within 1.7e-8 s and 9.3e-10 s, onset speeds within 2.6e-7 m/s and 1.8e-9 m/s at rtol
-/// 1e-10 and 1e-11 (14 impacts). A missing factor in either engine's force (a journal
+/// 1e-10 and 1e-11 (14 impacts). The ends' normal forces are equal and together they
+/// are the planar joint's normal and friction forces, to 3.2e-7 and 4.4e-7 of the peak
+/// normal force (NRMSE) at rtol 1e-10, 1.4e-8 and 3.0e-9 at 1e-11. A missing factor in either engine's force (a journal
 /// end carrying the whole law, friction or damping not split) would leave a difference
 /// of its own at every tolerance.
 #[test]
@@ -592,5 +594,32 @@ fn founding_case_in_3d_reproduces_the_planar_run() {
             "rtol {rtol:e}: onsets differ by {dt:e} s, {dv:e} m/s"
         );
         assert!(nrmse < nrmse_max, "rtol {rtol:e}: NRMSE of slider.ax {nrmse:e}");
+        // The contact forces: the two ends share the normal force equally, and together
+        // they are the planar joint's normal and friction forces (the planar `ft` is
+        // signed along its tangent, the spatial one a magnitude).
+        let planar_fn = channel(&planar, "rod_slider.fn");
+        let planar_ft = channel(&planar, "rod_slider.ft");
+        let peak = planar_fn.iter().fold(0.0f64, |a, &b| a.max(b));
+        let ends = |q: &str| {
+            let (a, b) = (
+                channel(&spatial, &format!("rod_slider.p1.{q}")),
+                channel(&spatial, &format!("rod_slider.p2.{q}")),
+            );
+            a.iter().zip(b).map(|(a, b)| (*a, *b)).collect::<Vec<_>>()
+        };
+        let (fn_ends, ft_ends) = (ends("fn"), ends("ft"));
+        assert!(
+            fn_ends.iter().all(|(a, b)| (a - b).abs() <= 1e-12 * peak),
+            "the aligned ends' forces differ"
+        );
+        let error = |ends: &[(f64, f64)], planar: &[f64]| {
+            let sum: f64 = ends.iter().zip(planar).map(|((a, b), p)| (a + b - p.abs()).powi(2)).sum();
+            (sum / planar.len() as f64).sqrt() / peak
+        };
+        let (fn_error, ft_error) = (error(&fn_ends, planar_fn), error(&ft_ends, planar_ft));
+        assert!(
+            fn_error < nrmse_max && ft_error < nrmse_max,
+            "rtol {rtol:e}: contact forces differ by {fn_error:e} (normal), {ft_error:e} (friction) of the peak"
+        );
     }
 }
