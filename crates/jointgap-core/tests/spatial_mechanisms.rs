@@ -1,0 +1,343 @@
+//! Spatial mechanisms through the whole engine (model -> system -> run), each against an
+//! independent computation written in this file: a free asymmetric body against the
+//! closed-form (Jacobi elliptic) torque-free motion, given once by its principal moments
+//! and once by its turned inertia tensor.
+#![allow(clippy::needless_range_loop)]
+
+use jointgap_core::model::spatial::SpatialModel;
+use jointgap_core::simulate::{simulate_spatial, Silent};
+use jointgap_core::{SimOptions, SimResult, Status};
+use serde_json::json;
+use std::f64::consts::PI;
+
+type V3 = [f64; 3];
+type M3 = [[f64; 3]; 3];
+
+fn run(model: serde_json::Value, t_end: f64, rate: f64, rtol: f64) -> SimResult {
+    let model = SpatialModel::from_json(&model.to_string()).expect("a valid model");
+    let mut opts = SimOptions::new(t_end);
+    opts.rate = Some(rate);
+    opts.rtol = rtol;
+    opts.atol = rtol * 1e-2;
+    let res = simulate_spatial(&model, &opts, &mut Silent).expect("a run");
+    assert_eq!(res.status, Status::Finished, "{:?}", res.status);
+    res
+}
+
+fn channel<'a>(res: &'a SimResult, name: &str) -> &'a [f64] {
+    res.channel(name).unwrap_or_else(|| panic!("no channel {name} in {:?}", res.names))
+}
+
+/// A vector channel triple `<element>.<a>`, `.<b>`, `.<c>` at sample `k`.
+fn vector(res: &SimResult, element: &str, quantities: [&str; 3], k: usize) -> V3 {
+    quantities.map(|q| channel(res, &format!("{element}.{q}"))[k])
+}
+
+fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross(a: V3, b: V3) -> V3 {
+    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+}
+
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn scale(a: V3, s: f64) -> V3 {
+    a.map(|x| x * s)
+}
+
+fn norm(a: V3) -> f64 {
+    dot(a, a).sqrt()
+}
+
+fn unit(a: V3) -> V3 {
+    scale(a, 1.0 / norm(a))
+}
+
+fn mat_vec(m: &M3, v: V3) -> V3 {
+    [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
+}
+
+fn transpose(m: &M3) -> M3 {
+    [[m[0][0], m[1][0], m[2][0]], [m[0][1], m[1][1], m[2][1]], [m[0][2], m[1][2], m[2][2]]]
+}
+
+fn mat_mul(a: &M3, b: &M3) -> M3 {
+    let bt = transpose(b);
+    [0, 1, 2].map(|r| [0, 1, 2].map(|c| dot(a[r], bt[c])))
+}
+
+/// The turn by `angle` about the unit `axis` (Rodrigues:
+/// `R = cos I + sin [n]x + (1 - cos) n n^T`).
+fn rodrigues(axis: V3, angle: f64) -> M3 {
+    let n = unit(axis);
+    let (s, c) = angle.sin_cos();
+    let skew = [[0.0, -n[2], n[1]], [n[2], 0.0, -n[0]], [-n[1], n[0], 0.0]];
+    [0, 1, 2]
+        .map(|r| [0, 1, 2].map(|k| (if r == k { c } else { 0.0 }) + s * skew[r][k] + (1.0 - c) * n[r] * n[k]))
+}
+
+/// The rotation matrix of the Euler parameters `e = (e0, e1, e2, e3)` (Nikravesh 1988,
+/// eq. 6.19: `A = (2 e0^2 - 1) I + 2 (e e^T + e0 [e]x)`, vector part `e`).
+fn rotation_of(e: [f64; 4]) -> M3 {
+    let (e0, v) = (e[0], [e[1], e[2], e[3]]);
+    let skew = [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
+    [0, 1, 2].map(|r| {
+        [0, 1, 2]
+            .map(|k| (if r == k { 2.0 * e0 * e0 - 1.0 } else { 0.0 }) + 2.0 * (v[r] * v[k] + e0 * skew[r][k]))
+    })
+}
+
+/// The Euler parameters of a body at sample `k`.
+fn quaternion(res: &SimResult, body: &str, k: usize) -> [f64; 4] {
+    ["e0", "e1", "e2", "e3"].map(|q| channel(res, &format!("{body}.{q}"))[k])
+}
+
+/// The quaternion `(cos(angle/2), sin(angle/2) n)` of a turn, scalar first.
+fn quaternion_of(axis: V3, angle: f64) -> [f64; 4] {
+    let n = unit(axis);
+    let (s, c) = (0.5 * angle).sin_cos();
+    [c, s * n[0], s * n[1], s * n[2]]
+}
+
+/// The Hamilton product `p q` of two quaternions, scalar first.
+fn quaternion_product(p: [f64; 4], q: [f64; 4]) -> [f64; 4] {
+    let (p0, pv, q0, qv) = (p[0], [p[1], p[2], p[3]], q[0], [q[1], q[2], q[3]]);
+    let v = add(add(scale(qv, p0), scale(pv, q0)), cross(pv, qv));
+    [p0 * q0 - dot(pv, qv), v[0], v[1], v[2]]
+}
+
+/// The complete elliptic integral of the first kind of the complementary modulus
+/// `k' = sqrt(1 - k^2)`: `K(k) = pi / (2 agm(1, k'))`.
+fn complete_integral_of_complement(k_prime: f64) -> f64 {
+    let (mut a, mut b) = (1.0f64, k_prime);
+    for _ in 0..60 {
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+    }
+    PI / (2.0 * a)
+}
+
+/// `K(k)`.
+fn complete_integral(k: f64) -> f64 {
+    complete_integral_of_complement((1.0 - k * k).sqrt())
+}
+
+/// Jacobi's elliptic functions `(sn, cn, dn)` of `u`, modulus `k`, as ratios of theta
+/// functions of nome `q = exp(-pi K'/K)` at `v = pi u / (2 K)` (DLMF 22.2.4-6, the
+/// series 20.2.1-4), a route apart from the Landen transformation that
+/// tests/spatial_body.rs takes.
+fn jacobi_theta(u: f64, k: f64) -> (f64, f64, f64) {
+    let (kk, kk_prime) = (complete_integral(k), complete_integral_of_complement(k));
+    let q = (-PI * kk_prime / kk).exp();
+    let v = PI * u / (2.0 * kk);
+    let terms = 30;
+    let theta1 = |v: f64| {
+        2.0 * (0..terms)
+            .map(|n| {
+                let m = n as f64 + 0.5;
+                (if n % 2 == 0 { 1.0 } else { -1.0 }) * q.powf(m * m) * ((2.0 * m) * v).sin()
+            })
+            .sum::<f64>()
+    };
+    let theta2 = |v: f64| {
+        2.0 * (0..terms)
+            .map(|n| {
+                let m = n as f64 + 0.5;
+                q.powf(m * m) * ((2.0 * m) * v).cos()
+            })
+            .sum::<f64>()
+    };
+    let theta3_4 = |v: f64, sign: f64| {
+        1.0 + 2.0 * (1..terms).map(|n| sign.powi(n) * q.powi(n * n) * ((2 * n) as f64 * v).cos()).sum::<f64>()
+    };
+    let (t2_0, t3_0, t4_0) = (theta2(0.0), theta3_4(0.0, 1.0), theta3_4(0.0, -1.0));
+    let (t1, t2, t3, t4) = (theta1(v), theta2(v), theta3_4(v, 1.0), theta3_4(v, -1.0));
+    (t3_0 * t1 / (t2_0 * t4), t4_0 * t2 / (t2_0 * t4), t4_0 * t3 / (t3_0 * t4))
+}
+
+/// The theta-function route against the identities the functions obey: the modulus
+/// back from the thetas (`k = theta2(0)^2 / theta3(0)^2`, through sn at the quarter
+/// period), `sn^2 + cn^2 = 1`, `dn^2 + k^2 sn^2 = 1`, the quarter-period values, and
+/// `d sn / du = cn dn`.
+#[test]
+fn theta_functions_give_jacobis_functions() {
+    for k in [0.2, 0.9, 0.997_66] {
+        let kk = complete_integral(k);
+        let (sn, cn, dn) = jacobi_theta(kk, k);
+        let k_prime = (1.0 - k * k).sqrt();
+        assert!((sn - 1.0).abs() < 1e-13 && cn.abs() < 1e-13 && (dn - k_prime).abs() < 1e-13, "at K({k})");
+        for u in [0.1, 0.8, 2.3, -1.4, 5.0] {
+            let (sn, cn, dn) = jacobi_theta(u, k);
+            assert!((sn * sn + cn * cn - 1.0).abs() < 1e-13, "sn^2 + cn^2 at {u}, {k}");
+            assert!((dn * dn + k * k * sn * sn - 1.0).abs() < 1e-13, "dn^2 + k^2 sn^2 at {u}, {k}");
+            let h = 1e-5;
+            let derivative = (jacobi_theta(u + h, k).0 - jacobi_theta(u - h, k).0) / (2.0 * h);
+            assert!((derivative - cn * dn).abs() < 1e-9, "sn' = cn dn at {u}, {k}");
+        }
+    }
+    // Small k: sn = sin u - k^2 / 4 (u - sin u cos u) cos u + O(k^4) (Abramowitz and
+    // Stegun 16.13.1), the correction 4e-8 here.
+    let (k, u) = (1e-3, 0.7f64);
+    let (sn, _, _) = jacobi_theta(u, k);
+    let series = u.sin() - k * k / 4.0 * (u - u.sin() * u.cos()) * u.cos();
+    assert!((sn - series).abs() < 1e-12, "sn({u}, {k}) = {sn} against the series {series}");
+}
+
+/// A free asymmetric body (no joints, no gravity; principal moments 0.010, 0.020,
+/// 0.025 kg m^2) set spinning near its intermediate axis, `w' = (0, 6, 0.3)` rad/s in its
+/// principal frame, turned and moving: over one period of its body rates (two flips) the
+/// engine's body rates follow the closed form (Landau and Lifshitz, Mechanics, section
+/// 37)
+///
+/// ```text
+/// w1 = sqrt((2 E J3 - M^2) / (J1 (J3 - J1))) cn(tau)
+/// w2 = sqrt((2 E J3 - M^2) / (J2 (J3 - J2))) sn(tau)
+/// w3 = sqrt((M^2 - 2 E J1) / (J3 (J3 - J1))) dn(tau)
+/// tau = K + sqrt((J3 - J2) (M^2 - 2 E J1) / (J1 J2 J3)) t
+/// k^2 = (J2 - J1) (2 E J3 - M^2) / ((J3 - J2) (M^2 - 2 E J1))
+/// ```
+///
+/// and the angular momentum in ground axes, `A J w'`, stays constant to 1e-10 relative,
+/// the quaternion unit to 1e-12, the centre of mass on its straight line.
+///
+/// The same physical body is given a second time, beside it in the same model, by its
+/// full inertia tensor in a user frame turned by a known `R` from the principal frame
+/// (`J_user = R diag(J) R^T`, the body placed at `A0 R^T`, its points at `R p`): its
+/// points (markers) move as the first body's, its global angular velocity is the first's,
+/// and its angular momentum, from its markers' frame and its tensor, is as constant.
+///
+/// Measured at rtol 1e-13 (atol 1e-15): body rates within 2.0e-11 of `w2` of the closed
+/// form, angular momentum drift 4.1e-11 (2.6e-10 at rtol 1e-12: the integrator's error,
+/// hence the tighter tolerance), `|e| - 1` 2.2e-16, the twin's points within 5.4e-13 of
+/// the arm and its angular velocity within 1.2e-13 of `w2`.
+#[test]
+fn a_free_body_flips_as_the_closed_form_says_whichever_way_its_inertia_is_given() {
+    let (mass, j) = (3.0, [0.010, 0.020, 0.025]);
+    let (w2, w3) = (6.0, 0.3);
+    let turn_axis = [0.4, -0.3, 0.8];
+    let a0 = rodrigues(turn_axis, norm(turn_axis));
+    let e_a0 = quaternion_of(turn_axis, norm(turn_axis));
+    // The user's frame of the second body: principal vectors s' are R s' there.
+    let (user_axis, user_angle) = ([1.0, 2.0, -0.5], 1.1);
+    let r = rodrigues(user_axis, user_angle);
+    let tensor =
+        mat_mul(&mat_mul(&r, &[[j[0], 0.0, 0.0], [0.0, j[1], 0.0], [0.0, 0.0, j[2]]]), &transpose(&r));
+    let mut e_user = quaternion_of(user_axis, user_angle);
+    e_user[1..].iter_mut().for_each(|x| *x = -*x);
+    let e_b0 = quaternion_product(e_a0, e_user);
+    let omega_global = mat_vec(&a0, [0.0, w2, w3]);
+    let (r0, v0) = ([0.1, 0.2, -0.3], [0.5, -0.2, 0.3]);
+    let arm = 0.1;
+    let points: [V3; 3] = [[arm, 0.0, 0.0], [0.0, arm, 0.0], [0.0, 0.0, arm]];
+    let user_points: Vec<V3> = points.iter().map(|p| mat_vec(&r, *p)).collect();
+    let user_markers: Vec<V3> =
+        (0..3).map(|c| scale([0, 1, 2].map(|k| (k == c) as u8 as f64), arm)).collect();
+    let model = json!({
+        "dimension": 3,
+        "gravity": [0.0, 0.0, 0.0],
+        "bodies": [
+            {"name": "principal", "mass": mass, "inertia": {"principal": {"moments": j}},
+             "position": r0, "velocity": v0, "orientation": {"quaternion": e_a0},
+             "angular_velocity": omega_global},
+            {"name": "tensor", "mass": mass, "inertia": {"tensor": tensor},
+             "position": r0, "velocity": v0, "orientation": {"quaternion": e_b0},
+             "angular_velocity": omega_global}
+        ],
+        "markers": [
+            {"name": "p1", "body": "principal", "point": points[0]},
+            {"name": "p2", "body": "principal", "point": points[1]},
+            {"name": "p3", "body": "principal", "point": points[2]},
+            {"name": "t1", "body": "tensor", "point": user_points[0]},
+            {"name": "t2", "body": "tensor", "point": user_points[1]},
+            {"name": "t3", "body": "tensor", "point": user_points[2]},
+            {"name": "u1", "body": "tensor", "point": user_markers[0]},
+            {"name": "u2", "body": "tensor", "point": user_markers[1]},
+            {"name": "u3", "body": "tensor", "point": user_markers[2]}
+        ]
+    });
+
+    // The closed form.
+    let energy = 0.5 * (j[1] * w2 * w2 + j[2] * w3 * w3);
+    let m2 = (j[1] * w2).powi(2) + (j[2] * w3).powi(2);
+    assert!(m2 > 2.0 * energy * j[1], "the closed form's case: near the intermediate axis");
+    let amplitude = [
+        ((2.0 * energy * j[2] - m2) / (j[0] * (j[2] - j[0]))).sqrt(),
+        ((2.0 * energy * j[2] - m2) / (j[1] * (j[2] - j[1]))).sqrt(),
+        ((m2 - 2.0 * energy * j[0]) / (j[2] * (j[2] - j[0]))).sqrt(),
+    ];
+    let rate = ((j[2] - j[1]) * (m2 - 2.0 * energy * j[0]) / (j[0] * j[1] * j[2])).sqrt();
+    let k =
+        ((j[1] - j[0]) * (2.0 * energy * j[2] - m2) / ((j[2] - j[1]) * (m2 - 2.0 * energy * j[0]))).sqrt();
+    let kk = complete_integral(k);
+    let exact = |t: f64| {
+        let (sn, cn, dn) = jacobi_theta(kk + rate * t, k);
+        [amplitude[0] * cn, amplitude[1] * sn, amplitude[2] * dn]
+    };
+    assert!(norm(sub(exact(0.0), [0.0, w2, w3])) < 1e-12, "the start is the closed form's");
+    let period = 4.0 * kk / rate;
+
+    let res = run(model, period, 200.0, 1e-13);
+    let n = res.time.len();
+    let body_rates = |body: &str, k: usize| vector(&res, body, ["wx", "wy", "wz"], k);
+    let h0 = mat_vec(&a0, [j[0] * 0.0, j[1] * w2, j[2] * w3]);
+    let (mut rates_off, mut momentum_off, mut norm_off, mut line_off) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut twin_points_off, mut twin_omega_off, mut twin_momentum_off) = (0.0f64, 0.0f64, 0.0f64);
+    let mut flipped = false;
+    for k in 0..n {
+        let t = res.time[k];
+        let w = body_rates("principal", k);
+        rates_off = rates_off.max(norm(sub(w, exact(t))) / w2);
+        flipped |= w[1] < -0.9 * w2;
+        let e = quaternion(&res, "principal", k);
+        let a = rotation_of(e);
+        let h = mat_vec(&a, [j[0] * w[0], j[1] * w[1], j[2] * w[2]]);
+        momentum_off = momentum_off.max(norm(sub(h, h0)) / norm(h0));
+        for body in ["principal", "tensor"] {
+            let e = quaternion(&res, body, k);
+            norm_off = norm_off.max((e.iter().map(|x| x * x).sum::<f64>().sqrt() - 1.0).abs());
+            let centre = vector(&res, body, ["x", "y", "z"], k);
+            line_off = line_off.max(norm(sub(centre, add(r0, scale(v0, t)))));
+        }
+        // The twin: its points where the first body's are, its global angular velocity
+        // the first's, and its angular momentum from its own frame (read off the markers
+        // at the user's axes) and its tensor.
+        for (p, q) in [("p1", "t1"), ("p2", "t2"), ("p3", "t3")] {
+            let (x, y) = (vector(&res, p, ["x", "y", "z"], k), vector(&res, q, ["x", "y", "z"], k));
+            twin_points_off = twin_points_off.max(norm(sub(x, y)) / arm);
+        }
+        let omega = mat_vec(&a, w);
+        let twin_omega = mat_vec(&rotation_of(quaternion(&res, "tensor", k)), body_rates("tensor", k));
+        twin_omega_off = twin_omega_off.max(norm(sub(omega, twin_omega)) / w2);
+        let centre = vector(&res, "tensor", ["x", "y", "z"], k);
+        let columns: Vec<V3> = ["u1", "u2", "u3"]
+            .iter()
+            .map(|m| scale(sub(vector(&res, m, ["x", "y", "z"], k), centre), 1.0 / arm))
+            .collect();
+        let user_frame = transpose(&[columns[0], columns[1], columns[2]]);
+        let global_tensor = mat_mul(&mat_mul(&user_frame, &tensor), &transpose(&user_frame));
+        let twin_h = mat_vec(&global_tensor, twin_omega);
+        twin_momentum_off = twin_momentum_off.max(norm(sub(twin_h, h0)) / norm(h0));
+    }
+    println!(
+        "k = {k}, period {period} s, {} steps: body rates off the closed form by {rates_off:.2e} of w2; \
+         angular momentum drift {momentum_off:.2e}; |e| - 1 up to {norm_off:.2e}; centre off its line by \
+         {line_off:.2e} m; the tensor twin's points off by {twin_points_off:.2e} of the arm, its angular \
+         velocity by {twin_omega_off:.2e} of w2, its angular momentum drifts {twin_momentum_off:.2e}",
+        res.stats.accepted_steps
+    );
+    assert!(flipped, "the body turns over within the period");
+    assert!(rates_off < 1e-9, "body rates off the closed form by {rates_off:e} of w2");
+    assert!(momentum_off < 1e-10, "angular momentum in ground axes drifts by {momentum_off:e}");
+    assert!(norm_off < 1e-12, "|e| - 1 = {norm_off:e}");
+    assert!(line_off < 1e-12, "the centre leaves its line by {line_off:e} m");
+    assert!(twin_points_off < 1e-10, "the tensor twin's points are off by {twin_points_off:e}");
+    assert!(twin_omega_off < 1e-10, "the tensor twin's angular velocity is off by {twin_omega_off:e}");
+    assert!(twin_momentum_off < 1e-10, "the tensor twin's angular momentum drifts by {twin_momentum_off:e}");
+}
