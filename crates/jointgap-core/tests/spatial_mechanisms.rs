@@ -2,7 +2,8 @@
 //! independent computation written in this file: a free asymmetric body against the
 //! closed-form (Jacobi elliptic) torque-free motion, given once by its principal moments
 //! and once by its turned inertia tensor; a spatial four-bar RSSR against its loop
-//! closure and the virtual work of its motor.
+//! closure and the virtual work of its motor; drivers of prismatic, cylindrical and
+//! revolute joints against their profiles and Newton's and Euler's laws.
 #![allow(clippy::needless_range_loop)]
 
 use jointgap_core::model::spatial::SpatialModel;
@@ -15,11 +16,17 @@ type V3 = [f64; 3];
 type M3 = [[f64; 3]; 3];
 
 fn run(model: serde_json::Value, t_end: f64, rate: f64, rtol: f64) -> SimResult {
+    run_with(model, t_end, rate, rtol, None)
+}
+
+/// [`run`] with steps no longer than `max_step` [s].
+fn run_with(model: serde_json::Value, t_end: f64, rate: f64, rtol: f64, max_step: Option<f64>) -> SimResult {
     let model = SpatialModel::from_json(&model.to_string()).expect("a valid model");
     let mut opts = SimOptions::new(t_end);
     opts.rate = Some(rate);
     opts.rtol = rtol;
     opts.atol = rtol * 1e-2;
+    opts.max_step = max_step;
     let res = simulate_spatial(&model, &opts, &mut Silent).expect("a run");
     assert_eq!(res.status, Status::Finished, "{:?}", res.status);
     res
@@ -604,4 +611,183 @@ fn a_spatial_four_bar_follows_its_loop_closure_and_its_motor_does_the_virtual_wo
     assert!(torque_off < 1e-8, "the motor's torque is off the virtual work by {torque_off:e} of its peak");
     assert!(balance_off < 1e-6, "the motor's power is off d(T + V)/dt by {balance_off:e} of its peak");
     assert!(spin_off < 1e-10, "the coupler's spin about its line changed by {spin_off:e} rad/s");
+}
+
+/// The smooth ramp of a driver as the test reads its definition: the speed rises from
+/// rest to `speed` by the cubic STEP `3 s^2 - 2 s^3` (`s = t / ramp_time`), then stays;
+/// the displacement is the speed's integral (Simpson's rule, exact on the cubic) and the
+/// acceleration its derivative. Returns (displacement, speed, acceleration).
+fn smooth_ramp(t: f64, speed: f64, ramp_time: f64) -> (f64, f64, f64) {
+    let rate = |t: f64| {
+        let s = (t / ramp_time).clamp(0.0, 1.0);
+        speed * s * s * (3.0 - 2.0 * s)
+    };
+    let simpson = |a: f64, b: f64| (b - a) / 6.0 * (rate(a) + 4.0 * rate(0.5 * (a + b)) + rate(b));
+    let ramp_end = t.min(ramp_time);
+    let displacement = simpson(0.0, ramp_end) + speed * (t - ramp_end);
+    let s = t / ramp_time;
+    let acceleration = if s < 1.0 { speed * 6.0 * s * (1.0 - s) / ramp_time } else { 0.0 };
+    (displacement, rate(t), acceleration)
+}
+
+/// The longest step [s] of the driven runs below. A body whose joints and driver fix
+/// its motion has nothing for the error estimate to see (each step integrates the
+/// profile's polynomial exactly), so a step can span the whole ramp; and a spatial
+/// run's samples between step ends come from the cubic Hermite interpolant of the
+/// positions (`DenseStep::at`, `PositionRate::Mapped`), which is exact only to the third
+/// degree in time: over one 0.2 s step the smooth ramp's quartic displacement is read
+/// back as the linear ramp's, 3.1e-3 m off (a quarter of the travel), off the constraint
+/// too. Steps of 1 ms keep the interpolant's error below 1e-11.
+const DRIVEN_MAX_STEP: Option<f64> = Some(1e-3);
+
+/// The largest of `f(k)` over the samples.
+fn largest(n: usize, f: impl Fn(usize) -> f64) -> f64 {
+    (0..n).map(f).fold(0.0, f64::max)
+}
+
+/// A slider on a prismatic joint along a skew axis `u`, pushed by a driver whose
+/// profile is a smooth ramp, under gravity: its travel and speed channels follow the
+/// profile, its centre of mass moves along the axis by the profile, and the driver's
+/// force is what Newton's law along the axis asks, `F = m (x'' - g . u)`.
+#[test]
+fn a_prismatic_drive_follows_its_smooth_ramp_and_pushes_with_newtons_force() {
+    let (mass, g) = (2.0, [0.0, 0.0, -9.81]);
+    let u = unit([1.0, 1.0, 1.0]);
+    let (centre, travel0) = ([0.2, -0.1, 0.3], 0.05);
+    let (speed, ramp_time) = (0.5, 0.2);
+    let model = json!({
+        "dimension": 3,
+        "gravity": g,
+        "bodies": [{"name": "slider", "mass": mass, "inertia": {"principal": {"moments": [0.01, 0.012, 0.015]}},
+                    "position": centre, "orientation": {"axis_angle": {"axis": [0.2, 1.0, -0.4], "angle": 0.7}}}],
+        "joints": [{"name": "guide", "type": "prismatic", "body_i": "ground",
+                    "point_i": sub(centre, scale(u, travel0)), "body_j": "slider", "point_j": [0.0, 0.0, 0.0],
+                    "axis": u}],
+        "drivers": [{"name": "push", "joint": "guide",
+                     "profile": {"type": "smooth_ramp", "speed": speed, "ramp_time": ramp_time}}]
+    });
+    let res = run_with(model, 0.3, 1000.0, 1e-10, DRIVEN_MAX_STEP);
+    let n = res.time.len();
+    let (travel, rate, force) =
+        (channel(&res, "guide.travel"), channel(&res, "guide.speed"), channel(&res, "push.force"));
+    let profile = |k: usize| smooth_ramp(res.time[k], speed, ramp_time);
+    let travel_off = largest(n, |k| (travel[k] - travel0 - profile(k).0).abs());
+    let speed_off = largest(n, |k| (rate[k] - profile(k).1).abs());
+    let centre_off = largest(n, |k| {
+        norm(sub(vector(&res, "slider", ["x", "y", "z"], k), add(centre, scale(u, profile(k).0))))
+    });
+    let newton = |k: usize| mass * (profile(k).2 - dot(g, u));
+    let force_off = largest(n, |k| (force[k] - newton(k)).abs());
+    let peak = largest(n, |k| newton(k).abs());
+    println!(
+        "travel off the profile by {travel_off:.2e} m, speed by {speed_off:.2e} m/s, centre by {centre_off:.2e} m; \
+         force (peak {peak:.3} N) off Newton's by {force_off:.2e} N"
+    );
+    assert!(travel_off < 1e-10, "travel off the profile by {travel_off:e} m");
+    assert!(speed_off < 1e-9 * speed, "speed off the profile by {speed_off:e} m/s");
+    assert!(centre_off < 1e-10, "centre of mass off the axis's profile by {centre_off:e} m");
+    assert!(force_off < 1e-8 * peak, "driver force off m (x'' - g . u) by {force_off:e} N");
+}
+
+/// A sleeve on a cylindrical joint along a skew axis `u` (its centre of mass on the
+/// axis), turned by a driver with a smooth-ramp profile, under gravity: its angle and
+/// rate follow the profile, while its free travel along the axis falls as
+/// `(g . u) t^2 / 2`; the driver's torque is `J_uu theta''`, with `J_uu = u^T J u` the
+/// moment about the axis of the inertia tensor in ground axes (the axis is no principal
+/// axis of the sleeve: the gyroscopic moments lie across it, taken by the joint).
+#[test]
+fn a_cylindrical_drive_turns_by_its_profile_while_the_sleeve_slides_freely() {
+    let (mass, moments, g) = (1.5, [0.010, 0.020, 0.025], [0.0, 0.0, -9.81]);
+    let u = unit([0.3, -0.5, 1.0]);
+    let (turn_axis, turn) = ([1.0, 0.4, -0.3], 0.9);
+    let a0 = rodrigues(turn_axis, turn);
+    let inertia_global = mat_mul(
+        &mat_mul(&a0, &[[moments[0], 0.0, 0.0], [0.0, moments[1], 0.0], [0.0, 0.0, moments[2]]]),
+        &transpose(&a0),
+    );
+    let j_uu = dot(u, mat_vec(&inertia_global, u));
+    let (centre, travel0) = ([0.1, 0.3, -0.2], 0.1);
+    let (speed, ramp_time) = (20.0, 0.25);
+    let model = json!({
+        "dimension": 3,
+        "gravity": g,
+        "bodies": [{"name": "sleeve", "mass": mass, "inertia": {"principal": {"moments": moments}},
+                    "position": centre, "orientation": {"axis_angle": {"axis": turn_axis, "angle": turn}}}],
+        "joints": [{"name": "shaft", "type": "cylindrical", "body_i": "ground",
+                    "point_i": sub(centre, scale(u, travel0)), "body_j": "sleeve", "point_j": [0.0, 0.0, 0.0],
+                    "axis": u}],
+        "drivers": [{"name": "spin", "joint": "shaft",
+                     "profile": {"type": "smooth_ramp", "speed": speed, "ramp_time": ramp_time}}]
+    });
+    let res = run_with(model, 0.4, 1000.0, 1e-10, DRIVEN_MAX_STEP);
+    let n = res.time.len();
+    let c = |q: &str| channel(&res, &format!("shaft.{q}"));
+    let (angle, omega, travel, slide) = (c("angle"), c("omega"), c("travel"), c("speed"));
+    let torque = channel(&res, "spin.torque");
+    let profile = |k: usize| smooth_ramp(res.time[k], speed, ramp_time);
+    let fall = dot(g, u);
+    let angle_off = largest(n, |k| wrapped(angle[k] - angle[0] - profile(k).0).abs());
+    let rate_off = largest(n, |k| (omega[k] - profile(k).1).abs());
+    let travel_off = largest(n, |k| (travel[k] - travel0 - 0.5 * fall * res.time[k].powi(2)).abs());
+    let slide_off = largest(n, |k| (slide[k] - fall * res.time[k]).abs());
+    let expected = |k: usize| j_uu * profile(k).2;
+    let peak = largest(n, |k| expected(k).abs());
+    let torque_off = largest(n, |k| (torque[k] - expected(k)).abs());
+    println!(
+        "turned {:.1} rad: angle off the profile by {angle_off:.2e} rad, rate by {rate_off:.2e} rad/s; travel off \
+         the free fall by {travel_off:.2e} m, its speed by {slide_off:.2e} m/s; torque (peak {peak:.4} N m, \
+         J_uu = {j_uu:.5} kg m^2) off J_uu theta'' by {torque_off:.2e} N m",
+        profile(n - 1).0
+    );
+    assert!(angle_off < 1e-9, "angle off the profile by {angle_off:e} rad");
+    assert!(rate_off < 1e-9 * speed, "rate off the profile by {rate_off:e} rad/s");
+    assert!(travel_off < 1e-10, "travel off the free fall by {travel_off:e} m");
+    assert!(slide_off < 1e-9, "sliding speed off the free fall by {slide_off:e} m/s");
+    assert!(torque_off < 1e-8 * peak, "driver torque off J_uu theta'' by {torque_off:e} N m");
+}
+
+/// A pendulum (centre of mass `l` below its pin, inertia given as a full tensor with
+/// products of inertia) on a revolute joint about the global x axis, driven from rest
+/// by a smooth ramp to one turn per second: its angle follows the profile and the
+/// driver's torque is the closed form of a driven pendulum,
+/// `tau = J_pivot phi'' + m g l sin(phi)` with `J_pivot = J_xx + m l^2` (the products of
+/// inertia load the pin across its axis, not about it).
+#[test]
+fn a_driven_pendulum_needs_the_closed_form_torque() {
+    let (mass, l, g) = (1.2, 0.25, 9.81);
+    let tensor = [[0.020, 0.003, -0.002], [0.003, 0.015, 0.001], [-0.002, 0.001, 0.010]];
+    let j_pivot = tensor[0][0] + mass * l * l;
+    let (speed, ramp_time) = (2.0 * PI, 0.5);
+    let model = json!({
+        "dimension": 3,
+        "gravity": [0.0, 0.0, -g],
+        "bodies": [{"name": "bob", "mass": mass, "inertia": {"tensor": tensor}, "position": [0.0, 0.0, -l]}],
+        "joints": [{"name": "pin", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                    "body_j": "bob", "point_j": [0.0, 0.0, l], "axis": [1.0, 0.0, 0.0]}],
+        "drivers": [{"name": "motor", "joint": "pin",
+                     "profile": {"type": "smooth_ramp", "speed": speed, "ramp_time": ramp_time}}]
+    });
+    let res = run_with(model, 1.0, 1000.0, 1e-10, DRIVEN_MAX_STEP);
+    let n = res.time.len();
+    let (angle, torque) = (channel(&res, "pin.angle"), channel(&res, "motor.torque"));
+    let profile = |k: usize| smooth_ramp(res.time[k], speed, ramp_time);
+    let angle_off = largest(n, |k| wrapped(angle[k] - angle[0] - profile(k).0).abs());
+    let closed_form = |k: usize| {
+        let (phi, _, alpha) = profile(k);
+        j_pivot * alpha + mass * g * l * phi.sin()
+    };
+    // The bob's centre from the angle: (0, l sin phi, -l cos phi).
+    let centre_off = largest(n, |k| {
+        let phi = profile(k).0;
+        norm(sub(vector(&res, "bob", ["x", "y", "z"], k), [0.0, l * phi.sin(), -l * phi.cos()]))
+    });
+    let peak = largest(n, |k| closed_form(k).abs());
+    let torque_off = largest(n, |k| (torque[k] - closed_form(k)).abs());
+    println!(
+        "angle off the profile by {angle_off:.2e} rad, centre by {centre_off:.2e} m; torque (peak {peak:.4} N m) \
+         off J_pivot phi'' + m g l sin phi by {torque_off:.2e} N m"
+    );
+    assert!(angle_off < 1e-9, "angle off the profile by {angle_off:e} rad");
+    assert!(centre_off < 1e-10, "centre off the circle by {centre_off:e} m");
+    assert!(torque_off < 1e-8 * peak, "driver torque off the closed form by {torque_off:e} N m");
 }
