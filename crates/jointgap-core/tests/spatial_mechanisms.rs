@@ -3,7 +3,8 @@
 //! closed-form (Jacobi elliptic) torque-free motion, given once by its principal moments
 //! and once by its turned inertia tensor; a spatial four-bar RSSR against its loop
 //! closure and the virtual work of its motor; drivers of prismatic, cylindrical and
-//! revolute joints against their profiles and Newton's and Euler's laws.
+//! revolute joints against their profiles and Newton's and Euler's laws; bad input
+//! named by element and key.
 #![allow(clippy::needless_range_loop)]
 
 use jointgap_core::model::spatial::SpatialModel;
@@ -790,4 +791,135 @@ fn a_driven_pendulum_needs_the_closed_form_torque() {
     assert!(angle_off < 1e-9, "angle off the profile by {angle_off:e} rad");
     assert!(centre_off < 1e-10, "centre off the circle by {centre_off:e} m");
     assert!(torque_off < 1e-8 * peak, "driver torque off the closed form by {torque_off:e} N m");
+}
+
+/// A body `link` hanging from a pin, with the body's and the joints' keys given by
+/// `body` (merged over the defaults) and `joints`, and a second body `arm` for joints
+/// between two bodies.
+fn pendulum_with(body: serde_json::Value, joints: serde_json::Value) -> serde_json::Value {
+    let mut link = json!({"name": "link", "mass": 1.0, "inertia": {"principal": {"moments": [0.01, 0.02, 0.025]}},
+                          "position": [0.0, 0.0, -0.2]});
+    for (key, value) in body.as_object().expect("an object") {
+        link[key] = value.clone();
+    }
+    json!({
+        "dimension": 3,
+        "bodies": [link, {"name": "arm", "mass": 0.5, "inertia": {"principal": {"moments": [0.001, 0.002, 0.002]}},
+                          "position": [0.0, 0.0, -0.5]}],
+        "joints": joints
+    })
+}
+
+/// The run of `model` fails before it starts with a model error about `key` of
+/// element `element` of kind `kind`, whose message names the element and holds each of
+/// `words` (the offending value and what is wrong), and does not panic.
+fn expect_error(model: serde_json::Value, kind: &str, element: &str, key: &str, words: &[&str]) {
+    let model = SpatialModel::from_json(&model.to_string()).expect("the model parses");
+    let outcome = std::panic::catch_unwind(|| simulate_spatial(&model, &SimOptions::new(0.01), &mut Silent));
+    let error = match outcome {
+        Err(_) => panic!("the engine panicked on bad {kind} '{element}' {key}"),
+        Ok(Ok(res)) => panic!("bad {kind} '{element}' {key} ran: {:?}", res.status),
+        Ok(Err(error)) => error,
+    };
+    let parts = error.parts();
+    let message = error.to_string();
+    assert_eq!(
+        (parts.category, parts.kind, parts.element.as_deref(), parts.key.as_deref()),
+        ("model", Some(kind), Some(element), Some(key)),
+        "{message}"
+    );
+    assert!(message.starts_with(&format!("{kind} '{element}': ")), "{message}");
+    for w in words {
+        assert!(message.contains(w), "{message:?} says {w:?}");
+    }
+}
+
+/// Each bad input of a spatial model is an error naming the element, the key and the
+/// value, never a panic or a run: a quaternion far from unit length or zero, an inertia
+/// that is not positive definite or breaks the triangle inequality, an unknown Euler
+/// convention, a joint axis of zero length, a ball larger than its socket, a universal
+/// joint without body j's cross axis.
+#[test]
+fn bad_spatial_input_is_a_clear_error_naming_the_element_and_key() {
+    let pin = json!([{"name": "pin", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                      "body_j": "link", "point_j": [0.0, 0.0, 0.2], "axis": [1.0, 0.0, 0.0]}]);
+    let body = |patch: serde_json::Value| pendulum_with(patch, pin.clone());
+    expect_error(
+        body(json!({"orientation": {"quaternion": [1.0, 0.5, 0.0, 0.0]}})),
+        "body",
+        "link",
+        "orientation",
+        &["[1.0, 0.5, 0.0, 0.0]", "length 1.118", "not 1"],
+    );
+    expect_error(
+        body(json!({"orientation": {"quaternion": [0.0, 0.0, 0.0, 0.0]}})),
+        "body",
+        "link",
+        "orientation",
+        &["[0.0, 0.0, 0.0, 0.0]", "length 0"],
+    );
+    expect_error(
+        body(json!({"inertia": {"tensor": [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.0]]}})),
+        "body",
+        "link",
+        "inertia",
+        &["not positive definite", "[[1, 2, 0], [2, 1, 0], [0, 0, 1]]"],
+    );
+    expect_error(
+        body(json!({"inertia": {"principal": {"moments": [0.01, -0.02, 0.02]}}})),
+        "body",
+        "link",
+        "inertia",
+        &["-0.02", "must be positive"],
+    );
+    expect_error(
+        body(json!({"inertia": {"principal": {"moments": [0.01, 0.01, 0.03]}}})),
+        "body",
+        "link",
+        "inertia",
+        &["triangle inequality", "J3 = 0.03"],
+    );
+    expect_error(
+        body(json!({"inertia": {"tensor": [[0.01, 0.0, 0.0], [0.0, 0.01, 0.0], [0.0, 0.0, 0.03]]}})),
+        "body",
+        "link",
+        "inertia",
+        &["triangle inequality", "J3 = 0.03"],
+    );
+    for convention in ["XYQ", "XXZ", "zyx"] {
+        expect_error(
+            body(json!({"orientation": {"euler": {"convention": convention, "angles": [0.1, 0.2, 0.3]}}})),
+            "body",
+            "link",
+            "orientation",
+            &["unknown Euler convention", convention, "ZYX"],
+        );
+    }
+    let no_axis = json!([{"name": "pin", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                          "body_j": "link", "point_j": [0.0, 0.0, 0.2], "axis": [0.0, 0.0, 0.0]}]);
+    expect_error(pendulum_with(json!({}), no_axis), "joint", "pin", "axis", &["[0.0, 0.0, 0.0]", "non-zero"]);
+    let zero_axis_j = json!([{"name": "slide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                              "body_j": "link", "point_j": [0.0, 0.0, 0.2], "axis": [1.0, 0.0, 0.0],
+                              "axis_j": [0.0, 0.0, 0.0]}]);
+    expect_error(pendulum_with(json!({}), zero_axis_j), "joint", "slide", "axis_j", &["[0.0, 0.0, 0.0]"]);
+    let ball = json!([
+        pin[0],
+        {"name": "socket", "type": "clearance_spherical", "body_i": "link", "point_i": [0.0, 0.0, -0.2],
+         "body_j": "arm", "point_j": [0.0, 0.0, 0.1],
+         "clearance": {"bearing_radius": 0.010, "journal_radius": 0.0105, "stiffness": 1e9,
+                       "normal_law": {"type": "hertz"}}}
+    ]);
+    expect_error(
+        pendulum_with(json!({}), ball),
+        "joint",
+        "socket",
+        "journal_radius",
+        &["journal_radius = 0.0105 m", "bearing_radius = 0.01 m"],
+    );
+    let hooke = json!([
+        pin[0],
+        {"name": "hooke", "type": "universal", "body_i": "link", "point_i": [0.0, 0.0, -0.2],
+         "body_j": "arm", "point_j": [0.0, 0.0, 0.1], "axis": [1.0, 0.0, 0.0]}
+    ]);
+    expect_error(pendulum_with(json!({}), hooke), "joint", "hooke", "axis_j", &["universal", "axis_j"]);
 }
