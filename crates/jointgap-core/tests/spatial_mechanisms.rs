@@ -752,7 +752,8 @@ fn a_cylindrical_drive_turns_by_its_profile_while_the_sleeve_slides_freely() {
 /// by a smooth ramp to one turn per second: its angle follows the profile and the
 /// driver's torque is the closed form of a driven pendulum,
 /// `tau = J_pivot phi'' + m g l sin(phi)` with `J_pivot = J_xx + m l^2` (the products of
-/// inertia load the pin across its axis, not about it).
+/// inertia load the pin across its axis, not about it); the pin's reaction force and
+/// moment are Newton's and Euler's laws of the bob.
 #[test]
 fn a_driven_pendulum_needs_the_closed_form_torque() {
     let (mass, l, g) = (1.2, 0.25, 9.81);
@@ -791,6 +792,40 @@ fn a_driven_pendulum_needs_the_closed_form_torque() {
     assert!(angle_off < 1e-9, "angle off the profile by {angle_off:e} rad");
     assert!(centre_off < 1e-10, "centre off the circle by {centre_off:e} m");
     assert!(torque_off < 1e-8 * peak, "driver torque off the closed form by {torque_off:e} N m");
+
+    // The pin's reaction on the bob (global axes, moment about the pin): Newton's law
+    // `f = m (a - g)` for the force; Euler's about the fixed pin for the moment,
+    // `m_pin = I_O phi'' x + w x (I_O w) - tau x - r x m g`, with `I_O` the tensor about
+    // the pin turned by the angle, `r` the centre from the pin. Its x part is zero (the
+    // pin carries no moment about its axis); the products of inertia load it across.
+    let gravity = [0.0, 0.0, -g];
+    let about_pin =
+        [0, 1, 2].map(|r| [0, 1, 2].map(|c| tensor[r][c] + if r == c && r < 2 { mass * l * l } else { 0.0 }));
+    let (mut force_off, mut moment_off, mut force_peak, mut moment_peak) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for k in 0..n {
+        let (phi, rate, alpha) = profile(k);
+        let (sin, cos) = phi.sin_cos();
+        let turn = rodrigues([1.0, 0.0, 0.0], phi);
+        let centre = [0.0, l * sin, -l * cos];
+        let acceleration =
+            [0.0, l * (alpha * cos - rate * rate * sin), l * (alpha * sin + rate * rate * cos)];
+        let force = scale(sub(acceleration, gravity), mass);
+        let i_o = mat_mul(&mat_mul(&turn, &about_pin), &transpose(&turn));
+        let w = [rate, 0.0, 0.0];
+        let euler = add(mat_vec(&i_o, [alpha, 0.0, 0.0]), cross(w, mat_vec(&i_o, w)));
+        let moment = sub(sub(euler, [closed_form(k), 0.0, 0.0]), cross(centre, scale(gravity, mass)));
+        force_off = force_off.max(norm(sub(vector(&res, "pin", ["fx", "fy", "fz"], k), force)));
+        moment_off = moment_off.max(norm(sub(vector(&res, "pin", ["mx", "my", "mz"], k), moment)));
+        force_peak = force_peak.max(norm(force));
+        moment_peak = moment_peak.max(norm(moment));
+    }
+    println!(
+        "pin reaction (peaks {force_peak:.3} N, {moment_peak:.4} N m) off Newton's by {force_off:.2e} N, off \
+         Euler's by {moment_off:.2e} N m"
+    );
+    assert!(moment_peak > 1e-3, "the products of inertia load the pin across its axis");
+    assert!(force_off < 1e-8 * force_peak, "pin force off m (a - g) by {force_off:e} N");
+    assert!(moment_off < 1e-8 * moment_peak, "pin moment off Euler's law by {moment_off:e} N m");
 }
 
 /// A body `link` hanging from a pin, with the body's and the joints' keys given by
