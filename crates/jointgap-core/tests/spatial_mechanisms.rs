@@ -636,9 +636,10 @@ fn smooth_ramp(t: f64, speed: f64, ramp_time: f64) -> (f64, f64, f64) {
 /// profile's polynomial exactly), so a step can span the whole ramp; and a spatial
 /// run's samples between step ends come from the cubic Hermite interpolant of the
 /// positions (`DenseStep::at`, `PositionRate::Mapped`), which is exact only to the third
-/// degree in time: over one 0.2 s step the smooth ramp's quartic displacement is read
-/// back as the linear ramp's, 3.1e-3 m off (a quarter of the travel), off the constraint
-/// too. Steps of 1 ms keep the interpolant's error below 1e-11.
+/// degree in time: the prismatic run below takes two steps (0 to 0.2 s, 0.2 to 0.3 s),
+/// and over the first the smooth ramp's quartic displacement is read back as the linear
+/// ramp's, `w T s^2 (1 - s)^2 / 2` off, 3.1e-3 m at mid-ramp (a third of the travel), off
+/// the constraint too. Steps of 1 ms keep the interpolant's error below 1e-11.
 const DRIVEN_MAX_STEP: Option<f64> = Some(1e-3);
 
 /// The largest of `f(k)` over the samples.
