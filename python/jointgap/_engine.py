@@ -375,10 +375,12 @@ def impacts_between_samples(result: Result) -> str | None:
     if not parts:
         return None
     interval = float(np.median(np.diff(result.time)))
+    # A graze (onset and separation at one located time) lasts no time: no rate shows it.
+    rate = f" or raise the rate above {1e-3 / shortest:.3g} kHz" if shortest > 0 else ""
     return (
         f"{_BETWEEN_SAMPLES}{'; '.join(parts)} impacts had no output sample from onset to "
         f"separation (shortest {1e3 * shortest:.3g} ms, output interval {1e3 * interval:.3g} "
         "ms): the sampled channels miss their forces and accelerations (the impact list has "
-        "them all); to see them, record every step (--every-step, every_step=True) or raise "
-        f"the rate above {1e-3 / shortest:.3g} kHz (ten times that to resolve their peaks)"
+        "them all); to see them, record every step (--every-step, every_step=True)"
+        f"{rate}{' (ten times that to resolve their peaks)' if rate else ''}"
     )

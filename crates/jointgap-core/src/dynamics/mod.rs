@@ -457,7 +457,7 @@ pub fn force_jacobian<K: Contacts>(
         let dy = f64::EPSILON.sqrt() * y.abs().max(1e-5);
         bumped[i] += dy;
         let slot = layout.slot(k);
-        ws.bodies[k] = K::read(&q_body[slot.q()], &v_body[slot.v()]);
+        ws.bodies[k] = K::read_slot(&q_body, &v_body, &slot);
         let bumped = if velocity { &mut v_body } else { &mut q_body };
         bumped[i] = y;
         forces_at_bodies(sys, t, ws);

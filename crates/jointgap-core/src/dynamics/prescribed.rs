@@ -160,6 +160,7 @@ fn planar_row<R: Block>(r: &R) -> BodyRow {
 
 /// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes
 /// against the entries' scale.
+#[inline]
 fn inverse3(a: BodyBlock) -> Result<BodyBlock, Singular> {
     // Written out: the compiler does not always unroll index arithmetic here (measured:
     // 2.4x the instructions when it did not).

@@ -470,10 +470,7 @@ impl<R: Block> Schur<R> {
                 if k.is_some() {
                     let (e, w) = (row.entries[side], R::of(m_inv, row.at[side]));
                     self.plain[2 * a + side] = e;
-                    let scaled = &mut self.scaled[2 * a + side];
-                    for ((s, e), w) in scaled.as_mut().iter_mut().zip(e.as_ref()).zip(w.as_ref()) {
-                        *s = e * w;
-                    }
+                    self.scaled[2 * a + side] = e.scaled(w);
                 }
             }
         }

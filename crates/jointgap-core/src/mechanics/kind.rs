@@ -8,7 +8,7 @@ use std::fmt::Debug;
 
 use crate::mechanics::contact::ClearanceJoint;
 use crate::mechanics::drivers::Motion;
-use crate::mechanics::layout::{BodyShape, Loads};
+use crate::mechanics::layout::{BodyShape, BodySlot, Loads};
 
 /// A constraint row's Jacobian block over one body's velocities: `[f64; NV]`.
 pub trait Block:
@@ -18,6 +18,8 @@ pub trait Block:
     fn of(x: &[f64], at: usize) -> &Self;
     /// [`Block::of`], to write.
     fn of_mut(x: &mut [f64], at: usize) -> &mut Self;
+    /// The entries times `w`'s, entry by entry.
+    fn scaled(&self, w: &Self) -> Self;
 }
 
 impl<const N: usize> Block for [f64; N]
@@ -32,6 +34,11 @@ where
     #[inline]
     fn of_mut(x: &mut [f64], at: usize) -> &mut Self {
         (&mut x[at..at + N]).try_into().expect("a block of a body's velocities")
+    }
+
+    #[inline]
+    fn scaled(&self, w: &Self) -> Self {
+        std::array::from_fn(|d| self[d] * w[d])
     }
 }
 
@@ -94,6 +101,11 @@ pub trait BodyKind: Copy + Debug + Default + Send + Sync + 'static {
     fn ground() -> Self::State;
     /// A body's state from its positions and velocities.
     fn read(q: &[f64], v: &[f64]) -> Self::State;
+    /// The state of the body in `slot` from the positions and velocities of all bodies.
+    #[inline]
+    fn read_slot(q: &[f64], v: &[f64], slot: &BodySlot) -> Self::State {
+        Self::read(&q[slot.q()], &v[slot.v()])
+    }
     /// Evaluates a constraint row.
     fn eval(row: &Self::RowKind, bi: &Self::State, bj: &Self::State, motion: Motion) -> RowEval<Self::Row>;
     /// The body's mass matrix, diagonal.

@@ -9,7 +9,7 @@ use crate::mechanics::contact::ClearanceRevolute;
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{self, BodyKind};
-use crate::mechanics::layout::BodyShape;
+use crate::mechanics::layout::{BodyShape, BodySlot};
 use crate::model::Body;
 
 /// The planar body kind: positions `(x, y, phi)`, velocities `(vx, vy, omega)`, and a
@@ -207,6 +207,11 @@ impl BodyKind for Planar {
     #[inline]
     fn read(q: &[f64], v: &[f64]) -> BodyState {
         BodyState::read(block(q, 0), block(v, 0))
+    }
+
+    #[inline]
+    fn read_slot(q: &[f64], v: &[f64], slot: &BodySlot) -> BodyState {
+        BodyState::read(block(q, slot.q_at), block(v, slot.v_at))
     }
 
     #[inline]

@@ -72,3 +72,26 @@ pub trait Kind: Contacts {
         v: &[f64],
     );
 }
+
+/// The channels of a clearance joint of `points` contact points as `(quantity, point)`:
+/// each of `quantities` that is the joint's own (`false`) once, each contact point's
+/// (`true`) once for a joint of one point, else once per point numbered from 1
+/// (`<joint>.p<i>.<quantity>`, docs/outputs.md).
+pub(super) fn clearance_channels(
+    quantities: &[(&'static str, bool)],
+    points: usize,
+) -> Vec<(&'static str, Option<usize>)> {
+    let mut out = Vec::new();
+    for &(quantity, of_point) in quantities {
+        match (of_point, points) {
+            (true, 1) | (false, _) => out.push((quantity, None)),
+            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
+        }
+    }
+    out
+}
+
+/// How many channels [`clearance_channels`] names, without naming them.
+pub(super) fn clearance_channel_count(quantities: &[(&'static str, bool)], points: usize) -> usize {
+    quantities.iter().map(|&(_, p)| if p { points } else { 1 }).sum()
+}

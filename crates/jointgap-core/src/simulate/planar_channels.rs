@@ -2,7 +2,7 @@
 //! couple of a prismatic or fixed joint), a clearance joint's contact quantities, the
 //! joint coordinates, the drivers' efforts and the markers' motion (docs/outputs.md).
 
-use super::kind::Kind;
+use super::kind::{clearance_channel_count, clearance_channels, Kind};
 use super::measures::{joint_coordinate, marker_motion, BodyMotion};
 use super::record::Cursor;
 use crate::dynamics::Workspace;
@@ -52,27 +52,13 @@ fn joint_channels(sys: &System, j: &JointInfo) -> Vec<(&'static str, Option<usiz
     let Some(k) = j.clearance else {
         return joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
     };
-    clearance_channels(sys.clearances[k].points())
-}
-
-/// The channels of a clearance joint of `points` contact points ([`CLEARANCE_QUANTITIES`]).
-fn clearance_channels(points: usize) -> Vec<(&'static str, Option<usize>)> {
-    let mut out = Vec::new();
-    for (quantity, of_point) in CLEARANCE_QUANTITIES {
-        match (of_point, points) {
-            (true, 1) | (false, _) => out.push((quantity, None)),
-            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
-        }
-    }
-    out
+    clearance_channels(&CLEARANCE_QUANTITIES, sys.clearances[k].points())
 }
 
 /// How many force channels joint `j` has ([`joint_channels`]).
 fn joint_channel_count(sys: &System, j: &JointInfo) -> usize {
     match j.clearance {
-        Some(k) => {
-            CLEARANCE_QUANTITIES.iter().map(|&(_, p)| if p { sys.clearances[k].points() } else { 1 }).sum()
-        }
+        Some(k) => clearance_channel_count(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
         None => joint_quantities(j.kind).len(),
     }
 }
@@ -231,14 +217,15 @@ impl Kind for Planar {
 
 #[cfg(test)]
 mod tests {
-    use super::clearance_channels;
+    use super::super::kind::clearance_channels;
+    use super::CLEARANCE_QUANTITIES;
 
     /// One point: the joint's ten channels as they have always been; two points: each
     /// point quantity once per point, numbered from 1, in the same places.
     #[test]
     fn clearance_channels_by_point() {
         let names = |points| -> Vec<String> {
-            clearance_channels(points)
+            clearance_channels(&CLEARANCE_QUANTITIES, points)
                 .into_iter()
                 .map(|(q, p)| p.map_or(format!("gap.{q}"), |i| format!("gap.p{i}.{q}")))
                 .collect()

@@ -4,7 +4,7 @@
 //! penetration, slip and mode, the joint coordinates, the drivers' efforts and the
 //! markers' motion (docs/outputs.md).
 
-use super::kind::Kind;
+use super::kind::{clearance_channel_count, clearance_channels, Kind};
 use super::record::Cursor;
 use crate::dynamics::Workspace;
 use crate::error::Error;
@@ -55,18 +55,6 @@ const MARKER_QUANTITIES: [&str; 9] = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay
 const ZYX: EulerConvention = EulerConvention::ZYX;
 
 const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
-
-/// The channels of a clearance joint of `points` contact points.
-fn clearance_channels(points: usize) -> Vec<(&'static str, Option<usize>)> {
-    let mut out = Vec::new();
-    for (quantity, of_point) in CLEARANCE_QUANTITIES {
-        match (of_point, points) {
-            (true, 1) | (false, _) => out.push((quantity, None)),
-            (true, _) => out.extend((1..=points).map(|i| (quantity, Some(i)))),
-        }
-    }
-    out
-}
 
 /// The rows of a joint's coordinates: its angle about the axis and its travel along it.
 fn coordinate_rows(j: &JointInfo<Spatial>) -> Vec<SpatialRowKind> {
@@ -155,17 +143,14 @@ impl Kind for Spatial {
         j: &JointInfo<Spatial>,
     ) -> Vec<(&'static str, Option<usize>)> {
         match j.clearance {
-            Some(k) => clearance_channels(sys.clearances[k].points()),
+            Some(k) => clearance_channels(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
             None => REACTION_QUANTITIES.iter().map(|&q| (q, None)).collect(),
         }
     }
 
     fn joint_force_channel_count(sys: &System<Spatial>, j: &JointInfo<Spatial>) -> usize {
         match j.clearance {
-            Some(k) => CLEARANCE_QUANTITIES
-                .iter()
-                .map(|&(_, p)| if p { sys.clearances[k].points() } else { 1 })
-                .sum(),
+            Some(k) => clearance_channel_count(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
             None => REACTION_QUANTITIES.len(),
         }
     }

@@ -729,10 +729,7 @@ impl<K: BodyKind> System<K> {
     pub fn body_state(&self, b: Option<usize>, q: &[f64], v: &[f64]) -> K::State {
         match b {
             None => K::ground(),
-            Some(k) => {
-                let slot = self.layout.slot(k);
-                K::read(&q[slot.q()], &v[slot.v()])
-            }
+            Some(k) => K::read_slot(q, v, &self.layout.slot(k)),
         }
     }
 }
