@@ -631,16 +631,14 @@ fn smooth_ramp(t: f64, speed: f64, ramp_time: f64) -> (f64, f64, f64) {
     (displacement, rate(t), acceleration)
 }
 
-/// The longest step [s] of the driven runs below. A body whose joints and driver fix
-/// its motion has nothing for the error estimate to see (each step integrates the
-/// profile's polynomial exactly), so a step can span the whole ramp; and a spatial
-/// run's samples between step ends come from the cubic Hermite interpolant of the
-/// positions (`DenseStep::at`, `PositionRate::Mapped`), which is exact only to the third
-/// degree in time: the prismatic run below takes two steps (0 to 0.2 s, 0.2 to 0.3 s),
-/// and over the first the smooth ramp's quartic displacement is read back as the linear
-/// ramp's, `w T s^2 (1 - s)^2 / 2` off, 3.1e-3 m at mid-ramp (a third of the travel), off
-/// the constraint too. Steps of 1 ms keep the interpolant's error below 1e-11.
-const DRIVEN_MAX_STEP: Option<f64> = Some(1e-3);
+/// The longest step [s] of the driven runs below: none. A body whose joints and driver
+/// fix its motion has nothing for the error estimate to see (each step integrates the
+/// profile's polynomial exactly), so a step can span the whole ramp (the prismatic run
+/// takes two, 0 to 0.2 s and 0.2 to 0.3 s), and the samples between step ends rest on
+/// the dense output alone: its quintic positions (`DenseStep::qdd`) read the smooth
+/// ramp's quartic back exactly, where a cubic was `w T s^2 (1 - s)^2 / 2` off, 3.1e-3 m
+/// at mid-ramp.
+const DRIVEN_MAX_STEP: Option<f64> = None;
 
 /// The largest of `f(k)` over the samples.
 fn largest(n: usize, f: impl Fn(usize) -> f64) -> f64 {

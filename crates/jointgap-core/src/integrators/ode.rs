@@ -63,6 +63,12 @@ pub trait Rhs {
     fn rate_jacobian(&self, _q: &[f64], mut g: DMatrixViewMut<'_, f64>) {
         g.fill_with_identity();
     }
+    /// Writes the positions' second derivatives `q'' = G(q) a + (dG/dt) v` (`nq` long)
+    /// at positions `q`, velocities `v` and accelerations `a`, for the dense output where
+    /// `q' = G(q) v` ([`DenseStep::qdd`]); `a` itself by default (`G = I`).
+    fn position_acceleration(&self, _q: &[f64], _v: &[f64], a: &[f64], qdd: &mut [f64]) {
+        qdd.copy_from_slice(a);
+    }
     /// Brings the positions of a state a method has just stepped to back onto their
     /// manifold (renormalises a unit quaternion); returns whether it changed them, so that
     /// a method evaluates `f` at the state it hands back. Nothing by default.
@@ -121,19 +127,58 @@ pub struct DenseStep<'a> {
     pub y1: &'a [f64],
     /// Derivative at the end.
     pub f1: &'a [f64],
+    /// Where `q' = G(q) v`: the positions' second derivatives `q''` at the start and at
+    /// the end, when the caller has them ([`Rhs::position_acceleration`]).
+    pub qdd: Option<[&'a [f64]; 2]>,
 }
 
 impl DenseStep<'_> {
     /// The state at `theta` (0 at the start, 1 at the end) into `out`: for `q' = v` the
-    /// quintic of [`hermite5`]; for `q' = G(q) v`, whose `q''` needs the derivative of
-    /// `G` that no method is given, the cubic of [`hermite3`] on both halves.
+    /// quintic of [`hermite5`]; for `q' = G(q) v`, positions by the quintic of their
+    /// values, rates and second derivatives where `qdd` gives them (else the cubic of
+    /// [`hermite3`]), velocities by the cubic of their values and accelerations.
     pub fn at(&self, theta: f64, out: &mut [f64]) {
         match self.shape.rate {
             PositionRate::Identity => {
                 hermite5(theta, self.h, self.shape.nq, self.y0, self.f0, self.y1, self.f1, out)
             }
-            PositionRate::Mapped => hermite3(theta, self.h, self.y0, self.f0, self.y1, self.f1, out),
+            PositionRate::Mapped => {
+                hermite3(theta, self.h, self.y0, self.f0, self.y1, self.f1, out);
+                if let Some([qdd0, qdd1]) = self.qdd {
+                    let nq = self.shape.nq;
+                    let (q0, q1) = (&self.y0[..nq], &self.y1[..nq]);
+                    positions5(
+                        theta,
+                        self.h,
+                        [q0, &self.f0[..nq], qdd0],
+                        [q1, &self.f1[..nq], qdd1],
+                        &mut out[..nq],
+                    );
+                }
+            }
         }
+    }
+}
+
+/// Quintic Hermite interpolation of positions from their values, rates and second
+/// derivatives at both ends of a step `h` long (6th order, as [`hermite5`]'s positions).
+pub fn positions5(theta: f64, h: f64, [q0, d0, a0]: [&[f64]; 3], [q1, d1, a1]: [&[f64]; 3], out: &mut [f64]) {
+    let s = theta;
+    let (s2, s3) = (s * s, s * s * s);
+    let (s4, s5) = (s3 * s, s3 * s2);
+    let h0 = 1.0 - 10.0 * s3 + 15.0 * s4 - 6.0 * s5;
+    let h1 = s - 6.0 * s3 + 8.0 * s4 - 3.0 * s5;
+    let h2 = 0.5 * (s2 - 3.0 * s3 + 3.0 * s4 - s5);
+    let h3 = 10.0 * s3 - 15.0 * s4 + 6.0 * s5;
+    let h4 = -4.0 * s3 + 7.0 * s4 - 3.0 * s5;
+    let h5 = 0.5 * (s3 - 2.0 * s4 + s5);
+    for i in 0..out.len() {
+        out[i] = h0 * q0[i]
+            + h * h1 * d0[i]
+            + h * h * h2 * a0[i]
+            + h3 * q1[i]
+            + h * h4 * d1[i]
+            + h * h * h5 * a1[i];
     }
 }
 
@@ -195,7 +240,23 @@ pub fn hermite3(theta: f64, h: f64, y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f6
 
 #[cfg(test)]
 mod tests {
-    use super::{hermite3, hermite5};
+    use super::{hermite3, hermite5, positions5};
+
+    /// Exact for quintic positions, from their values, rates and second derivatives.
+    #[test]
+    fn positions5_reproduces_a_quintic() {
+        let q = |t: f64| 2.0 * t.powi(5) - t.powi(4) + 3.0 * t * t - 1.0;
+        let d = |t: f64| 10.0 * t.powi(4) - 4.0 * t.powi(3) + 6.0 * t;
+        let a = |t: f64| 40.0 * t.powi(3) - 12.0 * t * t + 6.0;
+        let (ta, tb) = (0.2, 0.9);
+        let mut out = [0.0];
+        for k in 0..=10 {
+            let th = k as f64 / 10.0;
+            let t = ta + th * (tb - ta);
+            positions5(th, tb - ta, [&[q(ta)], &[d(ta)], &[a(ta)]], [&[q(tb)], &[d(tb)], &[a(tb)]], &mut out);
+            assert!((out[0] - q(t)).abs() < 1e-13, "q at {t}: {} vs {}", out[0], q(t));
+        }
+    }
 
     /// Exact for quintic positions: q = t^5 - 2 t^3 + t on [0.3, 0.8].
     #[test]

@@ -116,7 +116,7 @@ fn run(
         h = h.min(t_end - t);
         match stepper.attempt(rotor, tol, t, &y, &f, h, &mut y1, &mut f1) {
             Ok(a) if a.error <= 1.0 => {
-                let step = DenseStep { shape, h, y0: &y, f0: &f, y1: &y1, f1: &f1 };
+                let step = DenseStep { shape, h, y0: &y, f0: &f, y1: &y1, f1: &f1, qdd: None };
                 for theta in [0.25, 0.5, 0.75] {
                     step.at(theta, &mut out);
                     inside = inside.max(error_at(t + theta * h, &out));

@@ -131,6 +131,12 @@ pub trait BodyKind: Copy + Debug + Default + Send + Sync + 'static {
     fn rotation_reach(entries: &Self::Row, q: &[f64], v: &[f64]) -> Option<(f64, f64)>;
     /// `q' = G(q) v` for one body.
     fn position_rate(q: &[f64], v: &[f64], out: &mut [f64]);
+    /// `q'' = G(q) a + (dG/dt) v` of one body at positions `q`, velocities `v` and
+    /// accelerations `a` (the dense output's positions; `a` itself where `G = I`).
+    #[inline]
+    fn position_acceleration(_q: &[f64], _v: &[f64], a: &[f64], out: &mut [f64]) {
+        out.copy_from_slice(a)
+    }
     /// `G(q)` of one body (`nq` rows, `nv` columns), each entry that is not zero given
     /// to `put(row, column, value)`.
     fn rate_block(q: &[f64], put: impl FnMut(usize, usize, f64));

@@ -124,7 +124,8 @@ impl<K: Kind> Accounts<K> {
         let (nq, mut y) = (self.shape.nq, std::mem::take(&mut self.y));
         for (x, w) in NODES.iter().zip(WEIGHTS) {
             let [y0, f0, y1, f1] = [0, 1, 2, 3].map(|k| &self.ends[k * n..(k + 1) * n]);
-            DenseStep { shape: self.shape, h: self.h, y0, f0, y1, f1 }.at(x * span / self.h, &mut y);
+            DenseStep { shape: self.shape, h: self.h, y0, f0, y1, f1, qdd: None }
+                .at(x * span / self.h, &mut y);
             let power = self.powers(sys, self.t0 + x * span, &y[..nq], &y[nq..]);
             match power {
                 Ok(p) => sum.iter_mut().zip(p).for_each(|(s, p)| *s += w * span * p),

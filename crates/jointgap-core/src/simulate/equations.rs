@@ -69,6 +69,13 @@ impl<K: Kind> Rhs for Ode<'_, K> {
         }
     }
 
+    /// `q''` body by body, for the dense output where `q' = G(q) v`.
+    fn position_acceleration(&self, q: &[f64], v: &[f64], a: &[f64], qdd: &mut [f64]) {
+        for slot in self.sys.layout.slots() {
+            K::position_acceleration(&q[slot.q()], &v[slot.v()], &a[slot.v()], &mut qdd[slot.q()]);
+        }
+    }
+
     /// `G(q)` as the block `d(q')/d(v)`, body by body.
     fn rate_jacobian(&self, q: &[f64], mut g: DMatrixViewMut<'_, f64>) {
         g.fill(0.0);

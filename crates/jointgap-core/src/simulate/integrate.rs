@@ -11,7 +11,7 @@ use super::switching::AutoSwitch;
 use super::Kind;
 use crate::dynamics::{project, violation};
 use crate::integrators::dopri5::Dopri5;
-use crate::integrators::ode::{DenseStep, Rhs, StateShape};
+use crate::integrators::ode::{DenseStep, PositionRate, Rhs, StateShape};
 use crate::integrators::radau5::Radau5;
 use crate::integrators::sdirk4::Sdirk4;
 use crate::integrators::stepper::{StepFailure, Stepper};
@@ -50,6 +50,11 @@ pub fn integrate<K: Kind>(
     let mut y_new = vec![0.0; n_state];
     let mut f_new = vec![0.0; n_state];
     let mut sample = vec![0.0; n_state];
+    // Where `q' = G(q) v`: the positions' second derivatives at the step's ends, which
+    // make its dense output's positions quintic as they are where `q' = v`.
+    let mapped = shape.rate == PositionRate::Mapped;
+    let (mut qdd0, mut qdd1) =
+        (vec![0.0; if mapped { shape.nq } else { 0 }], vec![0.0; if mapped { shape.nq } else { 0 }]);
 
     let mut t = 0.0;
     let mut grid = Sampling::new(opts);
@@ -119,7 +124,13 @@ pub fn integrate<K: Kind>(
                         let drift_at_end =
                             (ode.ws.violation_here(&y_new[n..]), ode.ws.rounding(&y_new[..n], &y_new[n..]));
                         // A contact onset or separation inside the step ends the step there.
-                        let step = DenseStep { shape, h, y0: y, f0: &f, y1: &y_new, f1: &f_new };
+                        if mapped {
+                            for (qdd, y, f) in [(&mut qdd0, &*y, &f), (&mut qdd1, &y_new, &f_new)] {
+                                ode.position_acceleration(&y[..n], &y[n..], &f[n..], qdd);
+                            }
+                        }
+                        let qdd = mapped.then_some([qdd0.as_slice(), qdd1.as_slice()]);
+                        let step = DenseStep { shape, h, y0: y, f0: &f, y1: &y_new, f1: &f_new, qdd };
                         let event = locate_event(ode, log, &step, &mut sample);
                         let (t_new, last) = match event {
                             Some((theta, _)) if theta < 1.0 => (t + theta * h, false),

@@ -195,6 +195,21 @@ pub fn position_rate(q: &[f64], v: &[f64], out: &mut [f64]) {
     out[4..7].copy_from_slice(rate.imag().as_slice());
 }
 
+/// A spatial body's `q''` from its positions `q`, velocities `v` and accelerations `a`:
+/// `r'' = a` and, differentiating [`position_rate`],
+/// `e'' = 1/2 (e' (x) (0, w') + e (x) (0, w''))` with `e' = 1/2 e (x) (0, w')`; the
+/// dense output's positions take it at the ends of a step.
+pub fn position_acceleration(q: &[f64], v: &[f64], a: &[f64], out: &mut [f64]) {
+    out[..3].copy_from_slice(&a[..3]);
+    let e = Quaternion::new(q[3], q[4], q[5], q[6]);
+    let w = Quaternion::from_imag(Vec3::new(v[3], v[4], v[5]));
+    let w_dot = Quaternion::from_imag(Vec3::new(a[3], a[4], a[5]));
+    let e_dot = e * w * 0.5;
+    let e_ddot = (e_dot * w + e * w_dot) * 0.5;
+    out[3] = e_ddot.w;
+    out[4..7].copy_from_slice(e_ddot.imag().as_slice());
+}
+
 /// The 7 x 6 matrix `G(q)` with `dq/dt = G v` (rows: positions; columns: velocities),
 /// [`position_rate`] as a matrix: the identity on the centre of mass and
 /// `(1/2) [-e_v^T; e0 I + [e_v]x]` on the quaternion `e = (e0, e_v)`: the implicit
@@ -363,6 +378,31 @@ mod tests {
 
     /// Displacing by `v h` is moving along the position rate for a time `h`: central
     /// differences of [`displace`] agree with [`position_rate`] to `h^2`.
+    /// `q''` against the central difference of the position rate along a motion whose
+    /// positions move at that rate and whose velocities move at `a`.
+    #[test]
+    fn position_acceleration_is_the_rate_of_the_position_rate() {
+        let (q, v) = sample();
+        let a: BodyRow = [0.3, -1.2, 0.7, 4.0, -2.5, 1.5];
+        let mut qdd = [0.0; NQ];
+        position_acceleration(&q, &v, &a, &mut qdd);
+        let h = 1e-6;
+        let rate_at = |s: f64| {
+            let mut rate = [0.0; NQ];
+            position_rate(&q, &v, &mut rate);
+            let qs: BodyPositions = std::array::from_fn(|k| q[k] + s * rate[k]);
+            let vs: BodyRow = std::array::from_fn(|k| v[k] + s * a[k]);
+            let mut out = [0.0; NQ];
+            position_rate(&qs, &vs, &mut out);
+            out
+        };
+        let (plus, minus) = (rate_at(h), rate_at(-h));
+        for k in 0..NQ {
+            let fd = (plus[k] - minus[k]) / (2.0 * h);
+            assert!((fd - qdd[k]).abs() < 1e-7 * (1.0 + fd.abs()), "q''[{k}]: {} vs {fd}", qdd[k]);
+        }
+    }
+
     #[test]
     fn displace_follows_the_position_rate() {
         let (q, v) = sample();

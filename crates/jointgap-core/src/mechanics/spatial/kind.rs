@@ -83,6 +83,11 @@ impl BodyKind for Spatial {
         body::position_rate(q, v, out)
     }
 
+    #[inline]
+    fn position_acceleration(q: &[f64], v: &[f64], a: &[f64], out: &mut [f64]) {
+        body::position_acceleration(q, v, a, out)
+    }
+
     fn rate_block(q: &[f64], mut put: impl FnMut(usize, usize, f64)) {
         for (r, row) in body::rate_block(q).iter().enumerate() {
             for (c, &x) in row.iter().enumerate() {
