@@ -153,14 +153,14 @@ impl PrescribedBody {
 }
 
 /// A planar body's block: only planar bodies are prescribed ([`split`]).
-#[inline]
+#[inline(always)]
 fn planar_row<R: Block>(r: &R) -> BodyRow {
     *<&BodyRow>::try_from(r.as_ref()).expect("prescribed bodies are planar")
 }
 
 /// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes
 /// against the entries' scale.
-#[inline]
+#[inline(always)]
 fn inverse3(a: BodyBlock) -> Result<BodyBlock, Singular> {
     // Written out: the compiler does not always unroll index arithmetic here (measured:
     // 2.4x the instructions when it did not).

@@ -86,7 +86,7 @@ impl<R: Block> RowJacobian<R> {
     }
 
     /// `Cq_a x` for a vector over all coordinates.
-    #[inline]
+    #[inline(always)]
     pub fn dot(&self, x: &[f64]) -> f64 {
         // Body i's products, then body j's, in the order the sum has always been taken.
         let part = |side: usize| {
@@ -103,7 +103,7 @@ impl<R: Block> RowJacobian<R> {
     }
 
     /// `y += s Cq_a^T`.
-    #[inline]
+    #[inline(always)]
     pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
         for side in 0..2 {
             if self.bodies[side].is_some() {

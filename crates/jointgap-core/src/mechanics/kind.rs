@@ -26,17 +26,17 @@ impl<const N: usize> Block for [f64; N]
 where
     [f64; N]: Default,
 {
-    #[inline]
+    #[inline(always)]
     fn of(x: &[f64], at: usize) -> &Self {
         x[at..at + N].try_into().expect("a block of a body's velocities")
     }
 
-    #[inline]
+    #[inline(always)]
     fn of_mut(x: &mut [f64], at: usize) -> &mut Self {
         (&mut x[at..at + N]).try_into().expect("a block of a body's velocities")
     }
 
-    #[inline]
+    #[inline(always)]
     fn scaled(&self, w: &Self) -> Self {
         std::array::from_fn(|d| self[d] * w[d])
     }
