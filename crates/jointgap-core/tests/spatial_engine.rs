@@ -1,6 +1,7 @@
 //! Spatial mechanisms through the whole engine (model -> system -> run), each against an
 //! independent computation: the heavy symmetric top's nutation limits from the
-//! closed-form cubic and its conserved quantities.
+//! closed-form cubic and its conserved quantities; a mass on a spring-damper and a free
+//! body under loads that turn with it, against their closed forms.
 #![allow(clippy::needless_range_loop)]
 
 use jointgap_core::model::spatial::SpatialModel;
@@ -97,5 +98,60 @@ fn heavy_symmetric_top_nutates_between_the_roots_of_the_cubic() {
     let lz0 = lz(0);
     for k in 0..n {
         assert!((lz(k) - lz0).abs() < 1e-10 * lz0.abs(), "L_z {} vs {lz0} at {}", lz(k), res.time[k]);
+    }
+}
+
+/// A body hung from the ground by a spring-damper (no joint): it settles at the static
+/// deflection `m g / k` below the spring's free length, and without damping it
+/// oscillates at `sqrt(k / m)` about there (the closed form of a mass on a spring);
+/// an applied force and torque in the body's frame turn with it.
+#[test]
+fn spring_damper_and_applied_loads_follow_their_closed_forms() {
+    let (m, k, l0, g): (f64, f64, f64, f64) = (2.0, 800.0, 0.3, 9.81);
+    let model = |damping: f64| {
+        json!({
+            "dimension": 3,
+            "gravity": [0.0, 0.0, -g],
+            "bodies": [{"name": "bob", "mass": m, "inertia": {"principal": {"moments": [0.01, 0.01, 0.01]}},
+                        "position": [0.0, 0.0, -l0]}],
+            "forces": [{"type": "spring_damper", "name": "spring", "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                        "body_j": "bob", "point_j": [0.0, 0.0, 0.0], "stiffness": k, "damping": damping,
+                        "free_length": l0}]
+        })
+    };
+    // Released at the free length: z(t) = -l0 - (m g / k) (1 - cos(w t)).
+    let res = run(model(0.0), 0.5, 2000.0, 1e-11);
+    let (w, d) = ((k / m).sqrt(), m * g / k);
+    for (t, z) in res.time.iter().zip(channel(&res, "bob.z")) {
+        let expected = -l0 - d * (1.0 - (w * t).cos());
+        assert!((z - expected).abs() < 1e-8 * d, "z at {t}: {z} vs {expected}");
+    }
+    // Critically damped (c = 2 sqrt(k m)), it settles at the static deflection within
+    // (1 + w t) exp(-w t) of it: 1e-16 after 2 s.
+    let res = run(model(2.0 * (k * m).sqrt()), 2.0, 100.0, 1e-10);
+    let z = *channel(&res, "bob.z").last().unwrap();
+    assert!((z - (-l0 - d)).abs() < 1e-9, "settled at {z}, static {}", -l0 - d);
+
+    // A free body (no gravity) under a torque about its body z axis, given in its own
+    // frame, while a force along its body x axis pushes its centre of mass: w'_z = tau t /
+    // J3, the body turns about global z by phi = tau t^2 / (2 J3), and the force, turning
+    // with it, drives the centre along (cos phi, sin phi) / m.
+    let (tau, f, j3) = (0.02, 0.5, 0.04);
+    let free = json!({
+        "dimension": 3,
+        "gravity": [0.0, 0.0, 0.0],
+        "bodies": [{"name": "disc", "mass": m, "inertia": {"principal": {"moments": [0.02, 0.03, j3]}}}],
+        "forces": [{"type": "applied_torque", "name": "twist", "body": "disc", "torque": [0.0, 0.0, tau], "frame": "body"},
+                   {"type": "applied_force", "name": "push", "body": "disc", "force": [f, 0.0, 0.0], "frame": "body"}]
+    });
+    let res = run(free, 1.0, 100.0, 1e-11);
+    let (wz, ax, ay) = (channel(&res, "disc.wz"), channel(&res, "disc.ax"), channel(&res, "disc.ay"));
+    for (i, t) in res.time.iter().enumerate() {
+        let phi = tau * t * t / (2.0 * j3);
+        assert!((wz[i] - tau * t / j3).abs() < 1e-9, "w'_z at {t}");
+        assert!(
+            (ax[i] - f / m * phi.cos()).abs() < 1e-8 && (ay[i] - f / m * phi.sin()).abs() < 1e-8,
+            "a at {t}"
+        );
     }
 }
