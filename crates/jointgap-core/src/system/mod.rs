@@ -540,23 +540,22 @@ pub(crate) fn own_initial(initial: Option<f64>, rate: Option<f64>) -> Option<&'s
 }
 
 /// The joint coordinates and rates given at t = 0 (`initial`, `initial_rate`), as rows
-/// for assembly.
-fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<InitialCondition>, Error> {
+/// for assembly: `model_joints` gives each model joint's name, `initial` and
+/// `initial_rate`; `coordinate_row(k, initial)` the row of joint `k`'s coordinate and
+/// whether it is a rotation, or why the joint has none.
+pub(crate) fn initial_conditions<K: BodyKind>(
+    model_joints: &[(&str, Option<f64>, Option<f64>)],
+    joints: &[JointInfo<K>],
+    coordinate_row: impl Fn(usize, Option<f64>) -> Result<(K::RowKind, bool), String>,
+) -> Result<Vec<InitialCondition<K>>, Error> {
     let mut initial_conditions = Vec::new();
-    for (k, j) in model.joints.iter().enumerate() {
-        if j.initial.is_none() && j.initial_rate.is_none() {
-            continue;
-        }
-        let who = Named::joint(&j.name);
-        check_finite(who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
-        check_finite(who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
-        let Some((kind, rotation)) = coordinate_row(model, joints, k, j.initial) else {
-            return Err(who.error(
-                if j.initial.is_some() { "initial" } else { "initial_rate" },
-                "'initial' and 'initial_rate' apply to revolute and prismatic joints only".into(),
-            ));
-        };
-        let what = match (j.initial.is_some(), rotation) {
+    for (k, &(name, initial, initial_rate)) in model_joints.iter().enumerate() {
+        let Some(key) = own_initial(initial, initial_rate) else { continue };
+        let who = Named::joint(name);
+        check_finite(who, "initial", &initial.into_iter().collect::<Vec<_>>())?;
+        check_finite(who, "initial_rate", &initial_rate.into_iter().collect::<Vec<_>>())?;
+        let (kind, rotation) = coordinate_row(k, initial).map_err(|why| who.error(key, why))?;
+        let what = match (initial.is_some(), rotation) {
             (true, true) => "initial angle",
             (true, false) => "initial travel",
             (false, _) => "initial rate",
@@ -566,8 +565,8 @@ fn initial_conditions(model: &Model, joints: &[JointInfo]) -> Result<Vec<Initial
             body_i: joints[k].body_i,
             body_j: joints[k].body_j,
             kind,
-            placed: j.initial.is_some(),
-            rate: j.initial_rate,
+            placed: initial.is_some(),
+            rate: initial_rate,
             label: format!("{who} ({what})"),
         });
     }
@@ -676,7 +675,13 @@ impl System<Planar> {
                 })
             },
         )?;
-        let initial_conditions = initial_conditions(model, &joints)?;
+        let given: Vec<_> =
+            model.joints.iter().map(|j| (j.name.as_str(), j.initial, j.initial_rate)).collect();
+        let initial_conditions = initial_conditions(&given, &joints, |k, initial| {
+            coordinate_row(model, &joints, k, initial).ok_or_else(|| {
+                "'initial' and 'initial_rate' apply to revolute and prismatic joints only".into()
+            })
+        })?;
         let forces = compile_forces(model, &res, &mut names, &mut corners)?;
         let markers = compile_markers(model, &res, &mut names)?;
         let corners = step_corners(corners);

@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use super::{
-    check_finite, compile_drivers, own_initial, step_corners, BodyInfo, InitialCondition, JointInfo,
+    check_finite, compile_drivers, initial_conditions, own_initial, step_corners, BodyInfo, JointInfo,
     MarkerInfo, Names, Owner, Row, System, COMPILATIONS,
 };
 use crate::error::{Error, Named};
@@ -349,29 +349,11 @@ impl System<Spatial> {
             &mut corners,
             |k, initial| coordinate_row(&joints, &frames, &bodies, k, initial),
         )?;
-        let mut initial_conditions = Vec::new();
-        for (k, j) in model.joints.iter().enumerate() {
-            let Some(key) = own_initial(j.initial, j.initial_rate) else { continue };
-            let who = Named::joint(&j.name);
-            check_finite(who, "initial", &j.initial.into_iter().collect::<Vec<_>>())?;
-            check_finite(who, "initial_rate", &j.initial_rate.into_iter().collect::<Vec<_>>())?;
-            let (kind, rotation) =
-                coordinate_row(&joints, &frames, &bodies, k, j.initial).map_err(|why| who.error(key, why))?;
-            let what = match (j.initial.is_some(), rotation) {
-                (true, true) => "initial angle",
-                (true, false) => "initial travel",
-                (false, _) => "initial rate",
-            };
-            initial_conditions.push(InitialCondition {
-                joint: k,
-                body_i: joints[k].body_i,
-                body_j: joints[k].body_j,
-                kind,
-                placed: j.initial.is_some(),
-                rate: j.initial_rate,
-                label: format!("{who} ({what})"),
-            });
-        }
+        let given: Vec<_> =
+            model.joints.iter().map(|j| (j.name.as_str(), j.initial, j.initial_rate)).collect();
+        let initial_conditions = initial_conditions(&given, &joints, |k, initial| {
+            coordinate_row(&joints, &frames, &bodies, k, initial)
+        })?;
         let mut forces = Vec::new();
         for f in &model.forces {
             names.claim("force", f.name())?;
