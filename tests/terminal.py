@@ -40,7 +40,12 @@ def in_terminal(*args: str, interrupt_after: re.Pattern[str] | None = None) -> S
     command = [sys.executable, "-m", "jointgap", *args]
     with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=slave, env=env) as proc:
         os.close(slave)
-        screen = b""
+        # The terminal is read as fast as the command writes (a command whose runs report
+        # progress at every check writes a lot): appends in place, and the pattern looked
+        # for in what came since the last look (with a line's overlap), not in the whole
+        # screen again, so that a slow reader never blocks the command's writes.
+        screen = bytearray()
+        looked = 0
         interrupted = interrupt_after is None
         while True:
             try:
@@ -50,9 +55,12 @@ def in_terminal(*args: str, interrupt_after: re.Pattern[str] | None = None) -> S
             if not chunk:
                 break
             screen += chunk
-            if not interrupted and interrupt_after.search(screen.decode(errors="replace")):
-                proc.send_signal(signal.SIGINT)
-                interrupted = True
+            if not interrupted:
+                recent = bytes(screen[max(0, looked - 512) :]).decode(errors="replace")
+                looked = len(screen)
+                if interrupt_after.search(recent):
+                    proc.send_signal(signal.SIGINT)
+                    interrupted = True
         os.close(master)
         stdout = proc.stdout.read() if proc.stdout is not None else b""
         returncode = proc.wait()
