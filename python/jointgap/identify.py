@@ -37,7 +37,7 @@ import math
 import os
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -472,7 +472,18 @@ def _parallel(
     (:func:`identify`'s ``watch``) before it goes on."""
     pool = ThreadPoolExecutor(max_workers=threads)
     try:
-        return list(pool.map(trial, candidates))
+        futures = [pool.submit(trial, c) for c in candidates]
+        # Waited for in slices, not in one blocking wait: the main thread then returns to
+        # Python between slices and runs its signal handlers, so that Ctrl-C stops the
+        # trials even when the signal was delivered to a thread busy in the engine (one
+        # blocking wait is not interrupted then, and the runs went on to their end).
+        pending = set(futures)
+        while pending:
+            _, pending = wait(pending, timeout=0.05, return_when=FIRST_EXCEPTION)
+            failed = [f for f in futures if f.done() and f.exception() is not None]
+            if failed:
+                failed[0].result()  # raises it: the runs going on stop (below)
+        return [f.result() for f in futures]
     except BaseException:
         stop.set()
         raise
