@@ -15,3 +15,11 @@ pub const CONTACT_EXPONENT: f64 = 1.5;
 
 /// Whether a normal contact law that does not say sets pulling forces to zero.
 pub const CONTACT_CLIP: bool = true;
+
+/// Composite RMS roughness of a lubricated joint's journal and bearing that gives none
+/// [m]: a ground journal in a bored or honed bush (about 0.5 and 1 um each). The film
+/// threshold is three times it (docs/lubrication.md).
+pub const FILM_ROUGHNESS: f64 = 1e-6;
+
+/// Pressure angle of a gear pair that gives none [rad]: the standard 20 degrees.
+pub const PRESSURE_ANGLE: f64 = 20.0 * std::f64::consts::PI / 180.0;

@@ -126,10 +126,21 @@ pub struct Joint {
     /// the engine); required for `prismatic`, rejected for the others.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis: Option<[f64; 2]>,
-    /// Contact data of a `clearance_revolute` (bearing on body i, journal on body j);
-    /// required for that type, rejected for the others.
+    /// Contact data of a `clearance_revolute` or `lubricated_revolute` (bearing on body i,
+    /// journal on body j) or a `clearance_translational` (guide on body i, block on body
+    /// j); required for those types. Another type warns that it ignores it, so that a
+    /// joint switches kind by its `type` alone.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clearance: Option<Clearance>,
+    /// The oil film of a `lubricated_revolute`; required for that type.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<Lubrication>,
+    /// The play of a `revolute_with_play` or `prismatic_with_play`; required for those.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub play: Option<Play>,
+    /// The teeth of a `gear_pair`; required for that type.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gear: Option<Gear>,
     /// Joint coordinate at t = 0 of a revolute (relative angle `phi_j - phi_i` [rad]) or
     /// prismatic joint (travel of `point_j` from `point_i` along the axis [m]); assembly
     /// solves the other coordinates. By default free: assembly keeps it near the placement.
@@ -157,6 +168,75 @@ pub enum JointKind {
     /// between the bearing (hole on body i at point i) and the journal (pin on body j at
     /// point j). See [`Clearance`].
     ClearanceRevolute,
+    /// Revolute joint with clearance and an oil film: the film's force (see
+    /// [`Lubrication`]) and, where the film is thinner than its threshold, the contact
+    /// laws of its [`Clearance`].
+    LubricatedRevolute,
+    /// Slider with clearance in its guide: no constraint, a block (body j, centred at
+    /// point j) between the two surfaces of a guide (body i, centreline through point i
+    /// along `axis`), touching at its four corners. See [`Clearance`].
+    ClearanceTranslational,
+    /// Revolute joint whose relative angle is free within a play, then stopped by a
+    /// contact torque (2 equations). See [`Play`].
+    RevoluteWithPlay,
+    /// Prismatic joint whose travel is free within a play, then stopped by a contact
+    /// force (2 equations). See [`Play`].
+    PrismaticWithPlay,
+    /// Two gears (body i: gear 1 centred at point i; body j: gear 2 centred at point j)
+    /// in mesh with backlash: no constraint, a tooth force along the line of action.
+    /// Each gear turns on its own revolute joint. See [`Gear`].
+    GearPair,
+}
+
+impl JointKind {
+    /// The name a model gives the kind in `type`.
+    pub fn type_name(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+            JointKind::Fixed => "fixed",
+            JointKind::ClearanceRevolute => "clearance_revolute",
+            JointKind::LubricatedRevolute => "lubricated_revolute",
+            JointKind::ClearanceTranslational => "clearance_translational",
+            JointKind::RevoluteWithPlay => "revolute_with_play",
+            JointKind::PrismaticWithPlay => "prismatic_with_play",
+            JointKind::GearPair => "gear_pair",
+        }
+    }
+
+    /// The ideal joint whose equations the kind keeps (a joint with play keeps its ideal
+    /// kind's); `None` for a kind that has no equations.
+    pub fn equations(self) -> Option<JointKind> {
+        match self {
+            JointKind::Revolute | JointKind::RevoluteWithPlay => Some(JointKind::Revolute),
+            JointKind::Prismatic | JointKind::PrismaticWithPlay => Some(JointKind::Prismatic),
+            JointKind::Fixed => Some(JointKind::Fixed),
+            JointKind::ClearanceRevolute
+            | JointKind::LubricatedRevolute
+            | JointKind::ClearanceTranslational
+            | JointKind::GearPair => None,
+        }
+    }
+
+    /// The joint's coordinate, where it has one: `Some(true)` a relative angle (the
+    /// revolute kinds), `Some(false)` a travel along the axis (the prismatic kinds).
+    pub fn coordinate(self) -> Option<bool> {
+        match self {
+            JointKind::Revolute
+            | JointKind::RevoluteWithPlay
+            | JointKind::ClearanceRevolute
+            | JointKind::LubricatedRevolute => Some(true),
+            JointKind::Prismatic | JointKind::PrismaticWithPlay | JointKind::ClearanceTranslational => {
+                Some(false)
+            }
+            JointKind::Fixed | JointKind::GearPair => None,
+        }
+    }
+
+    /// Whether the kind takes an `axis` (a sliding direction).
+    pub fn has_axis(self) -> bool {
+        self.coordinate() == Some(false)
+    }
 }
 
 /// Geometry, stiffness and laws of a clearance revolute joint. Give two of
@@ -187,6 +267,103 @@ pub struct Clearance {
     /// Tangential (friction) law; none by default.
     #[serde(default)]
     pub friction: FrictionSpec,
+    /// Length of a translational clearance joint's block along the guide [m], > 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub block_length: Option<f64>,
+    /// Height of the block across the guide [m]; give two of `block_height`,
+    /// `guide_width` and `clearance` (then `guide_width - block_height`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub block_height: Option<f64>,
+    /// Distance between the guide's two surfaces [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guide_width: Option<f64>,
+}
+
+/// The oil film of a lubricated revolute joint (docs/lubrication.md).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Lubrication {
+    /// Bearing length along the axis [m], > 0.
+    pub length: f64,
+    /// Dynamic viscosity of the oil [Pa s], > 0.
+    pub viscosity: f64,
+    /// Film model; by default the short bearing with positive pressure only.
+    #[serde(default)]
+    pub film: FilmModel,
+    /// Composite RMS roughness of journal and bearing [m], > 0; the film threshold is
+    /// three times it. By default [`crate::defaults::FILM_ROUGHNESS`].
+    #[serde(default = "default_roughness")]
+    pub roughness: f64,
+}
+
+/// How the film's pressure is found (docs/lubrication.md).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FilmModel {
+    /// Short bearing (Ocvirk), pressure integrated where it is positive (Gumbel).
+    #[default]
+    Short,
+    /// Long bearing (Sommerfeld), pressure integrated where it is positive (Gumbel).
+    Long,
+    /// Short bearing, pressure integrated over a fixed half of the film (pi film).
+    ShortPi,
+    /// Long bearing, pressure integrated over a fixed half of the film (pi film).
+    LongPi,
+}
+
+/// The play of a joint with play: its coordinate (relative angle of a revolute, travel
+/// of a prismatic) is free within `centre +- play/2`, then a contact law stops it.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Play {
+    /// Total free rotation [rad] or travel [m], >= 0.
+    pub play: f64,
+    /// Coordinate at the middle of the play [rad or m]; by default the coordinate at the
+    /// model's given placement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub centre: Option<f64>,
+    /// Contact stiffness K [N m/rad^n or N/m^n], > 0.
+    pub stiffness: f64,
+    /// The contact law, its penetration the angle (or travel) beyond the play.
+    pub normal_law: NormalLawSpec,
+}
+
+/// A gear pair's teeth (docs/gears.md).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Gear {
+    /// Pitch radius of gear 2 over that of gear 1 (tooth counts z2/z1), > 0: external
+    /// gears turning in opposite senses.
+    pub ratio: f64,
+    /// Pitch radius of gear 1 [m], > 0.
+    pub pitch_radius: f64,
+    /// Circumferential backlash on the pitch circle [m], >= 0.
+    #[serde(default)]
+    pub backlash: f64,
+    /// Pressure angle [rad], in [0, 45 deg); by default
+    /// [`crate::defaults::PRESSURE_ANGLE`].
+    #[serde(default = "default_pressure_angle")]
+    pub pressure_angle: f64,
+    /// Mesh stiffness [N/m^n]: constant, or against gear 1's angle to the line of centres.
+    pub mesh_stiffness: MeshStiffness,
+    /// The contact law of the teeth, its penetration along the line of action.
+    pub normal_law: NormalLawSpec,
+}
+
+/// A gear mesh's stiffness.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum MeshStiffness {
+    /// The same at every angle [N/m^n].
+    Constant(f64),
+    /// Against gear 1's angle to the line of centres [rad], periodic with the table's
+    /// span (its last angle minus its first), linear between points.
+    Table {
+        /// Strictly increasing angles [rad], at least 2.
+        angle: Vec<f64>,
+        /// Stiffness at each angle [N/m^n], > 0.
+        value: Vec<f64>,
+    },
 }
 
 /// A material from the library (by name) or given explicitly.
@@ -211,6 +388,12 @@ pub struct Material {
 
 fn default_gravity() -> [f64; 2] {
     crate::defaults::GRAVITY
+}
+fn default_roughness() -> f64 {
+    crate::defaults::FILM_ROUGHNESS
+}
+fn default_pressure_angle() -> f64 {
+    crate::defaults::PRESSURE_ANGLE
 }
 fn default_exponent() -> f64 {
     crate::defaults::CONTACT_EXPONENT

@@ -218,7 +218,7 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
     let q = prepared.initial.q.clone();
     let i_a = inertia + mass * (length / 2.0).powi(2);
     let gap = &sys.clearances[0];
-    let r_journal = gap.geometry.r_journal;
+    let r_journal = gap.journal_bearing().expect("a journal in its bearing").r_journal;
     // Contact point P = B + r_j n; tangent t = perp(n); slip = omega cross(P - A, t).
     let p = [length + r_journal * n[0], r_journal * n[1]];
     let lever = p[0] * n[0] + p[1] * n[1];
@@ -227,13 +227,12 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
         let v = vec![0.0, omega * length / 2.0, omega];
         let mut ws = Workspace::new(sys, prepared.initial.active.clone());
         accelerations(sys, 0.0, &q, &v, &mut ws).unwrap();
-        let bearing = sys.body_state(gap.geometry.bearing, &q, &v);
-        let journal = sys.body_state(gap.geometry.journal, &q, &v);
+        let [bearing, journal] = gap.parts().map(|b| sys.body_state(b, &q, &v));
         let kin = gap.contacts(&bearing, &journal, f64::INFINITY)[0];
         assert!((kin.penetration - depth).abs() < 1e-12, "penetration {}", kin.penetration);
         assert!((kin.slip[0] - slip).abs() < 1e-9 * slip.abs().max(1e-3), "slip {} vs {slip}", kin.slip[0]);
         let (f_n, _) = gap.force(&kin, kin.penetration_rate);
-        let expected = gap.friction.damping(slip, f_n) * lever * lever / i_a;
+        let expected = gap.friction().damping(slip, f_n) * lever * lever / i_a;
         let rate = Planar::friction_rate(sys, &q, &v, &mut ws);
         assert!((rate - expected).abs() <= 1e-9 * expected.max(1e-300), "slip {slip}: {rate} vs {expected}");
         if slip.abs() > 0.01016 {
@@ -241,7 +240,7 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
         } else {
             // Without the pin the inverse mass would be 1/m + cross(P - G, t)^2 / I, 30 % more.
             let free = 1.0 / mass + (lever - length / 2.0 * n[0]).powi(2) / inertia;
-            assert!(rate < 0.8 * gap.friction.damping(slip, f_n) * free, "{rate} vs free {free}");
+            assert!(rate < 0.8 * gap.friction().damping(slip, f_n) * free, "{rate} vs free {free}");
         }
     }
 }

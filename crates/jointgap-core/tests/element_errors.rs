@@ -176,8 +176,8 @@ fn each_broken_value_is_named_by_its_element_and_key() {
             "driver",
             "motor",
             "joint",
-            "driver 'motor': joint 'rod_slider' is a clearance joint; only ideal revolute and prismatic joints \
-             can be driven",
+            "driver 'motor': joint 'rod_slider' is a clearance_revolute joint; only revolute and prismatic \
+             joints can be driven",
         ),
         (
             "/forces/0/damping",

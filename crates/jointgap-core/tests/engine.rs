@@ -116,6 +116,9 @@ fn driver_on_a_locked_joint_is_an_error() {
         point_j: jointgap_core::model::PointRef::Named("O".into()),
         axis: None,
         clearance: None,
+        lubrication: None,
+        play: None,
+        gear: None,
         initial: None,
         initial_rate: None,
     });

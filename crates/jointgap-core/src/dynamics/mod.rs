@@ -587,8 +587,8 @@ impl Contacts for Planar {
         loads: &mut Loads,
     ) {
         for (_, c, points) in contact::slots(&sys.clearances) {
-            let g = &c.geometry;
-            c.add_to(state(g.bearing), state(g.journal), &contacts[points], loads);
+            let [i, j] = c.parts();
+            c.add_to(state(i), state(j), &contacts[points], loads);
         }
     }
 
@@ -602,14 +602,13 @@ impl Contacts for Planar {
     fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
         let mut rate = 0.0f64;
         for (_, c, points) in contact::slots(&sys.clearances) {
-            let (bearing, journal) =
-                (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
+            let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
             for (kin, (slip, t)) in c.contacts(&bearing, &journal, f64::INFINITY).iter().flat_map(|kin| {
                 kin.slip.iter().zip(contact::point::tangents(kin.normal)).map(move |tangent| (kin, tangent))
             }) {
                 let contact = ws.contacts[points.start + kin.index];
                 let (f_n, _) = c.force(kin, contact.onset_for(kin.penetration_rate));
-                let damping = if f_n > 0.0 { c.friction.damping(*slip, f_n) } else { 0.0 };
+                let damping = if f_n > 0.0 { c.friction().damping(*slip, f_n) } else { 0.0 };
                 if damping == 0.0 {
                     continue;
                 }

@@ -5,7 +5,7 @@
 //! `Cq qdd = gamma`, with `gamma = -(Cq qd)_q qd - 2 Cqt qd - Ctt` (Nikravesh 1988).
 
 use crate::math::{cross, perp, Vec2};
-use crate::mechanics::contact::ClearanceRevolute;
+use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{self, BodyKind};
@@ -197,7 +197,7 @@ impl BodyKind for Planar {
     type JointKind = crate::model::JointKind;
     type RowKind = RowKind;
     type Force = ForceElement;
-    type Clearance = ClearanceRevolute;
+    type Clearance = PlanarClearance;
 
     #[inline]
     fn ground() -> BodyState {

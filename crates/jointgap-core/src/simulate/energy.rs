@@ -17,7 +17,7 @@
 use super::equations::state_shape;
 use crate::dynamics::{accelerations, Singular, Workspace};
 use crate::integrators::ode::{DenseStep, StateShape};
-use crate::mechanics::contact::{self, ClearanceJoint, ContactMeasure, ContactState};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactState};
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::planar::Planar;
 use crate::system::System;
@@ -154,12 +154,11 @@ impl<K: Kind> Accounts<K> {
             p[1] += load;
             p[2] += loss;
         }
-        for (k, c, points) in contact::slots(&sys.clearances) {
-            for point in sys.contact_points(k, q, v).iter() {
-                let (normal, friction) = c.losses(point, &self.ws.contacts[points.start + point.index()]);
-                p[3] += normal;
-                p[4] += friction;
-            }
+        for (_, c, points) in contact::slots(&sys.clearances) {
+            let [i, j] = c.parts().map(|b| sys.body_state(b, q, v));
+            let (normal, friction) = c.losses(&i, &j, &self.ws.contacts[points]);
+            p[3] += normal;
+            p[4] += friction;
         }
         Ok(p)
     }

@@ -5,7 +5,6 @@
 
 use crate::math::{perp, Vec2};
 use crate::mechanics::planar::BodyState;
-use crate::model::JointKind;
 use crate::system::{JointInfo, MarkerInfo};
 
 /// A body's position, velocity and acceleration (the ground: all zero).
@@ -65,24 +64,22 @@ pub fn marker_motion(marker: &MarkerInfo, body: &BodyMotion, frame: &BodyMotion)
 /// along the axis `u` (turning with body i) and its rate `u . d' + omega_i perp(u) . d`
 /// [m/s]. Both are the coordinates a driver of the joint prescribes.
 pub fn joint_coordinate(j: &JointInfo, bi: &BodyState, bj: &BodyState) -> Option<(f64, f64)> {
-    match j.kind {
-        JointKind::Revolute | JointKind::ClearanceRevolute => {
-            Some((bj.phi() - bi.phi(), bj.omega - bi.omega))
-        }
-        JointKind::Prismatic => {
+    match j.kind.coordinate()? {
+        true => Some((bj.phi() - bi.phi(), bj.omega - bi.omega)),
+        false => {
             let u = bi.rotate(j.axis?);
             let (arm_i, arm_j) = (bi.rotate(j.s_i), bj.rotate(j.s_j));
             let d = bj.r + arm_j - bi.r - arm_i;
             let dd = bj.v + perp(arm_j) * bj.omega - bi.v - perp(arm_i) * bi.omega;
             Some((u.dot(&d), u.dot(&dd) + perp(u).dot(&d) * bi.omega))
         }
-        JointKind::Fixed => None,
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::JointKind;
 
     /// Observed motion against central differences of the observed position, for a
     /// point and a frame both moving with constant acceleration.

@@ -49,7 +49,8 @@ pub fn prepare(model: &Model) -> Result<Prepared, Error> {
 /// [`prepare`] of a model of any body kind.
 pub fn prepare_model<K: Kind>(model: &K::Model) -> Result<Prepared<K>, Error> {
     let mut system = K::compile(model)?;
-    system.warnings = K::magnitude_warnings(model, &system);
+    let magnitudes = K::magnitude_warnings(model, &system);
+    system.warnings.extend(magnitudes);
     check_weights(&system)?;
     let initial = assembly::assemble(&system)?;
     for c in &system.clearances {

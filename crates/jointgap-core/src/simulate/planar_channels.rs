@@ -8,21 +8,23 @@ use super::record::Cursor;
 use crate::dynamics::Workspace;
 use crate::error::Error;
 use crate::math::{cross, rotate, Vec2};
+use crate::mechanics::contact::planar_clearance::PlanarClearance;
+use crate::mechanics::contact::play::PlayCoordinate;
 use crate::mechanics::contact::{self, ClearanceJoint, ContactPoint, Mode, Tangential, MAX_POINTS};
 use crate::mechanics::kind::RowEval;
 use crate::mechanics::planar::{self, BodyRow, BodyState, Planar};
 use crate::model::{JointKind, Model};
 use crate::system::{JointInfo, MarkerInfo, System};
 
-/// Channels of each kind of joint: the force on body j (for a clearance joint, the
-/// contact force on the journal body), then the kind's own.
+/// The reaction channels of a joint with equations, by the ideal kind whose equations
+/// it keeps: the force on body j, and the couple of a prismatic or fixed joint.
 const REVOLUTE_QUANTITIES: [&str; 2] = ["fx", "fy"];
 const PRISMATIC_QUANTITIES: [&str; 3] = ["fx", "fy", "moment"];
-/// A clearance joint's channels: the joint's own (`fx fy`: the resultant contact force
-/// on the journal body; `ex ey`: the eccentricity in the bearing body's frame) and each
-/// contact point's (`true`). A joint of one point names them all `<joint>.<quantity>`; a
-/// joint of several writes each point's quantity for every point in turn, named
-/// `<joint>.p<i>.<quantity>` with `i` from 1 (docs/outputs.md).
+/// A revolute clearance joint's channels: the joint's own (`fx fy`: the resultant contact
+/// force on the journal body; `ex ey`: the eccentricity in the bearing body's frame) and
+/// each contact point's (`true`). A joint of one point names them all
+/// `<joint>.<quantity>`; a joint of several writes each point's quantity for every point
+/// in turn, named `<joint>.p<i>.<quantity>` with `i` from 1 (docs/outputs.md).
 const CLEARANCE_QUANTITIES: [(&str, bool); 10] = [
     ("fx", false),
     ("fy", false),
@@ -35,48 +37,131 @@ const CLEARANCE_QUANTITIES: [(&str, bool); 10] = [
     ("slip", true),
     ("mode", true),
 ];
+/// A lubricated revolute joint's: the clearance joint's (`fx fy` the film's and the
+/// contact's force together), then the film's.
+const LUBRICATED_QUANTITIES: [(&str, bool); 18] = [
+    ("fx", false),
+    ("fy", false),
+    ("fn", true),
+    ("ft", true),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("ex", false),
+    ("ey", false),
+    ("slip", true),
+    ("mode", true),
+    ("eccentricity_ratio", false),
+    ("attitude", false),
+    ("film_thickness", false),
+    ("film_fx", false),
+    ("film_fy", false),
+    ("peak_pressure", false),
+    ("film_mode", false),
+    ("friction_torque", false),
+];
+/// A translational clearance joint's: `fx fy` the resultant on the block, each corner's
+/// contact quantities, the block's `tilt` and `offset` in the guide.
+const TRANSLATIONAL_QUANTITIES: [(&str, bool); 10] = [
+    ("fx", false),
+    ("fy", false),
+    ("fn", true),
+    ("ft", true),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("tilt", false),
+    ("offset", false),
+    ("slip", true),
+    ("mode", true),
+];
+/// A revolute joint's play, after its reaction: the angle from the middle of the play,
+/// the stop's torque on body j, and its contact quantities.
+const ANGLE_PLAY_QUANTITIES: [(&str, bool); 5] = [
+    ("play_angle", false),
+    ("torque", false),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("mode", true),
+];
+/// A prismatic joint's play: the same along the axis.
+const TRAVEL_PLAY_QUANTITIES: [(&str, bool); 5] = [
+    ("play_travel", false),
+    ("force", false),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("mode", true),
+];
+/// A gear pair's: the tooth force on gear 2, the mesh along the line of action, the
+/// normal tooth force, each gear's tooth torque, the contact quantities and the mesh
+/// stiffness there.
+const GEAR_QUANTITIES: [(&str, bool); 10] = [
+    ("fx", false),
+    ("fy", false),
+    ("mesh", false),
+    ("fn", true),
+    ("torque_1", false),
+    ("torque_2", false),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("mode", true),
+    ("stiffness", false),
+];
 
-/// The force channels of a joint of kind `kind` other than a clearance joint, in the
-/// order a sample writes them.
+/// The reaction channels of a joint of kind `kind` (none for a joint without equations).
 fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
-    match kind {
-        JointKind::Revolute => &REVOLUTE_QUANTITIES,
-        JointKind::Prismatic | JointKind::Fixed => &PRISMATIC_QUANTITIES,
-        JointKind::ClearanceRevolute => unreachable!("a clearance joint's channels depend on its points"),
+    match kind.equations() {
+        Some(JointKind::Revolute) => &REVOLUTE_QUANTITIES,
+        Some(_) => &PRISMATIC_QUANTITIES,
+        None => &[],
+    }
+}
+
+/// The contact channels of a joint with contact.
+fn contact_quantities(c: &PlanarClearance) -> &'static [(&'static str, bool)] {
+    match c {
+        PlanarClearance::Revolute(_) => &CLEARANCE_QUANTITIES,
+        PlanarClearance::Lubricated(_) => &LUBRICATED_QUANTITIES,
+        PlanarClearance::Translational(_) => &TRANSLATIONAL_QUANTITIES,
+        PlanarClearance::Play(p) if p.coordinate == PlayCoordinate::Angle => &ANGLE_PLAY_QUANTITIES,
+        PlanarClearance::Play(_) => &TRAVEL_PLAY_QUANTITIES,
+        PlanarClearance::Gear(_) => &GEAR_QUANTITIES,
     }
 }
 
 /// The force channels of joint `j` as `(quantity, point)`, in the order a sample writes
-/// them: `point` is the contact point's number from 1 in a joint of several points.
+/// them: its reaction, then its contact's (`point` the contact point's number from 1 in
+/// a joint of several points).
 fn joint_channels(sys: &System, j: &JointInfo) -> Vec<(&'static str, Option<usize>)> {
-    let Some(k) = j.clearance else {
-        return joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
-    };
-    clearance_channels(&CLEARANCE_QUANTITIES, sys.clearances[k].points())
+    let mut out: Vec<_> = joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
+    if let Some(k) = j.clearance {
+        let c = &sys.clearances[k];
+        out.extend(clearance_channels(contact_quantities(c), c.points()));
+    }
+    out
 }
 
 /// How many force channels joint `j` has ([`joint_channels`]).
 fn joint_channel_count(sys: &System, j: &JointInfo) -> usize {
-    match j.clearance {
-        Some(k) => clearance_channel_count(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
-        None => joint_quantities(j.kind).len(),
-    }
+    joint_quantities(j.kind).len()
+        + j.clearance.map_or(0, |k| {
+            let c = &sys.clearances[k];
+            clearance_channel_count(contact_quantities(c), c.points())
+        })
 }
 
 /// The joint coordinate and its rate ([`joint_coordinate`]), after a joint's forces.
 fn coordinate_quantities(kind: JointKind) -> &'static [&'static str] {
-    match kind {
-        JointKind::Revolute | JointKind::ClearanceRevolute => &["angle", "omega"],
-        JointKind::Prismatic => &["travel", "speed"],
-        JointKind::Fixed => &[],
+    match kind.coordinate() {
+        Some(true) => &["angle", "omega"],
+        Some(false) => &["travel", "speed"],
+        None => &[],
     }
 }
 
 /// A marker's channels: position, velocity, acceleration in its frame.
 const MARKER_QUANTITIES: [&str; 6] = ["x", "y", "vx", "vy", "ax", "ay"];
 
-/// A joint's force channels: for a clearance joint the contact force on the journal and
-/// its contact quantities, for the others the reaction on body j (and the couple).
+/// A joint's force channels: the reaction on body j (and the couple) of a joint with
+/// equations, then the contact quantities of a joint with contact.
 fn put_joint_forces(
     out: &mut Cursor,
     sys: &System,
@@ -86,64 +171,123 @@ fn put_joint_forces(
     (q, v): (&[f64], &[f64]),
     lambda_of: &dyn Fn(usize) -> f64,
 ) {
-    let mut put = |x: f64| out.put(x);
-    if let Some(k) = j.clearance {
-        let c = &sys.clearances[k];
-        let (bearing, journal) =
-            (sys.body_state(c.geometry.bearing, q, v), sys.body_state(c.geometry.journal, q, v));
-        let points = c.contacts(&bearing, &journal, f64::INFINITY);
-        let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
-        let states = &ws.contacts[first..first + c.points()];
-        let mut forces = [(0.0, Tangential::zeros()); MAX_POINTS];
-        for (p, force) in points.iter().zip(&mut forces) {
-            *force = c.force(p, states[p.index].onset_for(p.penetration_rate));
+    if !j.rows.is_empty() {
+        let (mut f, mut m) = (Vec2::zeros(), 0.0);
+        for r in j.rows.clone() {
+            let ev = sys.rows[r].kind.eval(
+                bi,
+                bj,
+                crate::mechanics::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
+            );
+            let l = lambda_of(r);
+            f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
+            m -= ev.jac_j[2] * l;
         }
-        let forces = &forces[..points.len()];
-        let f = points
-            .iter()
-            .zip(forces)
-            .map(|(p, (f_n, f_t))| p.force_on_j(*f_n, f_t))
-            .reduce(|a, b| a + b)
-            .unwrap_or_else(Vec2::zeros);
-        let e_local = rotate(-bearing.phi(), c.geometry.eccentricity(&bearing, &journal));
-        // The located state decides, not the sign of the penetration: right after
-        // an onset, projection may leave the penetration a hair below zero.
-        let mode = |p: &ContactPoint| {
-            let state = &states[p.index];
-            if state.in_contact {
-                state.mode
-            } else {
-                Mode::FreeFlight
+        out.put(f.x);
+        out.put(f.y);
+        if j.kind.equations() != Some(JointKind::Revolute) {
+            // Couple about the joint point of body j.
+            out.put(m - cross(bj.rotate(j.s_j), f));
+        }
+    }
+    if let Some(k) = j.clearance {
+        put_contact(out, sys, ws, k, (q, v));
+    }
+}
+
+/// Contact joint `k`'s channels ([`contact_quantities`]) at `(q, v)`.
+fn put_contact(out: &mut Cursor, sys: &System, ws: &Workspace, k: usize, (q, v): (&[f64], &[f64])) {
+    let c = &sys.clearances[k];
+    let [bi, bj] = c.parts().map(|b| sys.body_state(b, q, v));
+    let points = c.contacts(&bi, &bj, f64::INFINITY);
+    let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
+    let states = &ws.contacts[first..first + c.points()];
+    let mut forces = [(0.0, Tangential::zeros()); MAX_POINTS];
+    for (p, force) in points.iter().zip(&mut forces) {
+        *force = c.force(p, states[p.index].onset_for(p.penetration_rate));
+    }
+    let forces = &forces[..points.len()];
+    let resultant = points
+        .iter()
+        .zip(forces)
+        .map(|(p, (f_n, f_t))| p.force_on_j(*f_n, f_t))
+        .reduce(|a, b| a + b)
+        .unwrap_or_else(Vec2::zeros);
+    // The located state decides, not the sign of the penetration: right after an onset,
+    // projection may leave the penetration a hair below zero.
+    let mode = |p: &ContactPoint| {
+        let state = &states[p.index];
+        (if state.in_contact { state.mode } else { Mode::FreeFlight }) as u8 as f64
+    };
+    let mut put = |x: f64| out.put(x);
+    match c {
+        PlanarClearance::Revolute(_) | PlanarClearance::Lubricated(_) => {
+            let g = c.journal_bearing().expect("a journal in its bearing");
+            let film = match c {
+                PlanarClearance::Lubricated(l) => Some((l, l.film_at(&bi, &bj))),
+                _ => None,
+            };
+            // Added only where there is a film, so that a dry joint's zero keeps its sign.
+            let f = film.map_or(resultant, |(_, f)| resultant + f.force);
+            let e_local = rotate(-bi.phi(), g.eccentricity(&bi, &bj));
+            put(f.x);
+            put(f.y);
+            forces.iter().for_each(|(f_n, _)| put(*f_n));
+            forces.iter().for_each(|(_, f_t)| put(f_t[0]));
+            points.iter().for_each(|p| put(p.penetration));
+            points.iter().for_each(|p| put(p.penetration_rate));
+            put(e_local.x);
+            put(e_local.y);
+            points.iter().for_each(|p| put(p.slip[0]));
+            points.iter().for_each(|p| put(mode(p)));
+            if let Some((l, f)) = film {
+                put(f.eccentricity.norm() / l.film.clearance);
+                put(f64::atan2(e_local.y, e_local.x));
+                put(f.thickness);
+                put(f.force.x);
+                put(f.force.y);
+                put(f.film.peak_pressure);
+                put(f.mode as u8 as f64);
+                put(f.film.torque_journal);
             }
-        };
-        put(f.x);
-        put(f.y);
-        forces.iter().for_each(|(f_n, _)| put(*f_n));
-        forces.iter().for_each(|(_, f_t)| put(f_t[0]));
-        points.iter().for_each(|p| put(p.penetration));
-        points.iter().for_each(|p| put(p.penetration_rate));
-        put(e_local.x);
-        put(e_local.y);
-        points.iter().for_each(|p| put(p.slip[0]));
-        points.iter().for_each(|p| put(mode(p) as u8 as f64));
-        return;
-    }
-    let (mut f, mut m) = (Vec2::zeros(), 0.0);
-    for r in j.rows.clone() {
-        let ev = sys.rows[r].kind.eval(
-            bi,
-            bj,
-            crate::mechanics::drivers::Motion { position: 0.0, speed: 0.0, acceleration: 0.0 },
-        );
-        let l = lambda_of(r);
-        f -= Vec2::new(ev.jac_j[0], ev.jac_j[1]) * l;
-        m -= ev.jac_j[2] * l;
-    }
-    put(f.x);
-    put(f.y);
-    if j.kind != JointKind::Revolute {
-        // Couple about the joint point of body j.
-        put(m - cross(bj.rotate(j.s_j), f));
+        }
+        PlanarClearance::Translational(t) => {
+            let (tilt, offset) = t.geometry.tilt_and_offset(&bi, &bj);
+            put(resultant.x);
+            put(resultant.y);
+            forces.iter().for_each(|(f_n, _)| put(*f_n));
+            forces.iter().for_each(|(_, f_t)| put(f_t[0]));
+            points.iter().for_each(|p| put(p.penetration));
+            points.iter().for_each(|p| put(p.penetration_rate));
+            put(tilt);
+            put(offset);
+            points.iter().for_each(|p| put(p.slip[0]));
+            points.iter().for_each(|p| put(mode(p)));
+        }
+        PlanarClearance::Play(play) => {
+            let (x, ..) = play.coordinate(&bi, &bj);
+            let p = &points[0];
+            put(x - play.centre);
+            put(-p.normal.x * forces[0].0);
+            put(p.penetration);
+            put(p.penetration_rate);
+            put(mode(p));
+        }
+        PlanarClearance::Gear(gear) => {
+            let p = &points[0];
+            let (mesh, stiffness) = gear.measure(&bi, &bj);
+            let (t1, t2, f_n) = gear.torques(&bi, &bj, &states[0]);
+            put(resultant.x);
+            put(resultant.y);
+            put(mesh);
+            put(f_n);
+            put(t1);
+            put(t2);
+            put(p.penetration);
+            put(p.penetration_rate);
+            put(mode(p));
+            put(stiffness);
+        }
     }
 }
 

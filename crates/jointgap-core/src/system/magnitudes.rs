@@ -56,8 +56,8 @@ pub(crate) fn warnings(model: &Model, sys: &System) -> Vec<String> {
         .map(|b| BodyGeometry { points: b.points.values().map(|p| Vec2::new(p[0], p[1])).collect() })
         .collect();
     for j in &sys.joints {
-        let (s_i, s_j) = match j.clearance {
-            Some(c) => (sys.clearances[c].geometry.s_bearing, sys.clearances[c].geometry.s_journal),
+        let (s_i, s_j) = match j.clearance.and_then(|c| sys.clearances[c].journal_bearing()) {
+            Some(g) => (g.s_bearing, g.s_journal),
             None => (j.s_i, j.s_j),
         };
         for (body, s) in [(j.body_i, s_i), (j.body_j, s_j)] {
@@ -128,8 +128,8 @@ pub(crate) fn warnings(model: &Model, sys: &System) -> Vec<String> {
 
     for (j, info) in model.joints.iter().zip(&sys.joints) {
         let who = format!("joint '{}'", j.name);
-        if let Some(c) = info.clearance.map(|c| &sys.clearances[c]) {
-            let g = &c.geometry;
+        let clearance = info.clearance.map(|c| &sys.clearances[c]);
+        if let Some(g) = clearance.and_then(|c| c.journal_bearing()) {
             if longest > 0.0 && g.r_bearing > longest {
                 out.push(format!(
                     "{who}: bearing_radius = {} m is {} times {scale}; a plain number is in metres: \
@@ -146,7 +146,9 @@ pub(crate) fn warnings(model: &Model, sys: &System) -> Vec<String> {
                     given(g.r_bearing)
                 ));
             }
-            if let FrictionSpec::Coulomb { mu_s, mu_d, .. } = c.friction {
+        }
+        if let Some(c) = clearance {
+            if let FrictionSpec::Coulomb { mu_s, mu_d, .. } = c.friction() {
                 if mu_d > mu_s {
                     out.push(format!(
                         "{who}: friction mu_d = {mu_d} is larger than mu_s = {mu_s}: the dynamic \

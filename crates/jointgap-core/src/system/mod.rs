@@ -10,6 +10,11 @@ use std::collections::HashMap;
 
 use crate::error::{ElementError, Error, Named};
 use crate::math::Vec2;
+use crate::mechanics::contact::gear::GearPair;
+use crate::mechanics::contact::lubricated::LubricatedRevolute;
+use crate::mechanics::contact::planar_clearance::PlanarClearance;
+use crate::mechanics::contact::play::{JointPlay, PlayCoordinate};
+use crate::mechanics::contact::translational::ClearanceTranslational;
 use crate::mechanics::contact::{ClearanceJoint, ClearanceRevolute};
 use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
@@ -218,7 +223,7 @@ fn coordinate_row(
 ) -> Option<(RowKind, bool)> {
     let joint = &joints[k];
     let (pi, pj) = (placement(model, joint.body_i), placement(model, joint.body_j));
-    match joint.kind {
+    match joint.kind.equations()? {
         JointKind::Revolute => {
             Some((RowKind::Angle { offset: initial.unwrap_or(pj.phi() - pi.phi()) }, true))
         }
@@ -232,7 +237,7 @@ fn coordinate_row(
                 false,
             ))
         }
-        JointKind::Fixed | JointKind::ClearanceRevolute => None,
+        _ => None,
     }
 }
 
@@ -289,12 +294,7 @@ fn point_mass_inertia(
                 .iter()
                 .filter(|j| j.body_i == Some(k) || j.body_j == Some(k))
                 .map(|j| {
-                    let kind = match j.kind {
-                        JointKind::Revolute => "revolute",
-                        JointKind::Prismatic => "prismatic",
-                        JointKind::Fixed => "fixed",
-                        JointKind::ClearanceRevolute => "clearance_revolute",
-                    };
+                    let kind = j.kind.type_name();
                     format!("'{}' {kind}", j.name)
                 })
                 .collect();
@@ -382,7 +382,8 @@ fn compile_joints<'m>(
     res: &Resolver,
     names: &mut Names<'m>,
     rows: &mut Vec<Row>,
-) -> Result<(Vec<JointInfo>, Vec<ClearanceRevolute>), Error> {
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<JointInfo>, Vec<PlanarClearance>), Error> {
     let mut joints = Vec::new();
     let mut clearances = Vec::new();
     for (k, j) in model.joints.iter().enumerate() {
@@ -410,46 +411,127 @@ fn compile_joints<'m>(
                 label: format!("{who} ({tag})"),
             })
         };
-        let mut clearance = None;
-        let mut sliding = None;
-        if j.clearance.is_some() != (j.kind == JointKind::ClearanceRevolute) {
-            return Err(who.error(
-                "type",
-                "contact data ('clearance') belongs to clearance_revolute joints, and they need it".into(),
-            ));
-        }
-        match (j.kind, j.axis) {
-            (JointKind::ClearanceRevolute, None) => {
-                let data = j.clearance.as_ref().expect("checked above");
-                clearances.push(ClearanceRevolute::new(j, data, bi, bj, res)?);
-                clearance = Some(clearances.len() - 1);
-            }
-            (JointKind::Revolute | JointKind::Fixed | JointKind::ClearanceRevolute, Some(_)) => {
-                return Err(who.error("axis", "'axis' applies to prismatic joints only".into()));
-            }
-            (JointKind::Prismatic, None) => {
-                return Err(who.error("type", "a prismatic joint needs an 'axis'".into()));
-            }
-            (JointKind::Revolute, None) => {
-                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
-                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
-            }
-            (JointKind::Fixed, None) => {
-                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
-                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
-                push(RowKind::Angle { offset: rel_angle }, "angle");
-            }
-            (JointKind::Prismatic, Some(axis)) => {
+        let kind = j.kind;
+        let sliding = match (kind.has_axis(), j.axis) {
+            (true, Some(axis)) => {
                 let u = Vec2::new(axis[0], axis[1]);
                 if !(u.x.is_finite() && u.y.is_finite()) || u.norm() < 1e-12 {
                     return Err(who.error("axis", format!("axis {axis:?} must be a non-zero vector")));
                 }
-                let u = u.normalize();
-                sliding = Some(u);
+                Some(u.normalize())
+            }
+            (true, None) => {
+                return Err(who.error("type", format!("a {} joint needs an 'axis'", kind.type_name())));
+            }
+            (false, Some(_)) => {
+                return Err(who.error(
+                    "axis",
+                    "'axis' applies to prismatic, prismatic_with_play and clearance_translational joints only"
+                        .into(),
+                ));
+            }
+            (false, None) => None,
+        };
+        let needed = |table: &str, given: bool| -> Result<(), Error> {
+            match given {
+                true => Ok(()),
+                false => {
+                    Err(who.error("type", format!("a {} joint needs its '{table}' table", kind.type_name())))
+                }
+            }
+        };
+        let uses = |table: &str| match table {
+            "clearance" => matches!(
+                kind,
+                JointKind::ClearanceRevolute
+                    | JointKind::LubricatedRevolute
+                    | JointKind::ClearanceTranslational
+            ),
+            "lubrication" => kind == JointKind::LubricatedRevolute,
+            "play" => matches!(kind, JointKind::RevoluteWithPlay | JointKind::PrismaticWithPlay),
+            _ => kind == JointKind::GearPair,
+        };
+        for (table, given) in [
+            ("clearance", j.clearance.is_some()),
+            ("lubrication", j.lubrication.is_some()),
+            ("play", j.play.is_some()),
+            ("gear", j.gear.is_some()),
+        ] {
+            if uses(table) {
+                needed(table, given)?;
+            } else if given {
+                warnings.push(format!(
+                    "{who}: a {} joint does not use its '{table}' table (kept for switching its type)",
+                    kind.type_name()
+                ));
+            }
+        }
+        match kind.equations() {
+            Some(JointKind::Revolute) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+            }
+            Some(JointKind::Fixed) => {
+                push(RowKind::Coincide { axis: 0, s_i, s_j }, "x");
+                push(RowKind::Coincide { axis: 1, s_i, s_j }, "y");
+                push(RowKind::Angle { offset: rel_angle }, "angle");
+            }
+            Some(_) => {
+                let u = sliding.expect("checked with the axis");
                 push(RowKind::Angle { offset: rel_angle }, "angle");
                 push(RowKind::Along { s_i, w: crate::math::perp(u), s_j, offset: 0.0 }, "normal");
             }
+            None => {}
         }
+        let contact = match kind {
+            JointKind::ClearanceRevolute => Some(PlanarClearance::Revolute(ClearanceRevolute::new(
+                j,
+                j.clearance.as_ref().expect("checked above"),
+                bi,
+                bj,
+                res,
+            )?)),
+            JointKind::LubricatedRevolute => Some(PlanarClearance::Lubricated(LubricatedRevolute::new(
+                j,
+                j.clearance.as_ref().expect("checked above"),
+                j.lubrication.as_ref().expect("checked above"),
+                bi,
+                bj,
+                res,
+            )?)),
+            JointKind::ClearanceTranslational => {
+                Some(PlanarClearance::Translational(ClearanceTranslational::new(
+                    j,
+                    j.clearance.as_ref().expect("checked above"),
+                    (bi, s_i, sliding.expect("checked with the axis")),
+                    (bj, s_j),
+                    rel_angle,
+                )?))
+            }
+            JointKind::RevoluteWithPlay | JointKind::PrismaticWithPlay => {
+                let (coordinate, placed) = match sliding {
+                    None => (PlayCoordinate::Angle, rel_angle),
+                    Some(axis) => {
+                        let here = pj.r + pj.rotate(s_j) - pi.r - pi.rotate(s_i);
+                        (PlayCoordinate::Travel { s_i, s_j, axis }, pi.rotate(axis).dot(&here))
+                    }
+                };
+                let play = j.play.as_ref().expect("checked above");
+                Some(PlanarClearance::Play(JointPlay::new(j, play, [bi, bj], coordinate, placed)?))
+            }
+            JointKind::GearPair => Some(PlanarClearance::Gear(GearPair::new(
+                j,
+                j.gear.as_ref().expect("checked above"),
+                (bi, s_i),
+                (bj, s_j),
+                (&pi, &pj),
+            )?)),
+            JointKind::Revolute | JointKind::Prismatic | JointKind::Fixed => None,
+        };
+        let clearance = contact.map(|c| {
+            clearances.push(c);
+            clearances.len() - 1
+        });
         joints.push(JointInfo {
             name: j.name.clone(),
             kind: j.kind,
@@ -654,7 +736,8 @@ impl System<Planar> {
         let (mut bodies, index) = check_bodies(model, &mut names)?;
         let res = Resolver::new(model, index);
         let mut rows = Vec::new();
-        let (joints, clearances) = compile_joints(model, &res, &mut names, &mut rows)?;
+        let mut warnings = Vec::new();
+        let (joints, clearances) = compile_joints(model, &res, &mut names, &mut rows, &mut warnings)?;
         let mut corners = Vec::new();
         let model_joints: Vec<_> =
             model.joints.iter().map(|j| (j.name.as_str(), own_initial(j.initial, j.initial_rate))).collect();
@@ -668,9 +751,9 @@ impl System<Planar> {
             |jk, initial| {
                 coordinate_row(model, &joints, jk, initial).ok_or_else(|| {
                     format!(
-                        "joint '{}' is {}; only ideal revolute and prismatic joints can be driven",
+                        "joint '{}' is a {} joint; only revolute and prismatic joints can be driven",
                         joints[jk].name,
-                        if joints[jk].kind == JointKind::Fixed { "fixed" } else { "a clearance joint" }
+                        joints[jk].kind.type_name()
                     )
                 })
             },
@@ -702,7 +785,7 @@ impl System<Planar> {
             v_guess,
             corners,
             initial_conditions,
-            warnings: Vec::new(),
+            warnings,
         })
     }
 }

@@ -6,10 +6,11 @@
 use serde::Serialize;
 
 use crate::mechanics::contact::normal::{NormalForce, NormalLaw};
+use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::contact::ClearanceJoint;
 use crate::mechanics::spatial::kind::Spatial;
 use crate::model::spatial::SpatialModel;
-use crate::model::{Clearance, FrictionSpec, Model, NormalLawSpec};
+use crate::model::{FrictionSpec, Model, NormalLawSpec};
 use crate::output::ClearanceData;
 use crate::system::System;
 
@@ -31,7 +32,7 @@ pub struct ResolvedClearance {
 /// One clearance joint resolved: its model entry's `spec`, its normal law and friction
 /// as compiled, and its data.
 fn resolve(
-    spec: &Clearance,
+    spec: &NormalLawSpec,
     normal: &NormalForce,
     friction: &FrictionSpec,
     data: ClearanceData,
@@ -40,7 +41,7 @@ fn resolve(
         NormalLaw::AdamsImpact { d_max, .. } => Some(d_max),
         _ => None,
     };
-    let mut normal_law = spec.normal_law.clone();
+    let mut normal_law = spec.clone();
     if let NormalLawSpec::AdamsImpact { d_max: given, .. } = &mut normal_law {
         *given = d_max;
     }
@@ -53,8 +54,13 @@ pub fn clearances(model: &Model, system: &System) -> Vec<ResolvedClearance> {
         .clearances
         .iter()
         .filter_map(|c| {
-            let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
-            Some(resolve(spec, &c.normal, &c.friction, c.data()))
+            let j = model.joints.iter().find(|j| j.name == c.name())?;
+            let spec = match c {
+                PlanarClearance::Play(_) => &j.play.as_ref()?.normal_law,
+                PlanarClearance::Gear(_) => &j.gear.as_ref()?.normal_law,
+                _ => &j.clearance.as_ref()?.normal_law,
+            };
+            Some(resolve(spec, c.normal(), c.friction(), c.data()))
         })
         .collect()
 }
@@ -66,7 +72,7 @@ pub fn spatial_clearances(model: &SpatialModel, system: &System<Spatial>) -> Vec
         .iter()
         .filter_map(|c| {
             let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
-            Some(resolve(spec, &c.normal, &c.friction, c.data()))
+            Some(resolve(&spec.normal_law, &c.normal, &c.friction, c.data()))
         })
         .collect()
 }

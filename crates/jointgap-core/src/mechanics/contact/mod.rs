@@ -4,14 +4,20 @@
 //! ([`geometry`]: where its parts touch, as contact points) and the laws ([`normal`],
 //! [`friction`]) that turn one contact point into forces.
 
+pub mod film;
 pub mod friction;
+pub mod gear;
 pub mod geometry;
+pub mod lubricated;
 pub mod materials;
 pub mod normal;
+pub mod planar_clearance;
+pub mod play;
 pub mod point;
 pub mod point3;
 pub mod spatial;
 mod state;
+pub mod translational;
 
 pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};
 pub use state::{ContactState, Mode};
@@ -84,8 +90,10 @@ pub trait ClearanceJoint {
     /// Normal force [N] and friction force [N] at contact point `p` for the impact
     /// onset speed `onset_speed` [m/s].
     fn force(&self, p: &Self::Point, onset_speed: f64) -> (f64, Self::Friction);
-    /// Power [W] contact point `p` dissipates, as `(normal, friction)`.
-    fn losses(&self, p: &Self::Point, state: &ContactState) -> (f64, f64);
+    /// Power [W] the joint dissipates at the bodies' states `(i, j)`, as `(normal,
+    /// friction)`, each point with its own state in `states` (the joint's, by point
+    /// index); a fluid film's losses count as normal.
+    fn losses(&self, i: &Self::State, j: &Self::State, states: &[ContactState]) -> (f64, f64);
     /// Elastic energy [J] stored at contact point `p`.
     fn elastic_energy(&self, p: &Self::Point) -> f64;
     /// Adds the contact forces to the loads, each point's with its own state in `states`.
@@ -349,38 +357,64 @@ impl ClearanceJoint for ClearanceRevolute {
         (f_n, f_t)
     }
 
-    /// Power [W] contact point `p` dissipates, as `(normal, friction)`. The contact force
-    /// does work at the rate `-F_N delta_dot + F_T . v_t` on the two bodies (body j's force
+    /// Power [W] the joint dissipates, as `(normal, friction)`. At each contact point
+    /// `p` the contact force does work at the rate `-F_N delta_dot + F_T . v_t` on the two bodies (body j's force
     /// at its point, its opposite at body i's, and `delta_dot`, `v_t` the relative
     /// velocity of those points along `n` and the tangents); of it, `-K delta^n
     /// delta_dot` is the rate of the elastic energy counted as potential energy. The rest
     /// is lost: `(F_N - K delta^n) delta_dot` by the normal law's damping (and by
     /// clipping, which drops the elastic force a pulling force would return),
     /// `-F_T . v_t >= 0` by friction.
-    fn losses(&self, p: &ContactPoint, state: &ContactState) -> (f64, f64) {
-        let (f_n, f_t) = self.force(p, state.onset_for(p.penetration_rate));
-        ((f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate, -point::dot(&f_t, &p.slip))
+    fn losses(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState]) -> (f64, f64) {
+        sum_losses(self.contacts(bearing, journal, self.reach()).iter(), |p| {
+            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
+            (
+                (f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate,
+                -point::dot(&f_t, &p.slip),
+            )
+        })
     }
 
-    /// Adds the contact forces to the loads, each contact point's with its own state in
-    /// `states` (the joint's, by point index): body j's force at its material point, the
-    /// opposite on body i at its own.
     #[inline]
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        for p in self.contacts(bearing, journal, self.reach()).iter() {
-            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
-            if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
-                let f = p.force_on_j(f_n, &f_t);
-                add_force_at(qe, p.on_j.body, journal, p.on_j.at, f);
-                add_force_at(qe, p.on_i.body, bearing, p.on_i.at, -f);
-            }
+        add_point_forces(self, bearing, journal, states, qe);
+    }
+}
+
+/// The sum over `points` of each one's `(normal, friction)` losses.
+pub(crate) fn sum_losses<'a, P: 'a>(
+    points: impl Iterator<Item = &'a P>,
+    each: impl Fn(&P) -> (f64, f64),
+) -> (f64, f64) {
+    points.map(each).fold((0.0, 0.0), |(n, f), (dn, df)| (n + dn, f + df))
+}
+
+/// Adds a planar clearance joint's contact forces to the loads, each contact point's
+/// with its own state in `states` (the joint's, by point index): body j's force at its
+/// material point, the opposite on body i at its own.
+#[inline]
+pub(crate) fn add_point_forces<C>(
+    c: &C,
+    i: &BodyState,
+    j: &BodyState,
+    states: &[ContactState],
+    qe: &mut Loads,
+) where
+    C: ClearanceJoint<State = BodyState, Point = ContactPoint, Points = ContactPoints, Friction = Tangential>,
+{
+    for p in c.contacts(i, j, c.reach()).iter() {
+        let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+        if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
+            let f = p.force_on_j(f_n, &f_t);
+            add_force_at(qe, p.on_j.body, j, p.on_j.at, f);
+            add_force_at(qe, p.on_i.body, i, p.on_i.at, -f);
         }
     }
 }
 
 /// Adds a force at a global point of a body.
 #[inline]
-fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
+pub(crate) fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
     if let Some(qe) = loads.body(b) {
         planar::add_force(qe, p - state.r, f);
     }
@@ -423,6 +457,7 @@ mod tests {
             penetration: 1e-5,
             penetration_rate: 0.0,
             slip: Tangential::zeros(),
+            share: 1.0,
             on_i: none,
             on_j: none,
         };

@@ -58,6 +58,9 @@ pub struct ContactPoint {
     pub penetration_rate: f64,
     /// Slip: `v`'s tangential part, along the [`tangents`] of `normal` [m/s].
     pub slip: Tangential,
+    /// The part of its law's force the point takes: 1, but for a gear mesh, whose
+    /// stiffness varies along the mesh cycle (the stiffness there over the law's).
+    pub share: f64,
     /// The point of body i's part (the bearing wall).
     pub on_i: MaterialPoint,
     /// The point of body j's part (the journal's surface).
@@ -78,8 +81,8 @@ impl ContactPoint {
     }
 }
 
-/// The most contact points any geometry has: a journal in its bearing has one.
-pub const MAX_POINTS: usize = 1;
+/// The most contact points any geometry has: a block in its guide has four corners.
+pub const MAX_POINTS: usize = 4;
 
 /// The contact points a geometry returns for one joint at one state, a list of fixed
 /// capacity ([`MAX_POINTS`]), so that an evaluation allocates nothing.
@@ -100,6 +103,7 @@ impl ContactPoints {
             penetration: 0.0,
             penetration_rate: 0.0,
             slip: Tangential::zeros(),
+            share: 1.0,
             on_i: none,
             on_j: none,
         };

@@ -153,10 +153,12 @@ impl ClearanceJoint for SpatialClearance {
 
     /// As the planar joint's ([`super::ClearanceRevolute`]): the law's damping and
     /// clipping lose `(F_N - share K delta^n) delta_dot`, friction `-F_T . v_t`.
-    fn losses(&self, p: &ContactPoint3, state: &ContactState) -> (f64, f64) {
-        let (f_n, f_t) = self.force(p, state.onset_for(p.penetration_rate));
-        let elastic = p.share * self.normal.elastic_force(p.penetration);
-        ((f_n - elastic) * p.penetration_rate, -f_t.dot(&p.slip))
+    fn losses(&self, i: &BodyState, j: &BodyState, states: &[ContactState]) -> (f64, f64) {
+        super::sum_losses(self.contacts(i, j, self.reach()).iter(), |p| {
+            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
+            let elastic = p.share * self.normal.elastic_force(p.penetration);
+            ((f_n - elastic) * p.penetration_rate, -f_t.dot(&p.slip))
+        })
     }
 
     fn elastic_energy(&self, p: &ContactPoint3) -> f64 {

@@ -79,6 +79,7 @@ pub fn contact_journal_bearing(
         penetration,
         penetration_rate: v.dot(&n),
         slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
+        share: 1.0,
         on_i: MaterialPoint { body: g.bearing, at: point_bearing },
         on_j: MaterialPoint { body: g.journal, at: point_journal },
     });

@@ -1,0 +1,218 @@
+//! The translational clearance joint: a slider block (body j) in a guide (body i) with
+//! lateral play, touching at its corners (docs/translational-clearance.md).
+
+use super::geometry::{contact_slider_guide, SliderGuide};
+use super::normal::NormalForce;
+use super::point::{self, ContactPoint, ContactPoints, Tangential};
+use super::{friction, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORCE};
+use crate::error::{Error, Named};
+use crate::math::{rotate, Vec2};
+use crate::mechanics::layout::Loads;
+use crate::mechanics::planar::BodyState;
+use crate::model::{Clearance, FrictionSpec, Joint};
+use crate::output::ClearanceData;
+
+/// A checked translational clearance joint: the block in its guide and the laws at each
+/// corner.
+#[derive(Debug, Clone)]
+pub struct ClearanceTranslational {
+    /// Joint name.
+    pub name: String,
+    /// The block, the guide and their sizes.
+    pub geometry: SliderGuide,
+    /// Normal law with its stiffness, at each corner.
+    pub normal: NormalForce,
+    /// Friction law (checked).
+    pub friction: FrictionSpec,
+}
+
+impl ClearanceTranslational {
+    /// Checks joint `j`'s contact data `c`, the guide on body `guide` along `axis` (unit,
+    /// its frame), the block on body `block`, whose long axis is the guide's at the
+    /// model's placement, `rel_angle` the block body's angle less the guide body's there.
+    /// Errors name the joint and the key.
+    pub(crate) fn new(
+        j: &Joint,
+        c: &Clearance,
+        (guide, s_guide, axis): (Option<usize>, Vec2, Vec2),
+        (block, s_block): (Option<usize>, Vec2),
+        rel_angle: f64,
+    ) -> Result<Self, Error> {
+        let who = Named::joint(&j.name);
+        for (key, given) in [
+            ("bearing_radius", c.bearing_radius.is_some()),
+            ("journal_radius", c.journal_radius.is_some()),
+            ("bearing_material", c.bearing_material.is_some()),
+            ("journal_material", c.journal_material.is_some()),
+        ] {
+            if given {
+                return Err(who.error(
+                    key,
+                    format!(
+                        "'{key}' belongs to a revolute clearance joint; a translational one takes \
+                         block_length, block_height, guide_width or clearance, and a stiffness \
+                         (a block's corner on a flat has no closed-form Hertz stiffness)"
+                    ),
+                ));
+            }
+        }
+        let positive = |key: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
+            match v {
+                Some(x) if !(x.is_finite() && x > 0.0) => {
+                    Err(who.error(key, format!("{key} = {x} m must be positive")))
+                }
+                _ => Ok(v),
+            }
+        };
+        let length = positive("block_length", c.block_length)?.ok_or_else(|| {
+            who.error("block_length", "a translational clearance joint needs block_length".into())
+        })?;
+        let (height, width) = match (
+            positive("block_height", c.block_height)?,
+            positive("guide_width", c.guide_width)?,
+            positive("clearance", c.clearance)?,
+        ) {
+            (Some(h), Some(w), None) => (h, w),
+            (Some(h), None, Some(c)) => (h, h + c),
+            (None, Some(w), Some(c)) => (w - c, w),
+            (Some(h), Some(w), Some(c)) => {
+                if ((w - h) - c).abs() > 1e-9 * w {
+                    return Err(who.error(
+                        "clearance",
+                        format!("guide_width - block_height = {} m contradicts clearance = {c} m", w - h),
+                    ));
+                }
+                (h, w)
+            }
+            _ => {
+                return Err(
+                    who.error_of_element("give two of block_height, guide_width and clearance".into())
+                );
+            }
+        };
+        if height >= width {
+            return Err(who.error(
+                "block_height",
+                format!(
+                    "block_height = {height} m does not fit the guide: it must be smaller than \
+                     guide_width = {width} m (the clearance is guide_width - block_height)"
+                ),
+            ));
+        }
+        let stiffness = match c.stiffness {
+            Some(k) if k.is_finite() && k > 0.0 => k,
+            Some(k) => return Err(who.error("stiffness", format!("stiffness = {k} must be positive"))),
+            None => {
+                return Err(who.error("stiffness", "a translational clearance joint needs a stiffness".into()))
+            }
+        };
+        friction::check(&j.name, &c.friction)?;
+        Ok(ClearanceTranslational {
+            name: j.name.clone(),
+            geometry: SliderGuide {
+                guide,
+                s_guide,
+                axis,
+                block,
+                s_block,
+                block_axis: rotate(-rel_angle, axis),
+                half_length: 0.5 * length,
+                half_height: 0.5 * height,
+                half_width: 0.5 * width,
+            },
+            normal: NormalForce::new(&j.name, &c.normal_law, stiffness, None)?,
+            friction: c.friction.clone(),
+        })
+    }
+}
+
+impl ClearanceJoint for ClearanceTranslational {
+    type State = BodyState;
+    type Point = ContactPoint;
+    type Points = ContactPoints;
+    type Friction = Tangential;
+
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    fn parts(&self) -> [Option<usize>; 2] {
+        [self.geometry.guide, self.geometry.block]
+    }
+
+    /// The block's half height as the "journal", the guide's half width as the
+    /// "bearing", the lateral play on each side as the clearance.
+    fn data(&self) -> ClearanceData {
+        let g = &self.geometry;
+        ClearanceData {
+            joint: self.name.clone(),
+            bearing_radius: g.half_width,
+            journal_radius: g.half_height,
+            clearance: g.half_width - g.half_height,
+            stiffness: self.normal.stiffness,
+            exponent: self.normal.exponent,
+        }
+    }
+
+    fn check_initial_penetration(&self, guide: &BodyState, block: &BodyState) -> Result<(), Error> {
+        let limit = (MAX_INITIAL_CONTACT_FORCE / self.normal.stiffness).powf(1.0 / self.normal.exponent);
+        match self.contacts(guide, block, f64::INFINITY).iter().find(|p| p.penetration > limit) {
+            None => Ok(()),
+            Some(p) => Err(Named::joint(&self.name).error_of_element(format!(
+                "corner {} of the block starts {:.4} mm deep in the guide's surface (lateral play \
+                 {:.4} mm per side), deeper than any elastic contact: this joint's normal law \
+                 (K = {:.4e} N/m^{}) presses {:.4} mm deep only under {:.0e} N; likely a wrong \
+                 point (point_i, point_j), axis, block_height or guide_width, or a length in the \
+                 wrong unit",
+                p.index + 1,
+                1e3 * p.penetration,
+                1e3 * (self.geometry.half_width - self.geometry.half_height),
+                self.normal.stiffness,
+                self.normal.exponent,
+                1e3 * limit,
+                MAX_INITIAL_CONTACT_FORCE,
+            ))),
+        }
+    }
+
+    fn points(&self) -> usize {
+        SliderGuide::POINTS
+    }
+
+    fn reach(&self) -> f64 {
+        self.normal.reach()
+    }
+
+    #[inline]
+    fn contacts(&self, guide: &BodyState, block: &BodyState, reach: f64) -> ContactPoints {
+        let mut out = ContactPoints::new();
+        contact_slider_guide(&self.geometry, guide, block, reach, &mut out);
+        out
+    }
+
+    #[inline]
+    fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
+        let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed);
+        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
+        (f_n, f_t)
+    }
+
+    fn losses(&self, guide: &BodyState, block: &BodyState, states: &[ContactState]) -> (f64, f64) {
+        super::sum_losses(self.contacts(guide, block, self.reach()).iter(), |p| {
+            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
+            (
+                (f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate,
+                -point::dot(&f_t, &p.slip),
+            )
+        })
+    }
+
+    fn elastic_energy(&self, p: &ContactPoint) -> f64 {
+        self.normal.elastic_energy(p.penetration)
+    }
+
+    #[inline]
+    fn add_to(&self, guide: &BodyState, block: &BodyState, states: &[ContactState], qe: &mut Loads) {
+        super::add_point_forces(self, guide, block, states, qe);
+    }
+}
