@@ -215,7 +215,7 @@ impl GearPair {
         let Some(p) = self.contacts(g1, g2, f64::INFINITY).first().copied() else { return (0.0, 0.0, 0.0) };
         let (f_n, _) = self.force(&p, state.onset_for(p.penetration_rate));
         let m = self.mesh(g1, g2);
-        let f2 = self.tooth_force(m.u, p.normal.x.signum(), f_n);
+        let f2 = self.tooth_force(m.u, if m.s >= 0.0 { 1.0 } else { -1.0 }, f_n);
         let (c1, c2) = (g1.r + g1.rotate(self.gear_1.1), g2.r + g2.rotate(self.gear_2.1));
         (cross(m.pitch - c1, -f2), cross(m.pitch - c2, f2), f_n)
     }
