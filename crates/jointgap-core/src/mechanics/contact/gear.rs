@@ -122,7 +122,7 @@ impl GearPair {
             MeshStiffness::Table { angle, value } => {
                 let bad = angle.len() < 2
                     || angle.len() != value.len()
-                    || angle.windows(2).any(|w| !(w[1] > w[0]))
+                    || angle.windows(2).any(|w| w[1] <= w[0])
                     || angle.iter().any(|a| !a.is_finite());
                 if bad {
                     return Err(who.error(
@@ -151,7 +151,7 @@ impl GearPair {
         let (c1, c2) = (b1.r + b1.rotate(gear_1.1), b2.r + b2.rotate(gear_2.1));
         let distance = (c2 - c1).norm();
         let expected = radii[0] + radii[1];
-        if !((distance - expected).abs() <= 1e-3 * expected) {
+        if (distance - expected).abs() > 1e-3 * expected || !distance.is_finite() {
             return Err(who.error_of_element(format!(
                 "the gears' centres are {distance:.6} m apart at the placement, but their pitch \
                  radii (pitch_radius = {} m, ratio = {}) need {expected:.6} m: place the gears' \
