@@ -475,3 +475,64 @@ fn gear_backlash_is_crossed_freely_and_the_mesh_stiffness_follows_its_table() {
         assert!((k[i] - expected).abs() < 1e-6 * mean, "stiffness {} vs {expected} at {x}", k[i]);
     }
 }
+
+/// A spatial wheel on a revolute joint with play about a tilted axis, and a spatial
+/// slider on a prismatic joint with play: as the planar ones, free through the play (no
+/// torque, constant speed) until `(p/2) / speed`, then the linear spring-dashpot stop
+/// returns them at `exp(-zeta pi / sqrt(1 - zeta^2))` times their approach speed.
+#[test]
+fn spatial_joints_with_play_are_free_then_stop_with_the_laws_restitution() {
+    use jointgap_core::model::spatial::SpatialModel;
+    use jointgap_core::simulate::{simulate_spatial, Silent};
+    let (play, k, c): (f64, f64, f64) = (0.02, 500.0, 0.06);
+    let axis = [0.0, 0.6, 0.8];
+    let law = json!({"type": "kelvin_voigt", "exponent": 1.0, "damping": c, "clip": false});
+    for (kind, inertia, speed, name) in
+        [("revolute_with_play", 2e-3, 3.0, "hub"), ("prismatic_with_play", 2e-3, 0.5, "rail")]
+    {
+        let rotation = kind == "revolute_with_play";
+        let motion = axis.map(|a| a * speed);
+        let model = json!({
+            "dimension": 3, "gravity": [0.0, 0.0, 0.0],
+            "bodies": [{"name": "part", "mass": inertia, "inertia": {"principal": {"moments": [inertia, inertia, inertia]}},
+                        "angular_velocity": if rotation { motion } else { [0.0; 3] },
+                        "velocity": if rotation { [0.0; 3] } else { motion }}],
+            "joints": [{"name": name, "type": kind, "body_i": "ground", "point_i": [0.0, 0.0, 0.0],
+                        "body_j": "part", "point_j": [0.0, 0.0, 0.0], "axis": axis,
+                        "play": {"play": play, "stiffness": k, "normal_law": law}}]
+        });
+        let model = SpatialModel::from_json(&model.to_string()).unwrap();
+        let opts = SimOptions {
+            rate: Some(1e5),
+            rtol: 1e-11,
+            atol: 1e-14,
+            method: Method::Dopri5,
+            ..SimOptions::new(0.03)
+        };
+        let res = simulate_spatial(&model, &opts, &mut Silent).unwrap();
+        assert_eq!(res.status, Status::Finished, "{kind}: {:?}", res.status);
+        let impacts = &res.impacts[0].impacts;
+        let hit = 0.5 * play / speed;
+        assert!(
+            (impacts[0].onset_time - hit).abs() < 1e-10,
+            "{kind}: onset {} vs {hit}",
+            impacts[0].onset_time
+        );
+        let effort = channel(&res, &format!("{name}.{}", if rotation { "torque" } else { "force" }));
+        let rate = channel(&res, &format!("{name}.{}", if rotation { "omega" } else { "speed" }));
+        for i in 0..res.time.len() {
+            if res.time[i] < hit {
+                assert!(effort[i] == 0.0 && (rate[i] - speed).abs() < 1e-12, "{kind} at t = {}", res.time[i]);
+            }
+        }
+        let zeta = c / (2.0 * (k * inertia).sqrt());
+        let expected = (-zeta * std::f64::consts::PI / (1.0 - zeta * zeta).sqrt()).exp();
+        let back = impacts[0].onset_time + impacts[0].duration.expect("separated") + 1e-4;
+        let after = res.time.iter().position(|&t| t > back).unwrap();
+        assert!(
+            (-rate[after] / speed - expected).abs() < 1e-6,
+            "{kind}: restitution {} vs {expected}",
+            -rate[after] / speed
+        );
+    }
+}

@@ -158,6 +158,12 @@ pub enum JointKind {
     /// contact force element between the bearing (body i, point i, `axis`) and the
     /// journal (body j, point j, `axis_j`) of the given `length`.
     ClearanceCylindrical,
+    /// Revolute joint whose angle about the axis is free within a play, then stopped by a
+    /// contact torque (5 equations). See [`crate::model::Play`].
+    RevoluteWithPlay,
+    /// Prismatic joint whose travel along the axis is free within a play, then stopped
+    /// by a contact force (5 equations). See [`crate::model::Play`].
+    PrismaticWithPlay,
 }
 
 /// A joint between body `body_i` and body `body_j` (either may be `ground`).
@@ -190,6 +196,9 @@ pub struct Joint {
     /// others.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clearance: Option<Clearance>,
+    /// The play of a `revolute_with_play` or `prismatic_with_play`; required for those.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub play: Option<crate::model::Play>,
     /// Length of a cylindrical clearance joint's journal [m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length: Option<f64>,

@@ -48,6 +48,41 @@ const CLEARANCE_QUANTITIES: [(&str, bool); 18] = [
     ("ftz", true),
 ];
 
+/// A joint's play, after its reaction: the coordinate from the middle of the play, the
+/// stop's torque about (or force along) the axis on body j, its contact quantities.
+const ANGLE_PLAY_QUANTITIES: [&str; 5] = ["play_angle", "torque", "penetration", "penetration_rate", "mode"];
+const TRAVEL_PLAY_QUANTITIES: [&str; 5] = ["play_travel", "force", "penetration", "penetration_rate", "mode"];
+
+/// The play channels of a joint with play.
+fn play_quantities(kind: JointKind) -> &'static [&'static str] {
+    match kind {
+        JointKind::RevoluteWithPlay => &ANGLE_PLAY_QUANTITIES,
+        _ => &TRAVEL_PLAY_QUANTITIES,
+    }
+}
+
+/// A joint's play channels at one state.
+fn put_play(
+    out: &mut Cursor,
+    sys: &System<Spatial>,
+    ws: &Workspace<Spatial>,
+    k: usize,
+    (q, v): (&[f64], &[f64]),
+) {
+    let c = &sys.clearances[k];
+    let SpatialGeometry::Play(g) = &c.geometry else { unreachable!("a joint with play") };
+    let [bi, bj] = c.parts().map(|b| sys.body_state(b, q, v));
+    let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
+    let state = &ws.contacts[first];
+    let p = c.contacts(&bi, &bj, f64::INFINITY)[0];
+    let (f_n, _) = c.force(&p, state.onset_for(p.penetration_rate));
+    let (x, ..) = g.measure(&bi, &bj);
+    let mode = if state.in_contact { state.mode } else { Mode::FreeFlight };
+    for value in [x, -p.normal.x * f_n, p.penetration, p.penetration_rate, mode as u8 as f64] {
+        out.put(value);
+    }
+}
+
 /// A marker's channels: position, velocity, acceleration, global axes.
 const MARKER_QUANTITIES: [&str; 9] = ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"];
 
@@ -67,8 +102,8 @@ fn coordinate_rows(j: &JointInfo<Spatial>) -> Vec<SpatialRowKind> {
     };
     let travel = SpatialRowKind::Along { a_i, s_i: j.s_i, s_j: j.s_j, offset: 0.0 };
     match j.kind {
-        JointKind::Revolute => vec![angle],
-        JointKind::Prismatic => vec![travel],
+        JointKind::Revolute | JointKind::RevoluteWithPlay => vec![angle],
+        JointKind::Prismatic | JointKind::PrismaticWithPlay => vec![travel],
         JointKind::Cylindrical => vec![angle, travel],
         _ => Vec::new(),
     }
@@ -101,6 +136,7 @@ fn put_clearance(
     let e = match &c.geometry {
         SpatialGeometry::BallSocket(g) => g.eccentricity(&bi, &bj),
         SpatialGeometry::Cylinder(g) => g.eccentricity(&bi, &bj),
+        SpatialGeometry::Play(_) => unreachable!("a joint with play writes its own channels"),
     };
     let e_local = bi.a.tr_mul(&e);
     let mode = |p: &ContactPoint3| {
@@ -143,6 +179,9 @@ impl Kind for Spatial {
         j: &JointInfo<Spatial>,
     ) -> Vec<(&'static str, Option<usize>)> {
         match j.clearance {
+            Some(_) if !j.rows.is_empty() => {
+                REACTION_QUANTITIES.iter().chain(play_quantities(j.kind)).map(|&q| (q, None)).collect()
+            }
             Some(k) => clearance_channels(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
             None => REACTION_QUANTITIES.iter().map(|&q| (q, None)).collect(),
         }
@@ -150,6 +189,7 @@ impl Kind for Spatial {
 
     fn joint_force_channel_count(sys: &System<Spatial>, j: &JointInfo<Spatial>) -> usize {
         match j.clearance {
+            Some(_) if !j.rows.is_empty() => REACTION_QUANTITIES.len() + play_quantities(j.kind).len(),
             Some(k) => clearance_channel_count(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
             None => REACTION_QUANTITIES.len(),
         }
@@ -164,9 +204,12 @@ impl Kind for Spatial {
         state: (&[f64], &[f64]),
         lambda_of: &dyn Fn(usize) -> f64,
     ) {
-        if let Some(k) = j.clearance {
-            put_clearance(out, sys, ws, k, state);
-            return;
+        match j.clearance {
+            Some(k) if j.rows.is_empty() => {
+                put_clearance(out, sys, ws, k, state);
+                return;
+            }
+            _ => {}
         }
         // The generalized reaction on body j, -Cq_j^T lambda: a force (global) and a
         // moment about the centre of mass (body frame).
@@ -179,12 +222,15 @@ impl Kind for Spatial {
         let f = Vec3::new(g[0], g[1], g[2]);
         let m = bj.rotate(&Vec3::new(g[3], g[4], g[5])) - bj.rotate(&j.s_j).cross(&f);
         f.iter().chain(m.iter()).for_each(|&x| out.put(x));
+        if let Some(k) = j.clearance {
+            put_play(out, sys, ws, k, state);
+        }
     }
 
     fn coordinate_quantities(kind: JointKind) -> &'static [&'static str] {
         match kind {
-            JointKind::Revolute => &["angle", "omega"],
-            JointKind::Prismatic => &["travel", "speed"],
+            JointKind::Revolute | JointKind::RevoluteWithPlay => &["angle", "omega"],
+            JointKind::Prismatic | JointKind::PrismaticWithPlay => &["travel", "speed"],
             JointKind::Cylindrical => &["angle", "omega", "travel", "speed"],
             _ => &[],
         }

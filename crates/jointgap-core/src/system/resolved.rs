@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::mechanics::contact::normal::{NormalForce, NormalLaw};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
+use crate::mechanics::contact::spatial::SpatialGeometry;
 use crate::mechanics::contact::ClearanceJoint;
 use crate::mechanics::spatial::kind::Spatial;
 use crate::model::spatial::SpatialModel;
@@ -71,8 +72,12 @@ pub fn spatial_clearances(model: &SpatialModel, system: &System<Spatial>) -> Vec
         .clearances
         .iter()
         .filter_map(|c| {
-            let spec = model.joints.iter().find(|j| j.name == c.name)?.clearance.as_ref()?;
-            Some(resolve(&spec.normal_law, &c.normal, &c.friction, c.data()))
+            let j = model.joints.iter().find(|j| j.name == c.name)?;
+            let spec = match &c.geometry {
+                SpatialGeometry::Play(_) => &j.play.as_ref()?.normal_law,
+                _ => &j.clearance.as_ref()?.normal_law,
+            };
+            Some(resolve(spec, &c.normal, &c.friction, c.data()))
         })
         .collect()
 }

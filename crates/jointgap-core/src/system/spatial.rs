@@ -11,7 +11,8 @@ use super::{
 };
 use crate::error::{Error, Named};
 use crate::mechanics::contact::geometry::{BallSocket, CylinderBearing};
-use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
+use crate::mechanics::contact::play::check_play;
+use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry, SpatialPlay};
 use crate::mechanics::contact::Laws;
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Layout;
@@ -23,6 +24,7 @@ use crate::mechanics::spatial::joints::{self, JointCoordinate, JointFrame, Spati
 use crate::mechanics::spatial::kind::Spatial;
 use crate::mechanics::spatial::orientation::{self, EulerConvention};
 use crate::model::spatial::{self as model, JointKind, SpatialModel};
+use crate::model::FrictionSpec;
 
 /// An orientation of the model, checked; errors name `who`'s `key`.
 fn orientation_of(who: Named, key: &str, o: &model::Orientation) -> Result<Orientation, Error> {
@@ -48,6 +50,8 @@ fn ideal(kind: JointKind) -> Option<SpatialJointKind> {
         JointKind::Universal => SpatialJointKind::Universal,
         JointKind::Fixed => SpatialJointKind::Fixed,
         JointKind::Planar => SpatialJointKind::Planar,
+        JointKind::RevoluteWithPlay => SpatialJointKind::Revolute,
+        JointKind::PrismaticWithPlay => SpatialJointKind::Prismatic,
         JointKind::ClearanceSpherical | JointKind::ClearanceCylindrical => return None,
     })
 }
@@ -164,6 +168,14 @@ fn compile_joints<'m>(
                 "contact data ('clearance') belongs to the clearance joints, and they need it".into(),
             ));
         }
+        let play_kind = matches!(j.kind, JointKind::RevoluteWithPlay | JointKind::PrismaticWithPlay);
+        if j.play.is_some() != play_kind {
+            return Err(who.error(
+                "type",
+                "a 'play' table belongs to revolute_with_play and prismatic_with_play joints, and they need it"
+                    .into(),
+            ));
+        }
         let (pi, pj) = (bodies.placement(bi), bodies.placement(bj));
         let given_i = axis_of(who, "axis", j.axis)?;
         let given_j = axis_of(who, "axis_j", j.axis_j)?;
@@ -205,6 +217,27 @@ fn compile_joints<'m>(
                         active: true,
                         label: format!("{who} ({tag})"),
                     });
+                }
+                if let Some(play) = &j.play {
+                    let rotation = j.kind == JointKind::RevoluteWithPlay;
+                    let (half_play, normal) = check_play(&j.name, play, rotation)?;
+                    let coordinate = if rotation { JointCoordinate::Angle } else { JointCoordinate::Travel };
+                    let (row, _) =
+                        joints::coordinate_row(kind, coordinate, &frame_i, &frame_j, &pi, &pj, play.centre)
+                            .map_err(|problem| who.error("axis", problem))?
+                            .expect("a revolute joint's angle, a prismatic joint's travel");
+                    clearances.push(SpatialClearance {
+                        name: j.name.clone(),
+                        geometry: SpatialGeometry::Play(SpatialPlay {
+                            bodies: [bi, bj],
+                            points: [s_i, s_j],
+                            row,
+                            half_play,
+                        }),
+                        normal,
+                        friction: FrictionSpec::None,
+                    });
+                    clearance = Some(clearances.len() - 1);
                 }
             }
             None => {

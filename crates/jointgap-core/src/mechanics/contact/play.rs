@@ -47,6 +47,26 @@ pub struct JointPlay {
     pub normal: NormalForce,
 }
 
+/// Checks joint `joint`'s play `p` (of an angle when `rotation`, else of a travel):
+/// half the play and the stop's law. Errors name the joint and key.
+pub(crate) fn check_play(joint: &str, p: &Play, rotation: bool) -> Result<(f64, NormalForce), Error> {
+    let who = Named::joint(joint);
+    let unit = if rotation { "rad" } else { "m" };
+    if !(p.play.is_finite() && p.play >= 0.0) {
+        return Err(who.error(
+            "play.play",
+            format!("play = {} {unit} must be zero or positive (it is the total free range)", p.play),
+        ));
+    }
+    if let Some(c) = p.centre.filter(|c| !c.is_finite()) {
+        return Err(who.error("play.centre", format!("centre = {c} {unit} is not finite")));
+    }
+    if !(p.stiffness.is_finite() && p.stiffness > 0.0) {
+        return Err(who.error("play.stiffness", format!("stiffness = {} must be positive", p.stiffness)));
+    }
+    Ok((0.5 * p.play, NormalForce::new(joint, &p.normal_law, p.stiffness, None)?))
+}
+
 impl JointPlay {
     /// Checks joint `j`'s play `p`; `placed` is the coordinate at the model's placement,
     /// the middle of the play unless `centre` is given. Errors name the joint and key.
@@ -57,27 +77,14 @@ impl JointPlay {
         coordinate: PlayCoordinate,
         placed: f64,
     ) -> Result<Self, Error> {
-        let who = Named::joint(&j.name);
-        let unit = if coordinate == PlayCoordinate::Angle { "rad" } else { "m" };
-        if !(p.play.is_finite() && p.play >= 0.0) {
-            return Err(who.error(
-                "play.play",
-                format!("play = {} {unit} must be zero or positive (it is the total free range)", p.play),
-            ));
-        }
-        if let Some(c) = p.centre.filter(|c| !c.is_finite()) {
-            return Err(who.error("play.centre", format!("centre = {c} {unit} is not finite")));
-        }
-        if !(p.stiffness.is_finite() && p.stiffness > 0.0) {
-            return Err(who.error("play.stiffness", format!("stiffness = {} must be positive", p.stiffness)));
-        }
+        let (half_play, normal) = check_play(&j.name, p, coordinate == PlayCoordinate::Angle)?;
         Ok(JointPlay {
             name: j.name.clone(),
             bodies,
             coordinate,
             centre: p.centre.unwrap_or(placed),
-            half_play: 0.5 * p.play,
-            normal: NormalForce::new(&j.name, &p.normal_law, p.stiffness, None)?,
+            half_play,
+            normal,
         })
     }
 

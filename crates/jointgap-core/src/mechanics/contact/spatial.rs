@@ -10,8 +10,11 @@ use super::normal::NormalForce;
 use super::point3::{ContactPoint3, ContactPoints3, MaterialPoint3};
 use super::{ClearanceJoint, ContactMeasure, ContactState, MAX_INITIAL_CONTACT_FORCE};
 use crate::error::{Error, Named};
+use crate::mechanics::drivers::Motion;
+use crate::mechanics::kind::RowEval;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::spatial::body::{self, BodyState, Vec3};
+use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
+use crate::mechanics::spatial::joints::SpatialRowKind;
 use crate::model::FrictionSpec;
 use crate::output::ClearanceData;
 
@@ -22,6 +25,56 @@ pub enum SpatialGeometry {
     BallSocket(BallSocket),
     /// A journal (body j) in a cylindrical bearing (body i), free to tilt.
     Cylinder(CylinderBearing),
+    /// A revolute or prismatic joint's play about or along its axis.
+    Play(SpatialPlay),
+}
+
+/// The play of a spatial revolute or prismatic joint: its coordinate (angle about the
+/// axis, travel along it) is free within `+- half_play` of the row's offset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpatialPlay {
+    /// Bodies i and j.
+    pub bodies: [Option<usize>; 2],
+    /// The joint points on each body, their frames [m] (where the impact is drawn).
+    pub points: [Vec3; 2],
+    /// The row measuring the coordinate from the middle of the play (its offset).
+    pub row: SpatialRowKind,
+    /// Half the play [rad or m].
+    pub half_play: f64,
+}
+
+const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
+
+impl SpatialPlay {
+    /// The coordinate from the middle of the play, its rate, and the row's Jacobian
+    /// blocks (the coordinate's gradient over each body's velocity coordinates).
+    #[inline]
+    pub fn measure(&self, i: &BodyState, j: &BodyState) -> (f64, f64, RowEval<BodyRow>) {
+        let ev = self.row.eval(i, j, NO_MOTION);
+        let part = |jac: &BodyRow, b: &BodyState| {
+            (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>()
+        };
+        (ev.c, part(&ev.jac_i, i) + part(&ev.jac_j, j), ev)
+    }
+
+    /// The one point: penetration `|x| - play/2`, its normal's first component the side.
+    fn contact(&self, i: &BodyState, j: &BodyState, reach: f64, out: &mut ContactPoints3) {
+        let (x, rate, _) = self.measure(i, j);
+        let side = if x >= 0.0 { 1.0 } else { -1.0 };
+        let penetration = side * x - self.half_play;
+        if penetration > -reach {
+            out.push(ContactPoint3 {
+                index: 0,
+                normal: Vec3::new(side, 0.0, 0.0),
+                penetration,
+                penetration_rate: side * rate,
+                slip: Vec3::zeros(),
+                share: 1.0,
+                on_i: MaterialPoint3::of(self.bodies[0], i, i.r + i.rotate(&self.points[0])),
+                on_j: MaterialPoint3::of(self.bodies[1], j, j.r + j.rotate(&self.points[1])),
+            });
+        }
+    }
 }
 
 /// A checked spatial clearance joint: its contact geometry and its laws.
@@ -66,6 +119,7 @@ impl SpatialClearance {
         match &self.geometry {
             SpatialGeometry::BallSocket(g) => (g.r_socket, g.r_ball, g.clearance),
             SpatialGeometry::Cylinder(g) => (g.r_bearing, g.r_journal, g.clearance),
+            SpatialGeometry::Play(g) => (0.0, 0.0, g.half_play),
         }
     }
 }
@@ -84,6 +138,7 @@ impl ClearanceJoint for SpatialClearance {
         match &self.geometry {
             SpatialGeometry::BallSocket(g) => [g.socket, g.ball],
             SpatialGeometry::Cylinder(g) => [g.bearing, g.journal],
+            SpatialGeometry::Play(g) => g.bodies,
         }
     }
 
@@ -127,6 +182,7 @@ impl ClearanceJoint for SpatialClearance {
         match &self.geometry {
             SpatialGeometry::BallSocket(_) => BallSocket::POINTS,
             SpatialGeometry::Cylinder(g) => g.points(),
+            SpatialGeometry::Play(_) => 1,
         }
     }
 
@@ -140,6 +196,7 @@ impl ClearanceJoint for SpatialClearance {
         match &self.geometry {
             SpatialGeometry::BallSocket(g) => contact_ball_socket(g, i, j, reach, &mut out),
             SpatialGeometry::Cylinder(g) => contact_cylinder_bearing(g, i, j, reach, &mut out),
+            SpatialGeometry::Play(g) => g.contact(i, j, reach, &mut out),
         }
         out
     }
@@ -165,8 +222,26 @@ impl ClearanceJoint for SpatialClearance {
         p.share * self.normal.elastic_energy(p.penetration)
     }
 
+    /// Each point's force on body j at its point and the opposite on body i at its own;
+    /// a play's stop as the generalized force `-side F` along its coordinate's gradient
+    /// (a torque about the axis, a force along it), minus the derivative of its energy.
     #[inline]
     fn add_to(&self, i: &BodyState, j: &BodyState, states: &[ContactState], qe: &mut Loads) {
+        if let SpatialGeometry::Play(g) = &self.geometry {
+            for p in self.contacts(i, j, self.reach()).iter() {
+                let (f_n, _) = self.force(p, states[0].onset_for(p.penetration_rate));
+                if f_n == 0.0 {
+                    continue;
+                }
+                let (_, _, ev) = g.measure(i, j);
+                for (body, jac) in [(g.bodies[0], &ev.jac_i), (g.bodies[1], &ev.jac_j)] {
+                    if let Some(q) = qe.body(body) {
+                        q.iter_mut().zip(jac.iter()).for_each(|(q, d)| *q -= p.normal.x * f_n * d);
+                    }
+                }
+            }
+            return;
+        }
         for p in self.contacts(i, j, self.reach()).iter() {
             let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
             if f_n != 0.0 || f_t != Vec3::zeros() {
