@@ -1032,8 +1032,9 @@ def _convert_carried(carried: Mapping[str, Any], type_: str, ctx: _Context) -> d
     """The carried data tables in SI, read as the type that uses them reads them: a
     ``play`` as a rotation on a joint of the revolute kinds, else as a travel."""
     rotation = type_ in ("revolute", "clearance_revolute", "lubricated_revolute", "fixed")
-    owners = ("clearance_revolute", "clearance_translational", "lubricated_revolute")
-    owners += ("revolute_with_play" if rotation else "prismatic_with_play", "gear_pair")
+    play = "revolute_with_play" if rotation else "prismatic_with_play"
+    owners = ("clearance_revolute", "clearance_translational", "lubricated_revolute", play)
+    owners += ("gear_pair",)
     params: dict[str, Param] = {}
     for owner in owners:
         for p in params_of("joint", owner)[len(_JOINT_COMMON) :]:
