@@ -1033,8 +1033,13 @@ def _convert_carried(carried: Mapping[str, Any], type_: str, ctx: _Context) -> d
     ``play`` as a rotation on a joint of the revolute kinds, else as a travel."""
     rotation = type_ in ("revolute", "clearance_revolute", "lubricated_revolute", "fixed")
     play = "revolute_with_play" if rotation else "prismatic_with_play"
-    owners = ("clearance_revolute", "clearance_translational", "lubricated_revolute", play)
-    owners += ("gear_pair",)
+    owners = (
+        "clearance_revolute",
+        "clearance_translational",
+        "lubricated_revolute",
+        play,
+        "gear_pair",
+    )
     params: dict[str, Param] = {}
     for owner in owners:
         for p in params_of("joint", owner)[len(_JOINT_COMMON) :]:
