@@ -375,7 +375,9 @@ def test_the_gears_must_mesh_at_the_placement(write_model) -> None:
     ("kind", "kept"),
     [("revolute", "clearance"), ("clearance_revolute", "lubrication")],
 )
-def test_a_joint_switches_kind_by_its_type_line(write_model, kind: str, kept: str) -> None:
+def test_a_joint_switches_kind_by_its_type_line(
+    write_model, tmp_path, kind: str, kept: str
+) -> None:
     """The lubricated joint made dry or ideal by its type alone: the tables the new type
     does not use stay in the model and the engine warns that it ignores them."""
     text = LUBRICATED.replace('type = "lubricated_revolute"', f'type = "{kind}"')
@@ -387,6 +389,23 @@ def test_a_joint_switches_kind_by_its_type_line(write_model, kind: str, kept: st
     result = model.simulate(0.002)
     assert result.status == "finished", result.message
     assert any("rod_slider" in w and f"'{kept}'" in w for w in result.warnings), result.warnings
+    # The kept tables are written back as the model holds them, and read again.
+    model.save(tmp_path / "switched.toml")
+    again = jointgap.load(tmp_path / "switched.toml")
+    assert again.to_dict() == model.to_dict()
+
+
+def test_a_block_refuses_a_journals_keys_saying_why(write_model) -> None:
+    path = write_model(
+        TRANSLATIONAL.replace(
+            'stiffness = "1e9 N/m^1.5"', 'stiffness = "1e9 N/m^1.5"\nbearing_material = "steel"'
+        )
+    )
+    with pytest.raises(ModelError) as err:
+        jointgap.load(path)
+    assert (err.value.name, err.value.key) == ("slider_guide", "bearing_material")
+    assert "no Hertz closed form" in str(err.value)
+    assert path.read_text().splitlines()[err.value.line - 1].startswith("bearing_material")
 
 
 def test_a_play_table_kept_by_a_prismatic_is_read_as_a_travel(write_model) -> None:

@@ -973,6 +973,7 @@ def convert_element(
     if kind == "joint" and isinstance(raw, Mapping):
         raw = _flatten_clearance(raw, ctx)
         if dimension == 2:
+            _check_block_keys(raw, ctx)
             raw, carried = _split_carried(raw)
     out = _convert_table(kind, raw, ctx, motions)
     if carried:
@@ -1008,6 +1009,22 @@ _DATA_TABLES = {
 
 def _table_keys(table: str) -> tuple[str, ...]:
     return PLANAR_CLEARANCE_KEYS if table == "clearance" else (table,)
+
+
+def _check_block_keys(raw: Mapping[str, Any], ctx: _Context) -> None:
+    """A clearance_translational joint given a journal's radii or materials: an error
+    that says what a block takes instead."""
+    if raw.get("type") != "clearance_translational":
+        return
+    for key in ("bearing_radius", "journal_radius", "bearing_material", "journal_material"):
+        if raw.get(key) is not None:
+            raise ctx.error(
+                f"{key} is not a key of a clearance_translational joint: its block takes "
+                "block_length, two of block_height, guide_width and clearance, and a "
+                "stiffness (a block's corner on a flat has no Hertz closed form to compute "
+                "it from materials)",
+                key,
+            )
 
 
 def _split_carried(raw: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
