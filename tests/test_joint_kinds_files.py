@@ -371,28 +371,42 @@ def test_the_gears_must_mesh_at_the_placement(write_model) -> None:
     assert "pitch radii" in str(err.value) and "0.200000 m" in str(err.value)
 
 
+SWITCHES = [
+    ("lubricated_revolute", "revolute", ["clearance", "lubrication"]),
+    ("lubricated_revolute", "clearance_revolute", ["lubrication"]),
+    ("clearance_translational", "prismatic", ["clearance"]),
+    ("revolute_with_play", "revolute", ["play"]),
+    ("prismatic_with_play", "prismatic", ["play"]),
+]
+
+
 @pytest.mark.parametrize(
-    ("kind", "kept"),
-    [("revolute", "clearance"), ("clearance_revolute", "lubrication")],
+    ("kind", "new", "kept"), SWITCHES, ids=[f"{k}-to-{n}" for k, n, _ in SWITCHES]
 )
 def test_a_joint_switches_kind_by_its_type_line(
-    write_model, tmp_path, kind: str, kept: str
+    write_model, tmp_path, kind: str, new: str, kept: list[str]
 ) -> None:
-    """The lubricated joint made dry or ideal by its type alone: the tables the new type
-    does not use stay in the model and the engine warns that it ignores them."""
-    text = LUBRICATED.replace('type = "lubricated_revolute"', f'type = "{kind}"')
-    model = jointgap.load(write_model(text))
-    joint = _joint(model, "rod_slider")
-    assert joint["type"] == kind
-    assert joint["lubrication"]["viscosity"] == pytest.approx(0.04, rel=1e-15)
-    assert joint["clearance"]["clearance"] == pytest.approx(5e-4, rel=1e-15)
+    """A joint made dry or ideal by its type line alone: the tables the new type does
+    not use stay in the model as they were read and the engine warns, naming the joint
+    and each table, that it ignores them; the model writes back as it is."""
+    text, name = KINDS[kind]
+    before = _joint(jointgap.load(write_model(text, "before.toml")), name)
+    switched = text.replace(f'type = "{kind}"', f'type = "{new}"')
+    assert switched != text
+    model = jointgap.load(write_model(switched))
+    joint = _joint(model, name)
+    assert joint["type"] == new
+    for table in kept:
+        assert joint[table] == before[table]
     result = model.simulate(0.002)
     assert result.status == "finished", result.message
-    assert any("rod_slider" in w and f"'{kept}'" in w for w in result.warnings), result.warnings
-    # The kept tables are written back as the model holds them, and read again.
+    for table in kept:
+        assert any(f"'{name}'" in w and f"'{table}'" in w for w in result.warnings), (
+            table,
+            result.warnings,
+        )
     model.save(tmp_path / "switched.toml")
-    again = jointgap.load(tmp_path / "switched.toml")
-    assert again.to_dict() == model.to_dict()
+    assert jointgap.load(tmp_path / "switched.toml").to_dict() == model.to_dict()
 
 
 def test_a_block_refuses_a_journals_keys_saying_why(write_model) -> None:
@@ -406,12 +420,6 @@ def test_a_block_refuses_a_journals_keys_saying_why(write_model) -> None:
     assert (err.value.name, err.value.key) == ("slider_guide", "bearing_material")
     assert "no Hertz closed form" in str(err.value)
     assert path.read_text().splitlines()[err.value.line - 1].startswith("bearing_material")
-
-
-def test_a_play_table_kept_by_a_prismatic_is_read_as_a_travel(write_model) -> None:
-    text = DROP.replace('type = "prismatic_with_play"', 'type = "prismatic"')
-    joint = _joint(jointgap.load(write_model(text)), "guide")
-    assert joint["play"]["play"] == pytest.approx(1e-3, rel=1e-15)
 
 
 def test_the_new_channels_have_their_units(write_model) -> None:
