@@ -525,3 +525,13 @@ def test_each_kinds_report_opens_in_a_browser_without_an_error(write_model, tmp_
             assert page.evaluate(slide) == "50"
             assert page.console_errors == [], kind
             page.close()
+
+
+def test_the_run_summary_gives_a_plays_stop_in_its_units(write_model) -> None:
+    from jointgap.statistics import contact_statistics, format_statistics
+
+    result = jointgap.load(write_model(PENDULUM)).simulate(0.06)
+    assert result.impacts["pivot"], "the arm reaches its stop"
+    line = format_statistics(contact_statistics(result), model=result.model)
+    assert "N*m" in line and "µrad" in line and "rad/s" in line, line
+    assert " N;" not in line and "µm" not in line and "m/s" not in line.replace("rad/s", ""), line
