@@ -535,3 +535,15 @@ def test_the_run_summary_gives_a_plays_stop_in_its_units(write_model) -> None:
     line = format_statistics(contact_statistics(result), model=result.model)
     assert "N*m" in line and "µrad" in line and "rad/s" in line, line
     assert " N;" not in line and "µm" not in line and "m/s" not in line.replace("rad/s", ""), line
+
+
+def test_kept_clearance_keys_need_their_law(write_model) -> None:
+    """A joint keeping a clearance's keys for another type keeps them whole: without
+    their normal law the error names the joint and the first key, not the engine's JSON."""
+    text = PENDULUM.replace(
+        'type = "revolute_with_play"', 'type = "revolute"\nclearance = "0.5 mm"'
+    )
+    with pytest.raises(ModelError) as err:
+        jointgap.load(write_model(text))
+    assert (err.value.name, err.value.key) == ("pivot", "clearance")
+    assert "missing field 'normal_law'" in str(err.value)

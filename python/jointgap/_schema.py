@@ -1061,6 +1061,13 @@ def _convert_carried(carried: Mapping[str, Any], type_: str, ctx: _Context) -> d
     for owner in owners:
         for p in params_of("joint", owner)[len(_JOINT_COMMON) :]:
             params.setdefault(p.key, p)
+    clearance = [k for k in PLANAR_CLEARANCE_KEYS if carried.get(k) is not None]
+    if clearance and carried.get("normal_law") is None:
+        raise ctx.error(
+            f"missing field 'normal_law': the clearance data kept by a {type_} joint "
+            f"({', '.join(clearance)}) need their normal_law too",
+            clearance[0],
+        )
     optional = [replace(params[k], required=False) for k in params if k in carried]
     return _convert_params(optional, carried, "joint", ctx, set())
 
