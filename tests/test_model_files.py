@@ -298,7 +298,8 @@ def test_unknown_joint_type(write_model) -> None:
     path, msg = load_error(write_model, old, 'name = "crank_rod"\ntype = "hinge"')
     assert msg == (
         f"{path}:32: joint 'crank_rod': unknown joint type 'hinge' "
-        "(allowed: revolute, prismatic, fixed, clearance_revolute)"
+        "(allowed: revolute, prismatic, fixed, clearance_revolute, lubricated_revolute, "
+        "clearance_translational, revolute_with_play, prismatic_with_play, gear_pair)"
     )
 
 

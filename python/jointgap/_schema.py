@@ -16,7 +16,7 @@ from __future__ import annotations
 import json
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from fractions import Fraction
 from typing import Any
 
@@ -86,7 +86,8 @@ _JOINT_COMMON = [
         "type",
         "choice",
         required=True,
-        doc="revolute, prismatic, fixed or clearance_revolute",
+        doc="revolute, prismatic, fixed, clearance_revolute, lubricated_revolute, "
+        "clearance_translational, revolute_with_play, prismatic_with_play or gear_pair",
     ),
     Param("body_i", "ref", required=True, doc="first body, or ground"),
     Param("point_i", "point", u.LENGTH, required=True, doc="joint point on body_i"),
@@ -167,6 +168,133 @@ _CLEARANCE = [
     Param("friction", "friction", doc="friction law, a table with a type; none by default"),
 ]
 
+BLOCK_KEYS = ("block_length", "block_height", "guide_width")
+"""A clearance_translational joint's own keys of its ``clearance`` table (with
+``clearance``, ``stiffness``, ``normal_law`` and ``friction``)."""
+
+_AXIS = Param(
+    "axis",
+    "vector",
+    u.DIMENSIONLESS,
+    required=True,
+    doc="sliding direction in the frame of body_i",
+)
+_REVOLUTE_INITIAL = [
+    Param(
+        "initial",
+        "scalar",
+        u.ANGLE,
+        doc="relative angle phi_j - phi_i at t = 0; assembly solves the rest",
+    ),
+    Param(
+        "initial_rate",
+        "scalar",
+        u.ANGULAR_SPEED,
+        doc="relative angular velocity at t = 0; assembly solves the rest",
+    ),
+]
+_PRISMATIC_INITIAL = [
+    Param(
+        "initial",
+        "scalar",
+        u.LENGTH,
+        doc="travel of point_j from point_i along the axis at t = 0",
+    ),
+    Param("initial_rate", "scalar", u.SPEED, doc="sliding speed at t = 0"),
+]
+
+_BLOCK_CLEARANCE = [
+    Param(
+        "block_length",
+        "scalar",
+        u.LENGTH,
+        required=True,
+        bound=">0",
+        doc="length of the block (on body_j) along the guide",
+    ),
+    Param(
+        "block_height", "scalar", u.LENGTH, bound=">0", doc="height of the block across the guide"
+    ),
+    Param(
+        "guide_width",
+        "scalar",
+        u.LENGTH,
+        bound=">0",
+        doc="distance between the guide's two surfaces (on body_i)",
+    ),
+    Param(
+        "clearance",
+        "scalar",
+        u.LENGTH,
+        bound=">0",
+        doc="total lateral gap guide_width - block_height; give two of block_height, "
+        "guide_width, clearance",
+    ),
+    Param(
+        "stiffness",
+        "contact_stiffness",
+        required=True,
+        doc="contact stiffness K [N/m^n] of a corner on a guide surface, n the law's exponent",
+    ),
+    _CLEARANCE[-2],  # normal_law
+    _CLEARANCE[-1],  # friction
+]
+
+_LUBRICATION = Param(
+    "lubrication",
+    "lubrication",
+    required=True,
+    doc="the oil film, a table { length, viscosity, film, roughness }",
+)
+_GEAR = Param(
+    "gear",
+    "gear",
+    required=True,
+    doc="the teeth, a table { ratio, pitch_radius, backlash, mesh_stiffness, normal_law, ... }",
+)
+
+
+def _play(kind: str) -> Param:
+    return Param(
+        "play",
+        kind,
+        required=True,
+        doc="the play, a table { play, centre, stiffness, normal_law }",
+    )
+
+
+def _play_table(dim: Dimension, what: str, stiffness: str) -> list[Param]:
+    return [
+        Param(
+            "play",
+            "scalar",
+            dim,
+            required=True,
+            bound=">=0",
+            doc=f"total free {what}: the joint is free within centre +- play/2",
+        ),
+        Param(
+            "centre",
+            "scalar",
+            dim,
+            doc=f"{what} at the middle of the play; by default that of the model's placement",
+        ),
+        Param(
+            "stiffness",
+            "contact_stiffness",
+            dim,
+            required=True,
+            doc=f"contact stiffness K [{stiffness}], n the law's exponent",
+        ),
+        Param(
+            "normal_law",
+            "normal_law",
+            required=True,
+            doc="the stop's law, its penetration the coordinate beyond the play",
+        ),
+    ]
+
+
 # Element kind -> fields, or -> {type: fields} for elements with a ``type``.
 ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
     "model": [
@@ -216,40 +344,39 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         Param("shape", "shape", doc="drawing shape (bar, block or disk); ignored by the engine"),
     ],
     "joint": {
-        "revolute": [
-            *_JOINT_COMMON,
-            Param(
-                "initial",
-                "scalar",
-                u.ANGLE,
-                doc="relative angle phi_j - phi_i at t = 0; assembly solves the rest",
-            ),
-            Param(
-                "initial_rate",
-                "scalar",
-                u.ANGULAR_SPEED,
-                doc="relative angular velocity at t = 0; assembly solves the rest",
-            ),
-        ],
-        "prismatic": [
+        "revolute": [*_JOINT_COMMON, *_REVOLUTE_INITIAL],
+        "prismatic": [*_JOINT_COMMON, _AXIS, *_PRISMATIC_INITIAL],
+        "fixed": _JOINT_COMMON,
+        "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE],
+        "lubricated_revolute": [*_JOINT_COMMON, *_CLEARANCE, _LUBRICATION],
+        "clearance_translational": [
             *_JOINT_COMMON,
             Param(
                 "axis",
                 "vector",
                 u.DIMENSIONLESS,
                 required=True,
-                doc="sliding direction in the frame of body_i",
+                doc="the guide's direction in the frame of body_i; its centreline passes "
+                "through point_i, the block is centred at point_j",
             ),
-            Param(
-                "initial",
-                "scalar",
-                u.LENGTH,
-                doc="travel of point_j from point_i along the axis at t = 0",
-            ),
-            Param("initial_rate", "scalar", u.SPEED, doc="sliding speed at t = 0"),
+            *_BLOCK_CLEARANCE,
         ],
-        "fixed": _JOINT_COMMON,
-        "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE],
+        "revolute_with_play": [*_JOINT_COMMON, *_REVOLUTE_INITIAL, _play("rotation_play")],
+        "prismatic_with_play": [
+            *_JOINT_COMMON,
+            _AXIS,
+            *_PRISMATIC_INITIAL,
+            _play("travel_play"),
+        ],
+        "gear_pair": [
+            Param("name", "name", required=True, doc="unique name of the element"),
+            _JOINT_COMMON[1],
+            Param("body_i", "ref", required=True, doc="gear 1"),
+            Param("point_i", "point", u.LENGTH, required=True, doc="gear 1's centre on body_i"),
+            Param("body_j", "ref", required=True, doc="gear 2 (the tooth force is on it)"),
+            Param("point_j", "point", u.LENGTH, required=True, doc="gear 2's centre on body_j"),
+            _GEAR,
+        ],
     },
     "driver": [
         _name(),
@@ -416,6 +543,74 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             Param("viscous", "scalar", u.DAMPING, required=True, doc="viscous coefficient"),
         ),
     },
+    "lubrication": [
+        Param("length", "scalar", u.LENGTH, required=True, bound=">0", doc="bearing length"),
+        Param(
+            "viscosity",
+            "scalar",
+            u.VISCOSITY,
+            required=True,
+            bound=">0",
+            doc="dynamic viscosity of the oil (Pa*s, or cP)",
+        ),
+        Param(
+            "film",
+            "choice",
+            choices=("short", "long", "short_pi", "long_pi"),
+            doc="film model: short (Ocvirk, positive pressure; the engine's default), long "
+            "(Sommerfeld), short_pi or long_pi (pi-film forms)",
+        ),
+        Param(
+            "roughness",
+            "scalar",
+            u.LENGTH,
+            bound=">0",
+            doc="composite RMS roughness; the film threshold is three times it; by default "
+            "the engine's",
+        ),
+    ],
+    "rotation_play": _play_table(u.ANGLE, "rotation", "N*m/rad^n"),
+    "travel_play": _play_table(u.LENGTH, "travel", "N/m^n"),
+    "gear": [
+        Param(
+            "ratio",
+            "scalar",
+            u.DIMENSIONLESS,
+            required=True,
+            bound=">0",
+            doc="gear 2's pitch radius over gear 1's (z2/z1), external gears",
+        ),
+        Param(
+            "pitch_radius",
+            "scalar",
+            u.LENGTH,
+            required=True,
+            bound=">0",
+            doc="gear 1's pitch radius r1 (gear 2's is ratio * r1)",
+        ),
+        Param(
+            "backlash",
+            "scalar",
+            u.LENGTH,
+            bound=">=0",
+            doc="circumferential backlash on the pitch circle; none by default",
+        ),
+        Param(
+            "pressure_angle",
+            "scalar",
+            u.ANGLE,
+            bound=">=0",
+            doc="pressure angle; by default the engine's (20 deg)",
+        ),
+        Param(
+            "mesh_stiffness",
+            "contact_stiffness",
+            required=True,
+            doc="mesh stiffness [N/m^n]: a number, or a table { angle = [...], value = [...] } "
+            "against gear 1's angle to the line of centres (periodic, linear between points)",
+        ),
+        Param("normal_law", "normal_law", required=True, doc="the teeth's contact law"),
+    ],
     "shape": {
         "bar": [
             Param("type", "choice", required=True),
@@ -436,9 +631,24 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
 }
 
 # Number of constraint equations of each joint type (for degree-of-freedom counts).
-JOINT_EQUATIONS = {"revolute": 2, "prismatic": 2, "fixed": 3, "clearance_revolute": 0}
+JOINT_EQUATIONS = {
+    "revolute": 2,
+    "prismatic": 2,
+    "fixed": 3,
+    "clearance_revolute": 0,
+    "lubricated_revolute": 0,
+    "clearance_translational": 0,
+    "revolute_with_play": 2,
+    "prismatic_with_play": 2,
+    "gear_pair": 0,
+}
 # The joint coordinate a driver moves, per joint type.
-DRIVEN_MOTION = {"revolute": "rotation", "prismatic": "translation"}
+DRIVEN_MOTION = {
+    "revolute": "rotation",
+    "prismatic": "translation",
+    "revolute_with_play": "rotation",
+    "prismatic_with_play": "translation",
+}
 
 
 def _table(kind: str, dimension: int) -> list[Param] | dict[str, list[Param]]:
@@ -759,13 +969,21 @@ def convert_element(
     name = raw.get("name") if isinstance(raw.get("name"), str) else None
     ctx = _Context(kind if label is None else label, name, index, dimension=dimension)
     motions: set[str] = set()
+    carried: dict[str, Any] = {}
     if kind == "joint" and isinstance(raw, Mapping):
         raw = _flatten_clearance(raw, ctx)
+        if dimension == 2:
+            _check_block_keys(raw, ctx)
+            raw, carried = _split_carried(raw)
     out = _convert_table(kind, raw, ctx, motions)
-    if kind == "joint" and out.get("type") in CLEARANCE_TYPES:
-        nested = {k: out.pop(k) for k in CLEARANCE_KEYS if k in out}
+    if carried:
+        out.update(_convert_carried(carried, str(out["type"]), ctx))
+    keys = PLANAR_CLEARANCE_KEYS if dimension == 2 else CLEARANCE_KEYS
+    if kind == "joint" and (out.get("type") in CLEARANCE_TYPES or any(k in out for k in keys)):
+        nested = {k: out.pop(k) for k in keys if k in out}
         nested.update({SPHERE_KEYS[k]: out.pop(k) for k in SPHERE_KEYS if k in out})
-        out["clearance"] = {k: nested[k] for k in CLEARANCE_KEYS if k in nested}
+        if nested:
+            out["clearance"] = {k: nested[k] for k in keys if k in nested}
     if kind == "body" and dimension == 3:
         _merge_inertia_frame(out, ctx)
     if len(motions) > 1:
@@ -773,6 +991,85 @@ def convert_element(
     if kind == "body" and "shape" in out:
         _check_shape_points(out, ctx)
     return out, (motions.pop() if motions else None)
+
+
+PLANAR_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS)
+"""The keys of a planar joint's ``clearance`` table: a revolute clearance joint's and a
+translational one's."""
+
+_DATA_TABLES = {
+    "clearance": ("clearance_revolute", "clearance_translational"),
+    "lubrication": ("lubricated_revolute",),
+    "play": ("revolute_with_play", "prismatic_with_play"),
+    "gear": ("gear_pair",),
+}
+"""A planar joint's data tables, by the joint types that use them (a file writes the
+``clearance`` table's keys flat in the joint)."""
+
+
+def _table_keys(table: str) -> tuple[str, ...]:
+    return PLANAR_CLEARANCE_KEYS if table == "clearance" else (table,)
+
+
+def _check_block_keys(raw: Mapping[str, Any], ctx: _Context) -> None:
+    """A clearance_translational joint given a journal's radii or materials: an error
+    that says what a block takes instead."""
+    if raw.get("type") != "clearance_translational":
+        return
+    for key in ("bearing_radius", "journal_radius", "bearing_material", "journal_material"):
+        if raw.get(key) is not None:
+            raise ctx.error(
+                f"{key} is not a key of a clearance_translational joint: its block takes "
+                "block_length, two of block_height, guide_width and clearance, and a "
+                "stiffness (a block's corner on a flat has no Hertz closed form to compute "
+                "it from materials)",
+                key,
+            )
+
+
+def _split_carried(raw: Mapping[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """A planar joint's fields and the data tables it carries for another type (a
+    ``revolute`` keeping its ``clearance`` keys, say): those the engine ignores with a
+    warning, so that a joint switches kind by its ``type`` alone. A table whose keys
+    the type has (a clearance_translational's ``clearance``) is its own, not carried."""
+    type_ = raw.get("type")
+    if type_ not in ELEMENTS["joint"]:
+        return dict(raw), {}
+    own = {p.key for p in params_of("joint", str(type_))}
+    uses = {t for t, types in _DATA_TABLES.items() if type_ in types}
+    if "clearance" in own:
+        uses.add("clearance")
+    carried_keys = {k for t in _DATA_TABLES if t not in uses for k in _table_keys(t)}
+    kept = {k: v for k, v in raw.items() if k not in carried_keys or k in own}
+    carried = {k: v for k, v in raw.items() if k in carried_keys and k not in own}
+    return kept, carried
+
+
+def _convert_carried(carried: Mapping[str, Any], type_: str, ctx: _Context) -> dict[str, Any]:
+    """The carried data tables in SI, read as the type that uses them reads them: a
+    ``play`` as a rotation on a joint of the revolute kinds, else as a travel."""
+    rotation = type_ in ("revolute", "clearance_revolute", "lubricated_revolute", "fixed")
+    play = "revolute_with_play" if rotation else "prismatic_with_play"
+    owners = (
+        "clearance_revolute",
+        "clearance_translational",
+        "lubricated_revolute",
+        play,
+        "gear_pair",
+    )
+    params: dict[str, Param] = {}
+    for owner in owners:
+        for p in params_of("joint", owner)[len(_JOINT_COMMON) :]:
+            params.setdefault(p.key, p)
+    clearance = [k for k in PLANAR_CLEARANCE_KEYS if carried.get(k) is not None]
+    if clearance and carried.get("normal_law") is None:
+        raise ctx.error(
+            f"missing field 'normal_law': the clearance data kept by a {type_} joint "
+            f"({', '.join(clearance)}) need their normal_law too",
+            clearance[0],
+        )
+    optional = [replace(params[k], required=False) for k in params if k in carried]
+    return _convert_params(optional, carried, "joint", ctx, set())
 
 
 def _flatten_clearance(raw: Mapping[str, Any], ctx: _Context) -> Mapping[str, Any]:
@@ -784,10 +1081,11 @@ def _flatten_clearance(raw: Mapping[str, Any], ctx: _Context) -> Mapping[str, An
     flat = {k: v for k, v in raw.items() if k != "clearance"}
     sphere = raw.get("type") == "clearance_spherical"
     renamed = {engine: own for own, engine in SPHERE_KEYS.items()} if sphere else {}
+    keys = PLANAR_CLEARANCE_KEYS if ctx.dimension == 2 else CLEARANCE_KEYS
     for key, value in nested.items():
-        if key not in CLEARANCE_KEYS:
+        if key not in keys:
             raise ctx.error(
-                f"unknown key 'clearance.{key}' (allowed: {', '.join(CLEARANCE_KEYS)})",
+                f"unknown key 'clearance.{key}' (allowed: {', '.join(keys)})",
                 f"clearance.{key}",
             )
         own = renamed.get(str(key), str(key))
@@ -834,7 +1132,15 @@ def _convert_table(
                 f"unknown key '{ctx.label(str(key))}'{what} (allowed: {', '.join(allowed)})",
                 key=str(key),
             )
+    return _convert_params(params, raw, kind, ctx, motions)
+
+
+def _convert_params(
+    params: Sequence[Param], raw: Mapping[str, Any], kind: str, ctx: _Context, motions: set[str]
+) -> dict[str, Any]:
+    """``raw``'s values of ``params`` in SI, in table order, defaults filled in."""
     out: dict[str, Any] = {}
+    stiffnesses = []
     for p in params:
         value = raw.get(p.key)
         if value is None:
@@ -844,29 +1150,45 @@ def _convert_table(
                 continue
             value = p.default
         if p.kind == "contact_stiffness":
-            continue  # after the normal law, whose exponent gives its unit
+            stiffnesses.append((p.key, value))  # after the normal law: its exponent
+            continue
         out[p.key] = _convert_value(p, value, ctx, motions)
-    stiffness = raw.get("stiffness") if "stiffness" in allowed else None
-    if stiffness is not None and kind == "joint":
-        out = _with_stiffness(out, stiffness, ctx)
+    for key, value in stiffnesses:
+        out[key] = _stiffness(key, value, out, kind, ctx)
     return out
 
 
-def _with_stiffness(out: dict[str, Any], value: Any, ctx: _Context) -> dict[str, Any]:
-    """Converts a contact stiffness [N/m^n], n the normal law's exponent."""
+def _stiffness(key: str, value: Any, out: Mapping[str, Any], kind: str, ctx: _Context) -> Any:
+    """A contact stiffness in SI: [N/m^n], n the normal law's exponent, or for a rotation's
+    play [N*m/rad^n]; a gear's mesh stiffness may be a table ``{angle, value}``."""
     law = out.get("normal_law", {})
     n = law.get("exponent", 1.5) if isinstance(law, Mapping) else 1.5
     try:
         power = Fraction(str(float(n))).limit_denominator(1000)
     except (ValueError, OverflowError):
         power = Fraction(3, 2)
-    dim = u.FORCE / u.LENGTH**power
+    if kind == "rotation_play":
+        dim = u.TORQUE / u.ANGLE**power
+    else:
+        dim = u.FORCE / u.LENGTH**power
+    label = ctx.label(key)
+    if key == "mesh_stiffness" and isinstance(value, Mapping):
+        if set(value) != {"angle", "value"}:
+            raise ctx.error(f"{label} must be a number or a table {{ angle, value }}", key)
+        seqs = (value["angle"], value["value"])
+        if any(isinstance(v, (str, Mapping)) or not isinstance(v, Sequence) for v in seqs):
+            raise ctx.error(f"{label}.angle and {label}.value must be lists", key)
+        angle = Param(key, "scalar", u.ANGLE)
+        angles = [
+            _scalar(angle, a, ctx, f"{label}.angle[{i}]", set()) for i, a in enumerate(seqs[0])
+        ]
+        k = Param(key, "scalar", dim, bound=">0")
+        values = [_scalar(k, v, ctx, f"{label}.value[{i}]", set()) for i, v in enumerate(seqs[1])]
+        return {"angle": angles, "value": values}
     try:
-        k = u.to_si(value, dim)
+        return u.to_si(value, dim)
     except UnitError as exc:
-        raise ctx.error(f"{ctx.label('stiffness')} {exc}", "stiffness") from None
-    out["stiffness"] = k
-    return out
+        raise ctx.error(f"{label} {exc}", key) from None
 
 
 def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> Any:
@@ -921,11 +1243,25 @@ def _convert_value(p: Param, value: Any, ctx: _Context, motions: set[str]) -> An
         if not value:
             raise ctx.error(f"{key} must be a library name or a table, got {value!r}", p.key)
         return value
-    if p.kind in ("shape", "profile", "material", "normal_law", "friction"):
+    if p.kind in _NESTED_TABLES:
         if hasattr(value, "to_dict"):
             value = value.to_dict()
         return _convert_table(p.kind, value, ctx.nested(p.key), motions)
     raise AssertionError(f"unknown parameter kind {p.kind}")  # pragma: no cover
+
+
+_NESTED_TABLES = (
+    "shape",
+    "profile",
+    "material",
+    "normal_law",
+    "friction",
+    "lubrication",
+    "rotation_play",
+    "travel_play",
+    "gear",
+)
+"""The parameter kinds that are tables of their own fields (:data:`ELEMENTS`)."""
 
 
 def _check_name(value: str, key: str, ctx: _Context, param_key: str) -> None:
@@ -1124,6 +1460,10 @@ _TITLES = {
     "material": "bearing_material = {{ ... }}, journal_material = {{ ... }}",
     "normal_law": 'normal_law = {{ type = "{}", ... }}',
     "friction": 'friction = {{ type = "{}", ... }}',
+    "lubrication": "lubrication = {{ ... }} (lubricated_revolute)",
+    "rotation_play": "play = {{ ... }} (revolute_with_play)",
+    "travel_play": "play = {{ ... }} (prismatic_with_play)",
+    "gear": "gear = {{ ... }} (gear_pair)",
 }
 
 
@@ -1149,7 +1489,7 @@ def reference_markdown(dimension: int = 2) -> str:
 
 def _unit_text(p: Param) -> str:
     if p.kind == "contact_stiffness":
-        return "N/m^n"
+        return "N*m/rad^n" if p.dim == u.ANGLE else "N/m^n"
     if p.dim is None or p.dim == u.DIMENSIONLESS:
         return "-"
     dims = p.dim if isinstance(p.dim, tuple) else (p.dim,)

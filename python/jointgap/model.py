@@ -486,6 +486,278 @@ class Model:
         }
         return self._add("joint", raw)
 
+    def add_lubricated_revolute(
+        self,
+        name: str,
+        bearing_body: str,
+        journal_body: str,
+        point_bearing: PointRef,
+        point_journal: PointRef,
+        *,
+        length: Quantity,
+        viscosity: Quantity,
+        film: str | None = None,
+        roughness: Quantity | None = None,
+        bearing_radius: Quantity | None = None,
+        journal_radius: Quantity | None = None,
+        clearance: Quantity | None = None,
+        stiffness: Quantity | None = None,
+        bearing_material: str | Mapping[str, Any] | None = None,
+        journal_material: str | Mapping[str, Any] | None = None,
+        normal_law: Law | Mapping[str, Any],
+        friction: Law | Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Adds a lubricated revolute joint: a clearance revolute joint (see
+        :meth:`add_clearance_revolute`, whose arguments these are too) whose journal an oil
+        film carries; where the film gets thinner than three times the roughness, the
+        contact laws act as well (docs/lubrication.md).
+
+        Args:
+            name: unique name; channels ``<name>.fx fy`` (film and contact together),
+                ``fn ft penetration penetration_rate ex ey slip mode`` (the contact's),
+                ``eccentricity_ratio attitude film_thickness film_fx film_fy
+                peak_pressure film_mode friction_torque`` (the film's; ``film_mode`` 0
+                film, 1 mixed, 2 dry) and the impact list of the result.
+            length: bearing length [m].
+            viscosity: the oil's dynamic viscosity [Pa*s], e.g. ``"40 cP"``.
+            film: ``"short"`` (the engine's default: Ocvirk, positive pressure),
+                ``"long"`` (Sommerfeld), ``"short_pi"`` or ``"long_pi"`` (pi-film forms).
+            roughness: composite RMS roughness of journal and bearing [m]; by default the
+                engine's.
+        """
+        raw = {
+            "name": name,
+            "type": "lubricated_revolute",
+            "body_i": bearing_body,
+            "point_i": point_bearing,
+            "body_j": journal_body,
+            "point_j": point_journal,
+            "bearing_radius": bearing_radius,
+            "journal_radius": journal_radius,
+            "clearance": clearance,
+            "stiffness": stiffness,
+            "bearing_material": bearing_material,
+            "journal_material": journal_material,
+            "normal_law": normal_law,
+            "friction": friction,
+            "lubrication": {
+                "length": length,
+                "viscosity": viscosity,
+                "film": film,
+                "roughness": roughness,
+            },
+        }
+        return self._add("joint", raw)
+
+    def add_clearance_translational(
+        self,
+        name: str,
+        guide_body: str,
+        block_body: str,
+        axis: Vector,
+        point_guide: PointRef,
+        point_block: PointRef,
+        *,
+        block_length: Quantity,
+        block_height: Quantity | None = None,
+        guide_width: Quantity | None = None,
+        clearance: Quantity | None = None,
+        stiffness: Quantity,
+        normal_law: Law | Mapping[str, Any],
+        friction: Law | Mapping[str, Any] | None = None,
+    ) -> Model:
+        """Adds a slider with clearance in its guide: no constraint, a block (on
+        ``block_body``, centred at ``point_block``) between the two surfaces of a guide (on
+        ``guide_body``, its centreline through ``point_guide`` along ``axis``, a direction
+        in the guide body's frame), touching them at its four corners. In a model file the
+        guide is ``body_i``/``point_i`` and the block ``body_j``/``point_j``.
+
+        Args:
+            name: unique name; channels ``<name>.fx fy`` (the resultant on the block),
+                ``tilt`` [rad] and ``offset`` [m] (the block in its guide), per corner
+                ``<name>.p<i>.fn ft penetration penetration_rate slip mode`` (p1 front
+                upper, p2 rear upper, p3 rear lower, p4 front lower) and each corner's
+                impact list (``<name>.p<i>``).
+            block_length: the block's length along the guide [m].
+            block_height, guide_width, clearance: two of the block's height, the distance
+                between the guide's surfaces and the total gap between them [m].
+            stiffness: contact stiffness K [N/m^n] of a corner on a surface, n the normal
+                law's exponent.
+            normal_law, friction: as for :meth:`add_clearance_revolute`.
+        """
+        raw = {
+            "name": name,
+            "type": "clearance_translational",
+            "body_i": guide_body,
+            "point_i": point_guide,
+            "body_j": block_body,
+            "point_j": point_block,
+            "axis": axis,
+            "block_length": block_length,
+            "block_height": block_height,
+            "guide_width": guide_width,
+            "clearance": clearance,
+            "stiffness": stiffness,
+            "normal_law": normal_law,
+            "friction": friction,
+        }
+        return self._add("joint", raw)
+
+    def add_revolute_with_play(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        point_i: PointRef,
+        point_j: PointRef,
+        *,
+        play: Quantity,
+        stiffness: Quantity,
+        normal_law: Law | Mapping[str, Any],
+        centre: Quantity | None = None,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
+    ) -> Model:
+        """Adds a pin joint with play (backlash): the points coincide as in
+        :meth:`add_revolute`, the relative angle ``phi_j - phi_i`` turns freely within
+        ``centre +- play/2``, then a stop's torque acts by the contact law.
+
+        Args:
+            name: unique name; channels ``<name>.fx fy`` (the pin's reaction), ``angle
+                omega``, ``play_angle`` [rad] (the angle less the centre), ``torque``
+                [N*m] (the stop's torque on body_j), ``penetration`` [rad],
+                ``penetration_rate`` [rad/s], ``mode`` and the impact list (onset speed in
+                rad/s, peak in N*m).
+            play: total free rotation [rad], e.g. ``"0.5 deg"`` or ``"20 arcmin"``.
+            stiffness: the stop's stiffness K [N*m/rad^n], n the normal law's exponent.
+            normal_law: the stop's law, its penetration the angle beyond the play.
+            centre: the angle at the middle of the play [rad]; by default that of the
+                model's placement.
+            initial, initial_rate: as for :meth:`add_revolute`.
+        """
+        raw = {
+            "name": name,
+            "type": "revolute_with_play",
+            "body_i": body_i,
+            "point_i": point_i,
+            "body_j": body_j,
+            "point_j": point_j,
+            "initial": initial,
+            "initial_rate": initial_rate,
+            "play": {
+                "play": play,
+                "centre": centre,
+                "stiffness": stiffness,
+                "normal_law": normal_law,
+            },
+        }
+        return self._add("joint", raw)
+
+    def add_prismatic_with_play(
+        self,
+        name: str,
+        body_i: str,
+        body_j: str,
+        axis: Vector,
+        point_i: PointRef,
+        point_j: PointRef,
+        *,
+        play: Quantity,
+        stiffness: Quantity,
+        normal_law: Law | Mapping[str, Any],
+        centre: Quantity | None = None,
+        initial: Quantity | None = None,
+        initial_rate: Quantity | None = None,
+    ) -> Model:
+        """Adds a slider with play along its axis: ``point_j`` stays on the line as in
+        :meth:`add_prismatic`, its travel is free within ``centre +- play/2``, then a
+        stop's force acts by the contact law.
+
+        Args:
+            name: unique name; channels ``<name>.fx fy moment`` (the slider's reaction),
+                ``travel speed``, ``play_travel`` [m] (the travel less the centre),
+                ``force`` [N] (the stop's force on body_j), ``penetration
+                penetration_rate mode`` and the impact list.
+            play: total free travel [m].
+            stiffness: the stop's stiffness K [N/m^n], n the normal law's exponent.
+            normal_law: the stop's law, its penetration the travel beyond the play.
+            centre: the travel at the middle of the play [m]; by default that of the
+                model's placement.
+            initial, initial_rate: as for :meth:`add_prismatic`.
+        """
+        raw = {
+            "name": name,
+            "type": "prismatic_with_play",
+            "body_i": body_i,
+            "point_i": point_i,
+            "body_j": body_j,
+            "point_j": point_j,
+            "axis": axis,
+            "initial": initial,
+            "initial_rate": initial_rate,
+            "play": {
+                "play": play,
+                "centre": centre,
+                "stiffness": stiffness,
+                "normal_law": normal_law,
+            },
+        }
+        return self._add("joint", raw)
+
+    def add_gear_pair(
+        self,
+        name: str,
+        gear_1: str,
+        gear_2: str,
+        centre_1: PointRef,
+        centre_2: PointRef,
+        *,
+        ratio: Quantity,
+        pitch_radius: Quantity,
+        mesh_stiffness: Quantity | Mapping[str, Any],
+        normal_law: Law | Mapping[str, Any],
+        backlash: Quantity | None = None,
+        pressure_angle: Quantity | None = None,
+    ) -> Model:
+        """Adds a pair of external spur gears in mesh with backlash: no constraint (each
+        gear turns on its own revolute joint), a tooth force along the line of action
+        once the mesh has taken up the backlash. In a model file gear 1 is
+        ``body_i``/``point_i`` (its centre) and gear 2 ``body_j``/``point_j``; the
+        centres must be ``pitch_radius * (1 + ratio)`` apart at the placement.
+
+        Args:
+            name: unique name; channels ``<name>.fx fy`` (the tooth force on gear 2),
+                ``mesh`` [m] (along the line of action), ``fn`` [N], ``torque_1
+                torque_2`` [N*m] (the teeth's torque on each gear about its centre),
+                ``penetration penetration_rate mode``, ``stiffness`` (the mesh's there)
+                and the impact list.
+            ratio: gear 2's pitch radius over gear 1's (tooth counts z2/z1), > 0.
+            pitch_radius: gear 1's pitch radius [m].
+            mesh_stiffness: [N/m^n], n the normal law's exponent: a number, or
+                ``{"angle": [...], "value": [...]}`` against gear 1's angle to the line
+                of centres (periodic with the table's span, linear between points).
+            normal_law: the teeth's contact law, its penetration along the line of action.
+            backlash: circumferential backlash on the pitch circle [m]; none by default.
+            pressure_angle: by default the engine's (20 deg).
+        """
+        raw = {
+            "name": name,
+            "type": "gear_pair",
+            "body_i": gear_1,
+            "point_i": centre_1,
+            "body_j": gear_2,
+            "point_j": centre_2,
+            "gear": {
+                "ratio": ratio,
+                "pitch_radius": pitch_radius,
+                "backlash": backlash,
+                "pressure_angle": pressure_angle,
+                "mesh_stiffness": mesh_stiffness,
+                "normal_law": normal_law,
+            },
+        }
+        return self._add("joint", raw)
+
     def add_clearance_spherical(
         self,
         name: str,

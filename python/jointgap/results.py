@@ -33,6 +33,7 @@ __all__ = [
     "StageTimes",
     "Impact",
     "channel_unit",
+    "impact_units",
     "RESULTS_CSV",
     "RESULTS_PARQUET",
     "SUMMARY_JSON",
@@ -53,8 +54,26 @@ WriteProgress = Callable[[int, int], object]
 IMPACT_COLUMNS = ("joint", "onset_time", "onset_speed", "peak_force", "max_penetration", "duration")
 """Columns of ``impacts.csv`` and of :meth:`Result.impacts_frame`."""
 
-CLEARANCE_TYPES = ("clearance_revolute", "clearance_spherical", "clearance_cylindrical")
-"""The joint types with clearance: contact force elements with impact lists."""
+CLEARANCE_TYPES = (
+    "clearance_revolute",
+    "clearance_spherical",
+    "clearance_cylindrical",
+    "lubricated_revolute",
+    "clearance_translational",
+    "revolute_with_play",
+    "prismatic_with_play",
+    "gear_pair",
+)
+"""The joint types with contact: contact force elements with impact lists."""
+
+MULTI_POINT_TYPES = ("clearance_cylindrical", "clearance_translational")
+"""The joint types of several contact points, whose impact lists and contact channels
+are named by point, ``<joint>.p1``, ``<joint>.p2``, ..."""
+
+_ROTATION_PLAY_UNITS = {"penetration": "rad", "penetration_rate": "rad/s"}
+_JOINT_UNITS: dict[str, dict[str, str]] = {"revolute_with_play": _ROTATION_PLAY_UNITS}
+"""Per joint type, the units of its channels that differ from the quantity's usual one
+(:func:`channel_unit`): a revolute joint's play penetrates by an angle."""
 
 RunStatus = Literal["finished", "failed", "interrupted"]
 """How a run ended (:attr:`Result.status`): it reached its end time, it stopped early
@@ -106,9 +125,12 @@ class Impact:
     Attributes:
         joint: the clearance joint.
         onset_time: time of the contact onset [s].
-        onset_speed: penetration rate at onset, the approach speed [m/s].
-        peak_force: largest normal force during the contact [N].
-        max_penetration: largest penetration during the contact [m].
+        onset_speed: penetration rate at onset, the approach speed [m/s; rad/s for a
+            revolute joint's play, see :func:`impact_units`].
+        peak_force: largest normal force during the contact [N; the stop's torque in N*m
+            for a revolute joint's play].
+        max_penetration: largest penetration during the contact [m; rad for a revolute
+            joint's play].
         duration: time from onset to separation [s]; NaN if still in contact at the end.
     """
 
@@ -193,6 +215,26 @@ _UNITS = {
     "ex": "m",
     "ey": "m",
     "slip": "m/s",
+    # lubricated revolute joints
+    "eccentricity_ratio": "",
+    "attitude": "rad",
+    "film_thickness": "m",
+    "film_fx": "N",
+    "film_fy": "N",
+    "peak_pressure": "Pa",
+    "film_mode": "",
+    "friction_torque": "N*m",
+    # translational clearance joints
+    "tilt": "rad",
+    "offset": "m",
+    # joints with play
+    "play_angle": "rad",
+    "play_travel": "m",
+    # gear pairs
+    "mesh": "m",
+    "torque_1": "N*m",
+    "torque_2": "N*m",
+    "stiffness": "N/m^n",
     # spatial models
     "z": "m",
     "vz": "m/s",
@@ -230,10 +272,41 @@ _UNITS = {
 }
 
 
-def channel_unit(channel: str) -> str:
+def channel_unit(channel: str, model: Mapping[str, Any] | None = None) -> str:
     """The SI unit of a channel, from its quantity: ``channel_unit("slider.ax") == "m/s^2"``;
-    ``""`` when unknown."""
-    return _UNITS.get(channel.rsplit(".", 1)[-1], "")
+    ``""`` when unknown. Given the model (SI dictionary), a joint's channel takes its
+    joint type's unit where that differs (a revolute joint's play penetrates in rad) and
+    a gear mesh's stiffness its law's exponent (``N/m`` for n = 1)."""
+    quantity = channel.rsplit(".", 1)[-1]
+    joint = _joint_of(channel, model) if model is not None else None
+    if joint is not None:
+        special = _JOINT_UNITS.get(str(joint.get("type")), {})
+        if quantity in special:
+            return special[quantity]
+        if quantity == "stiffness" and joint.get("type") == "gear_pair":
+            n = float(joint.get("gear", {}).get("normal_law", {}).get("exponent", math.nan))
+            return "N/m" if n == 1 else f"N/m^{n:g}" if math.isfinite(n) else "N/m^n"
+    return _UNITS.get(quantity, "")
+
+
+def impact_units(model: Mapping[str, Any], contact: str) -> dict[str, str]:
+    """The units of an impact list's columns (``onset_speed``, ``peak_force``,
+    ``max_penetration``) for contact ``contact`` (a joint, or ``joint.p<i>``) of ``model``
+    (SI dictionary): a revolute joint's play has its onset speed in rad/s, its peak in
+    N*m (the stop's torque) and its penetration in rad."""
+    joint = _joint_of(f"{contact}.fn", model)
+    if joint is not None and joint.get("type") == "revolute_with_play":
+        return {"onset_speed": "rad/s", "peak_force": "N*m", "max_penetration": "rad"}
+    return {"onset_speed": "m/s", "peak_force": "N", "max_penetration": "m"}
+
+
+def _joint_of(channel: str, model: Mapping[str, Any]) -> Mapping[str, Any] | None:
+    """The joint of ``model`` whose channel ``channel`` is (``joint.q`` or
+    ``joint.p<i>.q``), or None."""
+    parts = channel.split(".")
+    if len(parts) < 2:
+        return None
+    return next((j for j in model.get("joints", []) if j.get("name") == parts[0]), None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -502,7 +575,7 @@ class Result:
         impacts: dict[str, list[Impact]] = {
             j["name"]: []
             for j in summary.get("model", {}).get("joints", [])
-            if j.get("type") in CLEARANCE_TYPES and j.get("type") != "clearance_cylindrical"
+            if j.get("type") in CLEARANCE_TYPES and j.get("type") not in MULTI_POINT_TYPES
         }
         if (folder / IMPACTS_CSV).exists():
             with open(folder / IMPACTS_CSV, newline="") as f:
@@ -592,11 +665,12 @@ def model_channels(model: Mapping[str, Any]) -> list[str]:
 
 
 def guided_bodies(result: Result) -> list[tuple[str, str]]:
-    """``(body, "x", "y" or "z")`` for every body on a prismatic joint, the coordinate
-    being the one closest to the guide's axis (``("slider", "x")`` in a slider-crank)."""
+    """``(body, "x", "y" or "z")`` for every body on a prismatic joint (with or without
+    play, or in a guide with clearance), the coordinate being the one closest to the
+    guide's axis (``("slider", "x")`` in a slider-crank)."""
     out: list[tuple[str, str]] = []
     for joint in result.model.get("joints", []):
-        if joint.get("type") != "prismatic":
+        if joint.get("type") not in ("prismatic", "prismatic_with_play", "clearance_translational"):
             continue
         body = joint["body_j"] if joint["body_j"] != "ground" else joint["body_i"]
         axis = [abs(float(v)) for v in joint.get("axis") or (1.0, 0.0)]

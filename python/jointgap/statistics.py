@@ -18,13 +18,20 @@ tables (:func:`statistics_table`, :func:`deviation_table`), SI units throughout.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .results import Result, channel_unit, clearance_joints, effort_channels, slider_channels
+from .results import (
+    Result,
+    channel_unit,
+    clearance_joints,
+    effort_channels,
+    impact_units,
+    slider_channels,
+)
 
 if TYPE_CHECKING:
     import pandas as pd  # type: ignore[import-untyped]
@@ -317,7 +324,9 @@ def deviation_table(deviations: Iterable[Deviation]) -> pd.DataFrame:
 
 
 def format_statistics(
-    stats: Iterable[ContactStatistics], deviations: Iterable[Deviation] = ()
+    stats: Iterable[ContactStatistics],
+    deviations: Iterable[Deviation] = (),
+    model: Mapping[str, Any] | None = None,
 ) -> str:
     """The lines a run summary prints, one per joint and one per compared channel::
 
@@ -326,12 +335,18 @@ def format_statistics(
         slider.ax vs ideal: RMS 38.12 m/s^2 (24.1 % of ideal range), peak 1091 m/s^2
         (690.7 %) at t = 0.4721 s
 
-    (each on one line); empty text when there is nothing to say.
+    (each on one line); empty text when there is nothing to say. With the model (SI
+    dictionary), a joint's values are in its kind's units
+    (:func:`jointgap.results.impact_units`: a revolute joint's play in N*m, µrad and
+    rad/s).
     """
-    return "\n".join([*map(_contact_line, stats), *map(_deviation_line, deviations)])
+    lines = [_contact_line(s, model) for s in stats]
+    return "\n".join([*lines, *map(_deviation_line, deviations)])
 
 
-def _contact_line(s: ContactStatistics) -> str:
+def _contact_line(s: ContactStatistics, model: Mapping[str, Any] | None = None) -> str:
+    units = impact_units(model or {}, s.joint)
+    force, depth, speed = units["peak_force"], units["max_penetration"], units["onset_speed"]
     parts = [f"{s.joint}: {s.impacts} impact{'' if s.impacts == 1 else 's'}"]
     if math.isnan(s.free_flight):
         parts.append("time fractions unknown (no mode channel)")
@@ -341,12 +356,13 @@ def _contact_line(s: ContactStatistics) -> str:
             f"contact {_percent(s.contact)}"
         )
     parts += [
-        f"peak force {s.peak_force:.4g} N",
-        f"max penetration {s.max_penetration * 1e6:.4g} µm",
+        f"peak force {s.peak_force:.4g} {force}",
+        f"max penetration {s.max_penetration * 1e6:.4g} µ{depth}",
     ]
     if s.impacts:
         parts.append(
-            f"onset speed mean {s.onset_speed_mean:.3g} m/s, max {s.onset_speed_max:.3g} m/s"
+            f"onset speed mean {s.onset_speed_mean:.3g} {speed}, "
+            f"max {s.onset_speed_max:.3g} {speed}"
         )
     line = "; ".join(parts)
     return line if s.complete else f"{line} (run failed: first {s.span:g} s only)"

@@ -54,6 +54,7 @@ __all__ = [
     "ROTATIONAL_STIFFNESS",
     "ROTATIONAL_DAMPING",
     "PRESSURE",
+    "VISCOSITY",
     "FREQUENCY",
     "ENERGY",
     "HERTZ_STIFFNESS",
@@ -128,6 +129,7 @@ DAMPING = FORCE * TIME / LENGTH
 ROTATIONAL_STIFFNESS = TORQUE / ANGLE
 ROTATIONAL_DAMPING = TORQUE * TIME / ANGLE
 PRESSURE = FORCE / LENGTH**2
+VISCOSITY = PRESSURE * TIME
 FREQUENCY = TIME**-1
 HERTZ_STIFFNESS = FORCE / LENGTH ** Fraction(3, 2)
 
@@ -150,6 +152,7 @@ _NAMES: dict[Dimension, tuple[str, str]] = {
     ROTATIONAL_STIFFNESS: ("a rotational stiffness", "N*m/rad"),
     ROTATIONAL_DAMPING: ("a rotational damping coefficient", "N*m*s/rad"),
     PRESSURE: ("a pressure", "Pa"),
+    VISCOSITY: ("a dynamic viscosity", "Pa*s"),
     FREQUENCY: ("a frequency", "Hz"),
     HERTZ_STIFFNESS: ("a contact stiffness", "N/m^1.5"),
 }
@@ -179,6 +182,7 @@ _UNITS: dict[str, list[tuple[Factor, Dimension]]] = {
     "deg": [(math.pi / 180.0, ANGLE)],
     "°": [(math.pi / 180.0, ANGLE)],
     "rev": [(2.0 * math.pi, ANGLE)],
+    "arcmin": [(math.pi / 10800.0, ANGLE)],
     "rpm": [(math.pi / 30.0, ANGULAR_SPEED)],
     # derived
     "Hz": [(_F(1), FREQUENCY)],
@@ -188,12 +192,14 @@ _UNITS: dict[str, list[tuple[Factor, Dimension]]] = {
     "Pa": [(_F(1), PRESSURE)],
     "bar": [(_F(100000), PRESSURE)],
     "psi": [(_F("6894.757293168361"), PRESSURE)],
+    # the poise, for oils' viscosity in cP (1 cP = 1 mPa*s)
+    "P": [(_F("0.1"), VISCOSITY)],
     "J": [(_F(1), ENERGY)],
     "W": [(_F(1), ENERGY / TIME)],
 }
 
 # Units that take SI prefixes (a prefixed g is always the gram).
-_PREFIXABLE = {"m", "g", "s", "N", "Pa", "J", "W", "Hz", "rad"}
+_PREFIXABLE = {"m", "g", "s", "N", "Pa", "J", "W", "Hz", "rad", "P"}
 _PREFIXES = {
     "G": _F(10) ** 9,
     "M": _F(10) ** 6,

@@ -462,7 +462,11 @@ def _run(args: argparse.Namespace) -> int:
         from .report import report_after_run
 
         notes += report_after_run(result, ideal, out, args.model, written, args.report)
-    print(_summary(model, args.model, result, written, format_statistics(stats, deviations)))
+    print(
+        _summary(
+            model, args.model, result, written, format_statistics(stats, deviations, result.model)
+        )
+    )
     for note in notes:
         print(note)
     if ideal is not None and not ideal.ok:

@@ -9,12 +9,13 @@ from typing import Any
 
 import numpy as np
 
-from ..results import Result, channel_unit, clearance_joints, main_channels
+from ..results import Result, clearance_joints, main_channels
 from ..statistics import contact_statistics, deviation_from_ideal
 from .encode import minmax_indices, rounded
 from .scene import DEFAULT_MAX_FRAMES, frame_indices, frames, scene
 from .tables import (
     Table,
+    channel_label,
     contact_table,
     deviation_table,
     impact_table,
@@ -26,6 +27,7 @@ from .tables import (
 __all__ = [
     "DEFAULT_MAX_POINTS",
     "IMPACT_POINTS",
+    "KIND_CHANNELS",
     "impact_samples",
     "path_indices",
     "plotted_channels",
@@ -41,14 +43,39 @@ IMPACT_POINTS = 8
 is thinned, so that a zoomed impact shows its own width, not a column's."""
 
 
+KIND_CHANNELS = {
+    "lubricated_revolute": (
+        "eccentricity_ratio",
+        "film_thickness",
+        "film_fx",
+        "film_fy",
+        "film_mode",
+    ),
+    "clearance_translational": ("tilt", "offset"),
+    "revolute_with_play": ("play_angle", "torque"),
+    "prismatic_with_play": ("play_travel", "force"),
+    "gear_pair": ("mesh", "torque_1", "torque_2"),
+}
+"""Per joint type, the joint's own channels plotted after the contacts' normal forces:
+the film of a lubricated joint, the block's tilt and offset in its guide, a play's
+coordinate and stop, a gear mesh and its tooth torques."""
+
+
 def plotted_channels(result: Result) -> list[str]:
     """The main channels (:func:`jointgap.results.main_channels`: slider motion, driver
-    efforts, constraint error) with each clearance joint's normal force before the
-    constraint error."""
+    efforts, constraint error) with each contact's normal force (each corner's of a
+    translational joint) and each joint's own channels of :data:`KIND_CHANNELS` before
+    the constraint error."""
     main = main_channels(result)
     forces = [f"{j}.fn" for j in clearance_joints(result) if f"{j}.fn" in result]
+    own = [
+        f"{j['name']}.{q}"
+        for j in result.model.get("joints", [])
+        for q in KIND_CHANNELS.get(str(j.get("type")), ())
+    ]
     tail = [c for c in main if c == "system.constraint_error"]
-    return [c for c in main if c not in tail] + forces + tail
+    chosen = [c for c in main if c not in tail] + forces + [c for c in own if c in result]
+    return list(dict.fromkeys(chosen + tail))
 
 
 def impact_samples(result: Result, per_impact: int = IMPACT_POINTS) -> np.ndarray:
@@ -120,17 +147,19 @@ def _plots(
             {
                 "id": channel,
                 "title": title,
-                "ylabel": f"{channel} [{channel_unit(channel)}]"
-                if channel_unit(channel)
-                else channel,
+                "ylabel": channel_label(channel, result.model),
                 "xlabel": "time [s]",
                 "series": series,
-                "markers": channel.split(".")[-1] in ("ax", "ay", "fn", "torque", "force"),
+                "markers": channel.split(".")[-1] in _MARKED,
                 "time": True,
                 "kind": "line",
             }
         )
     return out
+
+
+_MARKED = ("ax", "ay", "fn", "torque", "force", "torque_1", "torque_2")
+"""The quantities whose plots mark the impacts' onsets."""
 
 
 def path_indices(x: np.ndarray, y: np.ndarray, max_points: int) -> np.ndarray:
@@ -217,7 +246,7 @@ def run_section(
         run_statistics_table(result),
     ]
     if stats:
-        tables.append(contact_table(stats))
+        tables.append(contact_table(stats, result.model))
     if result.impacts:
         tables.append(impact_table(result))
     if ideal is not None:

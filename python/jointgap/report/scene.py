@@ -21,7 +21,7 @@ import numpy as np
 from .._schema import GROUND
 from ..errors import ReportError
 from ..plots import radial_clearance, resolved_clearance
-from ..results import Result, clearance_joints
+from ..results import Result
 from .encode import rounded
 
 __all__ = [
@@ -194,6 +194,18 @@ def auto_magnify(clearance: float, size: float) -> float:
     return max(m * power for m in (1.0, 2.0, 5.0) if m * power <= raw)
 
 
+JOURNAL_TYPES = ("clearance_revolute", "lubricated_revolute")
+"""The joint types drawn as a journal in its bearing, whose eccentricity the animation
+and the orbits show."""
+
+
+def journal_joints(result: Result) -> list[str]:
+    """The joints of ``result`` drawn as a journal in its bearing, in model order."""
+    return [
+        str(j["name"]) for j in result.model.get("joints", []) if j.get("type") in JOURNAL_TYPES
+    ]
+
+
 def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> dict[str, Any]:
     """The static drawing: bodies with shapes, pins and joint points (``links``, drawn
     as thin lines from the centre of mass) in their frames, ground points and guides,
@@ -228,19 +240,19 @@ def scene(result: Result, index: np.ndarray, magnify: float | None = None) -> di
         for body, point in ((bi, pi), (bj, pj)):
             if body != GROUND and body in links and list(point) not in links[body]:
                 links[body].append(list(point))
-        if kind == "revolute":
+        if kind in ("revolute", "revolute_with_play"):
             if bj != GROUND:
                 pins[bj].append(list(pj))
             else:
                 pins[bi].append(list(pi))
             if GROUND in (bi, bj):
                 ground_pins.append(list(pi if bi == GROUND else pj))
-        elif kind == "prismatic":
+        elif kind in ("prismatic", "prismatic_with_play", "clearance_translational"):
             axis = _vec(joint.get("axis") or (1.0, 0.0))
             guides.append(
                 {"body": None if bi == GROUND else bi, "point": list(pi), "axis": list(axis)}
             )
-        elif kind == "clearance_revolute":
+        elif kind in JOURNAL_TYPES:
             clearances.append(
                 {
                     "joint": str(joint["name"]),
@@ -292,7 +304,7 @@ def _drawn_clearance(result: Result, joint: str, factor: float) -> dict[str, flo
 
 
 def frames(result: Result, index: np.ndarray, ideal: Result | None = None) -> dict[str, Any]:
-    """Per frame: time, each body's x, y, angle, each clearance joint's ex, ey, mode, and
+    """Per frame: time, each body's x, y, angle, each journal's ex, ey, mode, and
     (with ``ideal``) the ideal run's body poses at the same times (interpolated)."""
     time = np.asarray(result.time)[index]
     bodies: dict[str, Any] = {}
@@ -300,7 +312,7 @@ def frames(result: Result, index: np.ndarray, ideal: Result | None = None) -> di
         x, y, a = _poses(result, body, index)
         bodies[body] = {"x": rounded(x), "y": rounded(y), "angle": rounded(a)}
     joints: dict[str, Any] = {}
-    for joint in clearance_joints(result):
+    for joint in journal_joints(result):
         entry: dict[str, Any] = {}
         for q in ("ex", "ey", "mode"):
             channel = f"{joint}.{q}"

@@ -4,11 +4,12 @@ time where a column holds one."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..results import Result, channel_unit, clearance_joints
+from ..results import Result, channel_unit, clearance_joints, impact_units
 from ..statistics import ContactStatistics, Deviation
 from .encode import strict
 
@@ -81,20 +82,41 @@ def model_table(result: Result, source: str | None = None) -> Table:
     if g is not None:
         items.append(("gravity [m/s^2]", "(" + ", ".join(f"{float(x):g}" for x in g) + ")"))
     # A spatial joint of several contact points is listed by its name, not its points'.
+    types = {str(j.get("name")): str(j.get("type")) for j in model.get("joints", [])}
     for joint in dict.fromkeys([*clearance_joints(result), *result.clearances]):
         data = result.clearances.get(joint)
         if not data:
             continue
-        items.append(
-            (
-                f"{joint}",
-                f"clearance {1e3 * data['clearance']:.4g} mm, bearing radius "
-                f"{1e3 * data['bearing_radius']:.4g} mm, journal radius "
-                f"{1e3 * data['journal_radius']:.4g} mm, K {data['stiffness']:.4g} N/m^"
-                f"{data['exponent']:g}",
-            )
-        )
+        items.append((f"{joint}", _contact_data(types.get(joint, ""), data)))
     return key_value_table("model", "Model", items)
+
+
+def _contact_data(type_: str, data: Mapping[str, float]) -> str:
+    """A contact joint's resolved data in words, as its type reads the engine's radii
+    and clearance: a block's half gap in its guide, half a play, half a gear mesh's
+    backlash along the line of action."""
+    mm = {k: 1e3 * float(data[k]) for k in ("clearance", "bearing_radius", "journal_radius")}
+    k, n = float(data["stiffness"]), float(data["exponent"])
+    if type_ == "clearance_translational":
+        return (
+            f"half gap {mm['clearance']:.4g} mm, guide half-width {mm['bearing_radius']:.4g} "
+            f"mm, block half-height {mm['journal_radius']:.4g} mm, K {k:.4g} N/m^{n:g}"
+        )
+    if type_ == "revolute_with_play":
+        half = math.degrees(float(data["clearance"]))
+        return f"half play {half:.4g} deg, K {k:.4g} N*m/rad^{n:g}"
+    if type_ == "prismatic_with_play":
+        return f"half play {mm['clearance']:.4g} mm, K {k:.4g} N/m^{n:g}"
+    if type_ == "gear_pair":
+        return (
+            f"pitch radii {mm['bearing_radius']:.4g} and {mm['journal_radius']:.4g} mm, half "
+            f"backlash along the line of action {1e3 * mm['clearance']:.4g} µm, K {k:.4g} "
+            f"N/m^{n:g}"
+        )
+    return (
+        f"clearance {mm['clearance']:.4g} mm, bearing radius {mm['bearing_radius']:.4g} mm, "
+        f"journal radius {mm['journal_radius']:.4g} mm, K {k:.4g} N/m^{n:g}"
+    )
 
 
 def options_table(result: Result) -> Table:
@@ -127,8 +149,47 @@ def _text(v: Any) -> Any:
     return v
 
 
-def contact_table(stats: Sequence[ContactStatistics]) -> Table:
-    """One row per clearance joint (:func:`jointgap.statistics.contact_statistics`)."""
+def _units(contacts: Sequence[str], model: Mapping[str, Any] | None) -> list[str] | None:
+    """Per contact, the units of its onset speed, peak and penetration (µ-scaled) where
+    some contact's differ from m/s, N and µm (a revolute joint's play: rad/s, N*m, µrad),
+    else None: the columns' titles then say them."""
+    if model is None:
+        return None
+    units = [impact_units(model, c) for c in contacts]
+    if all(u["onset_speed"] == "m/s" for u in units):
+        return None
+    return [f"{u['onset_speed']}, {u['peak_force']}, µ{u['max_penetration']}" for u in units]
+
+
+def _with_units(
+    columns: list[str], rows: list[list[Any]], units: list[str] | None
+) -> tuple[list[str], list[list[Any]]]:
+    """A "units" column after the first where :func:`_units` gives one, the columns'
+    units then named as alternatives."""
+    if units is None:
+        return columns, rows
+    alternatives = {
+        "[m/s]": "[m/s or rad/s]",
+        "[N]": "[N or N*m]",
+        "[µm]": "[µm or µrad]",
+    }
+    named = []
+    for c in columns:
+        for a, b in alternatives.items():
+            c = c.replace(a, b)
+        named.append(c)
+    return (
+        [named[0], "units", *named[1:]],
+        [[r[0], u, *r[1:]] for r, u in zip(rows, units, strict=True)],
+    )
+
+
+def contact_table(
+    stats: Sequence[ContactStatistics], model: Mapping[str, Any] | None = None
+) -> Table:
+    """One row per clearance joint (:func:`jointgap.statistics.contact_statistics`); with
+    the model, a joint whose contact turns (a revolute joint's play) has its units said
+    in a column of their own."""
     columns = [
         "joint",
         "impacts",
@@ -159,6 +220,7 @@ def contact_table(stats: Sequence[ContactStatistics]) -> Table:
         if all(s.complete for s in stats)
         else "the run failed: statistics up to where it stopped"
     )
+    columns, rows = _with_units(columns, rows, _units([s.joint for s in stats], model))
     return Table("contact-statistics", "Contact statistics", columns, rows, note=note)
 
 
@@ -191,7 +253,10 @@ def impact_table(result: Result) -> Table:
     total = sum(len(v) for v in result.impacts.values())
     per = ", ".join(f"{j}: {len(v)}" for j, v in result.impacts.items())
     note = f"{total} impacts ({per}); click a row to see it" if total else "no impacts"
-    return Table("impacts", "Impacts", columns, rows, seek=2, sortable=True, note=note)
+    units = _units([str(r[0]) for r in rows], result.model)
+    columns, rows = _with_units(columns, rows, units)
+    seek = 2 if units is None else 3
+    return Table("impacts", "Impacts", columns, rows, seek=seek, sortable=True, note=note)
 
 
 def deviation_table(deviations: Sequence[Deviation]) -> Table:
@@ -212,9 +277,10 @@ def deviation_table(deviations: Sequence[Deviation]) -> Table:
     return Table("deviation", "Deviation from the ideal run", columns, rows, seek=6)
 
 
-def channel_label(channel: str) -> str:
-    """``slider.ax [m/s^2]``."""
-    unit = channel_unit(channel)
+def channel_label(channel: str, model: Mapping[str, Any] | None = None) -> str:
+    """``slider.ax [m/s^2]``; with the model, in its joint type's unit
+    (:func:`jointgap.results.channel_unit`)."""
+    unit = channel_unit(channel, model)
     return f"{channel} [{unit}]" if unit else channel
 
 
