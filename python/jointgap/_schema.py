@@ -683,7 +683,7 @@ _SPATIAL_JOINT_COMMON = [
         "choice",
         required=True,
         doc="spherical, revolute, cylindrical, prismatic, universal, fixed, planar, "
-        "clearance_spherical or clearance_cylindrical",
+        "revolute_with_play, prismatic_with_play, clearance_spherical or clearance_cylindrical",
     ),
     Param("body_i", "ref", required=True, doc="first body, or ground"),
     Param("point_i", "point", u.LENGTH, required=True, doc="joint point on body_i"),
@@ -841,6 +841,20 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         ],
         "fixed": _SPATIAL_JOINT_COMMON,
         "planar": [*_SPATIAL_JOINT_COMMON, _axis("the plane's normal")],
+        "revolute_with_play": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the pin's axis"),
+            _AXIS_J,
+            *_ANGLE_INITIAL,
+            _play("rotation_play"),
+        ],
+        "prismatic_with_play": [
+            *_SPATIAL_JOINT_COMMON,
+            _axis("the sliding direction"),
+            _AXIS_J,
+            *_TRAVEL_INITIAL,
+            _play("travel_play"),
+        ],
         "clearance_spherical": [*_SPATIAL_JOINT_COMMON, *_SPHERE_CLEARANCE],
         "clearance_cylindrical": [
             *_SPATIAL_JOINT_COMMON,
@@ -914,6 +928,8 @@ SPATIAL_JOINT_EQUATIONS = {
     "universal": 4,
     "fixed": 6,
     "planar": 3,
+    "revolute_with_play": 5,
+    "prismatic_with_play": 5,
     "clearance_spherical": 0,
     "clearance_cylindrical": 0,
 }
