@@ -12,13 +12,9 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-import jointgap  # noqa: E402
+import jointgap
+import matplotlib.pyplot as plt
+import numpy as np
 
 HERE = Path(__file__).resolve().parent
 JOINT = "rod_slider"
@@ -34,6 +30,7 @@ def main(folder: str = "dry_vs_lubricated", t_end: str = "0.5") -> Path:
         ),
     }
     clearance_mm = 1e3 * runs["dry"].clearances[JOINT]["clearance"]
+    plt.switch_backend("Agg")
     fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), layout="constrained")
     colours = {"dry": "tab:red", "lubricated": "tab:blue"}
     for name, r in runs.items():
@@ -44,8 +41,9 @@ def main(folder: str = "dry_vs_lubricated", t_end: str = "0.5") -> Path:
         axes[0, 1].plot(
             1e3 * r[f"{JOINT}.ex"], 1e3 * r[f"{JOINT}.ey"], lw=0.5, color=colours[name], label=name
         )
+        ax = r["slider.ax"]
         print(
-            f"{name:>10}: slider acceleration {r['slider.ax'].min():9.1f} .. {r['slider.ax'].max():7.1f} m/s^2,"
+            f"{name:>10}: slider acceleration {ax.min():9.1f} .. {ax.max():7.1f} m/s^2,"
             f" joint force peak {force.max():8.1f} N, {len(r.impacts.get(JOINT, []))} impacts"
         )
     lub = runs["lubricated"]
