@@ -4,6 +4,7 @@
 //! ([`geometry`]: where its parts touch, as contact points) and the laws ([`normal`],
 //! [`friction`]) that turn one contact point into forces.
 
+pub mod film;
 pub mod friction;
 pub mod geometry;
 pub mod materials;
