@@ -390,3 +390,55 @@ impl Sommerfeld {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// psi and phi are inverse maps, continuous through phi = pi, and psi keeps the
+    /// thinnest and widest film (0 and pi) in place.
+    #[test]
+    fn sommerfeld_variable_is_continuous_and_inverts() {
+        for eps in [0.0, 0.3, 0.9, 0.999] {
+            let s = Sommerfeld::new(eps);
+            assert!(s.psi(0.0).abs() < 1e-15 && (s.psi(PI) - PI).abs() < 1e-13);
+            let mut last = s.psi(-4.0);
+            for k in 0..=800 {
+                let phi = -4.0 + 8.0 * k as f64 / 800.0;
+                let psi = s.psi(phi);
+                assert!(psi >= last, "psi decreases at phi {phi}, eps {eps}");
+                assert!((s.phi(psi) - phi).abs() < 1e-12, "eps {eps} phi {phi}");
+                // 1 - eps cos phi = (1 - eps^2) / (1 + eps cos psi)
+                assert!((s.h(phi) - (1.0 - eps * eps) / (1.0 + eps * psi.cos())).abs() < 1e-12);
+                last = psi;
+            }
+        }
+    }
+
+    /// The roots of (t - 0.5)(t + 0.3)(t - 0.9)(t + 0.95) in (-1, 1), and a double root
+    /// (no sign change) left out.
+    #[test]
+    fn polynomial_roots_are_all_found() {
+        let mut out = [0.0; 4];
+        // Expanded with the roots r: coefficients of prod (t - r), constant first.
+        let product = |roots: &[f64]| {
+            let mut c = vec![1.0];
+            for &r in roots {
+                let mut next = vec![0.0; c.len() + 1];
+                for (k, &ck) in c.iter().enumerate() {
+                    next[k + 1] += ck;
+                    next[k] -= r * ck;
+                }
+                c = next;
+            }
+            c
+        };
+        let n = poly_roots(&product(&[0.5, -0.3, 0.9, -0.95]), -1.0, 1.0, &mut out);
+        assert_eq!(n, 4);
+        for (got, want) in out.iter().zip([-0.95, -0.3, 0.5, 0.9]) {
+            assert!((got - want).abs() < 1e-14, "{out:?}");
+        }
+        let n = poly_roots(&product(&[0.2, 0.2, -0.6]), -1.0, 1.0, &mut out);
+        assert_eq!((n, (out[0] + 0.6).abs() < 1e-14), (1, true), "{out:?}");
+    }
+}
