@@ -296,21 +296,6 @@ pub struct Lubrication {
     pub roughness: f64,
 }
 
-/// How the film's pressure is found (docs/lubrication.md).
-#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum FilmModel {
-    /// Short bearing (Ocvirk), pressure integrated where it is positive (Gumbel).
-    #[default]
-    Short,
-    /// Long bearing (Sommerfeld), pressure integrated where it is positive (Gumbel).
-    Long,
-    /// Short bearing, pressure integrated over a fixed half of the film (pi film).
-    ShortPi,
-    /// Long bearing, pressure integrated over a fixed half of the film (pi film).
-    LongPi,
-}
-
 /// The play of a joint with play: its coordinate (relative angle of a revolute, travel
 /// of a prismatic) is free within `centre +- play/2`, then a contact law stops it.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
@@ -522,6 +507,29 @@ pub enum FrictionSpec {
         /// Viscous coefficient [N s/m].
         viscous: f64,
     },
+}
+
+/// Fluid-film model of a lubricated journal bearing: how the Reynolds equation is
+/// simplified and over which part of the film its pressure is taken (docs/lubrication.md).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum FilmModel {
+    /// Short bearing (Ocvirk: the axial pressure flow dominates, for L/D below about
+    /// 0.5) with half-Sommerfeld (Gumbel) cavitation in its exact form: only the positive
+    /// pressure acts, over the half of the film that the squeeze and wedge motions place.
+    #[default]
+    Short,
+    /// Long bearing (Sommerfeld: the circumferential flow dominates, for L/D above about
+    /// 2) with Gumbel cavitation: the pressure, zero at the widest film, acts where it is
+    /// positive.
+    Long,
+    /// Short bearing with the pressure taken over a fixed half of the film (the
+    /// "pi-film" of Pinkus & Sternlicht 1961 used by Flores et al., Mech. Mach. Theory
+    /// 41 (2006) 247), for reproducing papers: it keeps negative pressure.
+    ShortPi,
+    /// Long bearing with the pressure taken over the same fixed half of the film as
+    /// [`FilmModel::ShortPi`], for reproducing papers.
+    LongPi,
 }
 
 /// A prescribed motion of a revolute (rotation) or prismatic (translation) joint.

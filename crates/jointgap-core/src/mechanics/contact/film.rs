@@ -1,30 +1,444 @@
-//! PLACEHOLDER (not committed): replaced by the film module.
+//! The oil film of a lubricated journal bearing: the force and the shear torque it puts
+//! on the journal, from the Reynolds equation in its short-bearing (Ocvirk) and
+//! long-bearing (Sommerfeld) limits (docs/lubrication.md).
+//!
+//! **Geometry and signs.** The journal (pin, radius R) sits in the bearing (hole, radial
+//! clearance c) with its centre at `e n` from the bearing centre, `n = (cos gamma, sin
+//! gamma)`. Angles are counter-clockwise; `phi = theta - gamma` is measured from `n`, where
+//! the film is thinnest: `h = c - e cos(theta - gamma) = c H`, `H = 1 - eps cos phi`,
+//! `eps = e/c`. The journal and bearing surfaces move counter-clockwise at `R omega_j` and
+//! `R omega_b`. The thin-film Reynolds equation (isoviscous, incompressible oil)
+//!
+//! `(1/R^2) d/dtheta(h^3 dp/dtheta) + d/dz(h^3 dp/dz) = 6 mu (omega_j + omega_b) dh/dtheta + 12 mu dh/dt`
+//!
+//! with `dh/dt = -e_dot cos phi - e gamma_dot sin phi` at a fixed theta has the right-hand
+//! side `-6 mu c N(phi)`, `N = 2 eps_dot cos phi - wbar eps sin phi`, where
+//! `wbar = omega_j + omega_b - 2 gamma_dot` is the wedge speed (zero when journal, bearing
+//! and load turn together) and `eps_dot = e_dot / c` the squeeze rate (positive: the
+//! journal moves towards the wall at `phi = 0`). Pressure pushes the journal towards its
+//! centre, so the force on the journal is `-R int int p (cos phi, sin phi) dphi dz` along
+//! `n` and `perp(n)`.
+//!
+//! Every film integral is taken in closed form with Sommerfeld's substitution
+//! ([`Sommerfeld`]); nothing is integrated numerically at run time.
+
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
 use crate::model::FilmModel;
+
+/// An oil film between a journal and its bearing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Film {
+    /// Journal radius R [m].
     pub radius: f64,
+    /// Radial clearance c [m] (bearing radius minus journal radius).
     pub clearance: f64,
+    /// Bearing length L [m].
     pub length: f64,
+    /// Dynamic viscosity mu [Pa s].
     pub viscosity: f64,
+    /// The simplification of the Reynolds equation and the part of the film that carries
+    /// pressure.
     pub model: FilmModel,
 }
+
+/// Where the journal is in its bearing and how journal and bearing move.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilmMotion {
+    /// Eccentricity e [m]: distance from the bearing centre to the journal centre,
+    /// `0 <= e < c`.
     pub eccentricity: f64,
+    /// Its rate de/dt [m/s]: positive when the journal moves towards the wall.
     pub eccentricity_rate: f64,
+    /// Rate d gamma/dt [rad/s] of the eccentricity direction `n = (cos gamma, sin gamma)`.
     pub attitude_rate: f64,
+    /// Journal angular velocity [rad/s], counter-clockwise positive.
     pub omega_journal: f64,
+    /// Bearing angular velocity [rad/s], counter-clockwise positive.
     pub omega_bearing: f64,
 }
+
+/// What the film does to the journal. The bearing takes `-F` at its centre and the torque
+/// `-torque_journal - e x F`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FilmForce {
+    /// Force on the journal along `n` (bearing centre to journal centre) [N]; negative
+    /// pushes the journal back towards the bearing centre.
     pub along: f64,
+    /// Force on the journal along `perp(n)` (n turned +90 deg) [N].
     pub across: f64,
+    /// Shear torque on the journal about its centre [N m], counter-clockwise positive.
     pub torque_journal: f64,
+    /// Largest film pressure [Pa], 0 where the model's film carries no positive pressure.
     pub peak_pressure: f64,
 }
+
+/// The fixed half of the film that the pi-film forms integrate, `phi` in `[-pi, 0]` (that
+/// is `[pi, 2 pi]`): from the widest film to the thinnest, the half that converges for a
+/// counter-clockwise wedge speed.
+const FIXED_HALF: (f64, f64) = (-PI, 0.0);
+
 impl Film {
-    pub fn force(&self, _m: &FilmMotion) -> FilmForce {
-        FilmForce { along: 0.0, across: 0.0, torque_journal: 0.0, peak_pressure: 0.0 }
+    /// Film force and torque on the journal for the motion `m` (requires `0 <= e < c`).
+    ///
+    /// The friction torque is the shear stress `mu R (omega_b - omega_j)/h - (h/2R)
+    /// dp/dtheta` on the journal surface. Its Couette part is taken over the full
+    /// circumference (the cavitated region is filled with oil streamers that still shear;
+    /// the usual choice, Hamrock, Schmid & Jacobson, Fundamentals of Fluid Film
+    /// Lubrication, 2nd ed. 2004, ch. 10): `-2 pi mu R^3 L (omega_j - omega_b) / (c
+    /// sqrt(1 - eps^2))`, Petroff's torque at `eps = 0`. Its pressure (Poiseuille) part
+    /// integrates by parts around the circle to `-e F_across / 2` for any pressure field
+    /// that is zero outside its film, so it follows from the force.
+    pub fn force(&self, m: &FilmMotion) -> FilmForce {
+        debug_assert!(
+            (0.0..self.clearance).contains(&m.eccentricity),
+            "eccentricity {} outside [0, {})",
+            m.eccentricity,
+            self.clearance
+        );
+        let s = Sommerfeld::new(m.eccentricity / self.clearance);
+        let squeeze = m.eccentricity_rate / self.clearance;
+        let wedge = m.omega_journal + m.omega_bearing - 2.0 * m.attitude_rate;
+        let (along, across, peak_pressure) = match self.model {
+            FilmModel::Short => self.short(&s, squeeze, wedge, true),
+            FilmModel::ShortPi => self.short(&s, squeeze, wedge, false),
+            FilmModel::Long => self.long(&s, squeeze, wedge, true),
+            FilmModel::LongPi => self.long(&s, squeeze, wedge, false),
+        };
+        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
+        let couette = -TAU * mu * r.powi(3) * l * (m.omega_journal - m.omega_bearing) / (c * s.root);
+        FilmForce { along, across, torque_journal: couette - 0.5 * m.eccentricity * across, peak_pressure }
+    }
+
+    /// Short bearing (Ocvirk, for L/D below about 0.5): the axial flow carries the film,
+    /// `h^3 d2p/dz2 = -6 mu c N(phi)` with `p = 0` at the bearing ends `z = +-L/2`, so
+    ///
+    /// `p = 3 mu (L^2/4 - z^2) N(phi) / (c^2 H^3)`,  `N = a cos phi + b sin phi`,
+    /// `a = 2 eps_dot`, `b = -wbar eps`.
+    ///
+    /// `N` is positive over the half circle centred on `atan2(b, a)`, which turns with the
+    /// ratio of squeeze to wedge: the exact positive-pressure (Gumbel) film (`gumbel`).
+    /// Otherwise the pressure is taken over [`FIXED_HALF`], negative parts included (the
+    /// pi-film). Returns the force along and across `n` and the peak pressure.
+    fn short(&self, s: &Sommerfeld, squeeze: f64, wedge: f64, gumbel: bool) -> (f64, f64, f64) {
+        let (a, b) = (2.0 * squeeze, -wedge * s.eps);
+        if a == 0.0 && b == 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let centre = b.atan2(a);
+        let (lo, hi) = if gumbel { (centre - FRAC_PI_2, centre + FRAC_PI_2) } else { FIXED_HALF };
+        let i = s.moments(s.psi(hi)).minus(&s.moments(s.psi(lo)));
+        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
+        // z-integral of the pressure: int (L^2/4 - z^2) dz = L^3/6.
+        let k = mu * r * l.powi(3) / (2.0 * c * c);
+        let along = -k * (a * i.cc3 + b * i.sc3);
+        let across = -k * (a * i.sc3 + b * i.ss3);
+
+        // Peak pressure at mid-length (z = 0): the largest value at a stationary point in
+        // the positive half circle, or (pi-film) at an end of the fixed half.
+        let p = |phi: f64| 0.75 * mu * l * l / (c * c) * (a * phi.cos() + b * phi.sin()) / s.h(phi).powi(3);
+        let mut peak = if gumbel { 0.0 } else { p(FIXED_HALF.0).max(p(FIXED_HALF.1)).max(0.0) };
+        let mut t = [0.0; 4];
+        let n = short_peak_candidates(s.eps, centre, &mut t);
+        for &t in &t[..n] {
+            let phi = centre + 2.0 * t.atan();
+            if gumbel || phi - TAU * (phi / TAU).round() <= 0.0 {
+                peak = peak.max(p(phi));
+            }
+        }
+        (along, across, peak)
+    }
+
+    /// Long bearing (Sommerfeld, for L/D above about 2): the circumferential flow carries
+    /// the film, `d/dphi(H^3 dp/dphi) = -6 mu (R/c)^2 N(phi)`. Periodic, and zero at the
+    /// widest film (`phi = pi`, where oil is supplied; Pinkus & Sternlicht 1961):
+    ///
+    /// `p = k [-wbar eps sin phi (2 - eps cos phi) / ((2 + eps^2) H^2)
+    ///        + eps_dot (cos phi (2 - eps cos phi) / H^2 + (2 + eps)/(1 + eps)^2)]`,
+    /// `dp/dphi = k [wbar / H^2 + kappa / H^3 - 2 eps_dot sin phi / H^3]`,
+    /// `k = 6 mu R^2 / c^2`, `kappa = -2 wbar (1 - eps^2)/(2 + eps^2)`.
+    ///
+    /// Gumbel (`gumbel`): the pressure acts where it is positive, one arc from `phi = pi`
+    /// to the pressure's other zero ([`Self::long_positive_arc`]); the pi-film takes
+    /// [`FIXED_HALF`]. The force integrals go by parts to `int p' (sin, cos)`, closed form
+    /// in the Sommerfeld variable.
+    fn long(&self, s: &Sommerfeld, squeeze: f64, wedge: f64, gumbel: bool) -> (f64, f64, f64) {
+        let eps = s.eps;
+        if wedge * eps == 0.0 && squeeze == 0.0 {
+            return (0.0, 0.0, 0.0);
+        }
+        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
+        let k = 6.0 * mu * r * r / (c * c);
+        let kappa = -2.0 * wedge * s.root * s.root / (2.0 + eps * eps);
+        let p = |phi: f64| {
+            let (sn, cs) = phi.sin_cos();
+            let h = s.h(phi);
+            k * (-wedge * eps * sn * (2.0 - eps * cs) / ((2.0 + eps * eps) * h * h)
+                + squeeze * (cs * (2.0 - eps * cs) / (h * h) + (2.0 + eps) / ((1.0 + eps) * (1.0 + eps))))
+        };
+        let (psi_a, psi_b) = if gumbel {
+            match Self::long_positive_arc(s, squeeze, wedge) {
+                Some(arc) => arc,
+                None => return (0.0, 0.0, 0.0),
+            }
+        } else {
+            (s.psi(FIXED_HALF.0), s.psi(FIXED_HALF.1))
+        };
+        let i = s.moments(psi_b).minus(&s.moments(psi_a));
+        let (phi_a, phi_b) = (s.phi(psi_a), s.phi(psi_b));
+        let dp_sin = k * (wedge * i.s2 + kappa * i.s3 - 2.0 * squeeze * i.ss3);
+        let dp_cos = k * (wedge * i.c2 + kappa * i.c3 - 2.0 * squeeze * i.sc3);
+        let p_cos = p(phi_b) * phi_b.sin() - p(phi_a) * phi_a.sin() - dp_sin;
+        let p_sin = -(p(phi_b) * phi_b.cos() - p(phi_a) * phi_a.cos()) + dp_cos;
+
+        // Peak: dp/dphi = 0 where wbar eps cos phi + 2 eps_dot sin phi = wbar + kappa.
+        let amp = (wedge * eps).hypot(2.0 * squeeze);
+        let turn = ((wedge + kappa) / amp).clamp(-1.0, 1.0).acos();
+        let at = (2.0 * squeeze).atan2(wedge * eps);
+        let mut peak = if gumbel { 0.0 } else { p(FIXED_HALF.1).max(0.0) };
+        for phi in [at - turn, at + turn] {
+            if gumbel || phi - TAU * (phi / TAU).round() <= 0.0 {
+                peak = peak.max(p(phi));
+            }
+        }
+        (-r * l * p_cos, -r * l * p_sin, peak)
+    }
+
+    /// The long bearing's positive-pressure arc as `(psi_a, psi_b)` in the Sommerfeld
+    /// variable, `None` where the pressure is nowhere positive. In `psi` the pressure is
+    /// `2 cos(psi/2) F(psi) k / (1 - eps^2)^2` with
+    /// `F = eps_dot cos(psi/2) (2 - eps + eps cos psi) + w sin(psi/2) (2 - eps^2 + eps cos psi)`,
+    /// `w = -wbar eps sqrt(1 - eps^2)/(2 + eps^2)`; `F / cos(psi/2)` times `1 + tan^2(psi/2)`
+    /// is `2 eps_dot (1 + (1 - eps) t^2) + w t ((1 + eps)(2 - eps) + (1 - eps)(2 + eps) t^2)`
+    /// in `t = tan(psi/2)`, whose ratio of its two terms is monotone in `t`: `F` has
+    /// exactly one zero in `(-pi, pi)` besides the zero of the pressure at `psi = pi`.
+    fn long_positive_arc(s: &Sommerfeld, squeeze: f64, wedge: f64) -> Option<(f64, f64)> {
+        let eps = s.eps;
+        let w = -wedge * eps * s.root / (2.0 + eps * eps);
+        if w == 0.0 {
+            // Pure squeeze: positive all round when approaching, nowhere when receding.
+            return (squeeze > 0.0).then_some((-PI, PI));
+        }
+        let f = |psi: f64| {
+            let (sh, ch) = (0.5 * psi).sin_cos();
+            let (sn, cs) = psi.sin_cos();
+            let (u, v) = (2.0 - eps + eps * cs, 2.0 - eps * eps + eps * cs);
+            let value = squeeze * ch * u + w * sh * v;
+            let slope = squeeze * (-0.5 * sh * u - eps * sn * ch) + w * (0.5 * ch * v - eps * sn * sh);
+            (value, slope)
+        };
+        let zero = root(f, -PI, PI);
+        Some(if w > 0.0 { (zero, PI) } else { (-PI, zero) })
+    }
+}
+
+/// The stationary points of the short bearing's mid-length pressure `N/H^3` inside its
+/// positive half circle `phi = centre + u`, `|u| < pi/2`, as `t = tan(u/2)` in `(-1, 1)`
+/// (written to `out`, their number returned). With `(a, b) = |N| (cos centre, sin
+/// centre)`, `(N/H^3)' = 0` reads `-sin u - eps sin(centre + 2u) - 2 eps sin(centre) = 0`,
+/// a quartic in `t`. The pressure can have two maxima there (squeeze away from the wall
+/// at `eps` above about 0.5 puts a peak either side of the widest film), so all are
+/// returned.
+fn short_peak_candidates(eps: f64, centre: f64, out: &mut [f64; 4]) -> usize {
+    let (sc, cc) = centre.sin_cos();
+    let quartic =
+        [-3.0 * eps * sc, -(2.0 + 4.0 * eps * cc), 2.0 * eps * sc, 4.0 * eps * cc - 2.0, -3.0 * eps * sc];
+    poly_roots(&quartic, -1.0, 1.0, out)
+}
+
+/// The real roots in `(lo, hi)` of the polynomial with coefficients `p` (constant first,
+/// degree at most 4), in increasing order, written to `out`; returns their number.
+/// Between consecutive roots of its derivative a polynomial is monotone, so each such
+/// piece holds at most one root, which [`root`] finds. Roots where the polynomial keeps
+/// its sign (even multiplicity) are not reported.
+fn poly_roots(p: &[f64], lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
+    if p.len() < 2 {
+        return 0;
+    }
+    let mut dp = [0.0; 4];
+    for k in 1..p.len() {
+        dp[k - 1] = k as f64 * p[k];
+    }
+    let dp = &dp[..p.len() - 1];
+    let mut knots = [0.0; 4];
+    let n_knots = poly_roots(dp, lo, hi, &mut knots);
+    let eval = |q: &[f64], x: f64| q.iter().rev().fold(0.0, |acc, &c| acc * x + c);
+    let mut n = 0;
+    let mut a = lo;
+    for &b in knots[..n_knots].iter().chain([hi].iter()) {
+        if (eval(p, a) < 0.0) != (eval(p, b) < 0.0) {
+            out[n] = root(|x| (eval(p, x), eval(dp, x)), a, b);
+            n += 1;
+        }
+        a = b;
+    }
+    n
+}
+
+/// The root in `[lo, hi]` of a function `f` (value and slope) that changes sign there:
+/// Newton's steps, replaced by bisection when one would leave the shrinking bracket.
+fn root(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
+    let low_negative = f(lo).0 < 0.0;
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..100 {
+        let (value, slope) = f(x);
+        if value == 0.0 {
+            return x;
+        }
+        if (value < 0.0) == low_negative {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let newton = x - value / slope;
+        let next = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+        if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || hi - lo <= 1e-15 * (1.0 + x.abs()) {
+            return next;
+        }
+        x = next;
+    }
+    x
+}
+
+/// Sommerfeld's substitution `1 - eps cos phi = (1 - eps^2)/(1 + eps cos psi)`, with
+/// `cos phi = (cos psi + eps)/(1 + eps cos psi)`, `sin phi = sqrt(1 - eps^2) sin psi /
+/// (1 + eps cos psi)`, `dphi = sqrt(1 - eps^2) dpsi / (1 + eps cos psi)`: it turns each film
+/// integrand `cos^i phi sin^j phi / H^n` into a trigonometric polynomial in `psi`.
+struct Sommerfeld {
+    /// Eccentricity ratio.
+    eps: f64,
+    /// `sqrt(1 - eps^2)`.
+    root: f64,
+    /// `eps / (1 + sqrt(1 - eps^2))`, the `(k - 1)/(k + 1)` of `k = sqrt((1 + eps)/(1 - eps))`.
+    beta: f64,
+}
+
+/// Antiderivatives in `phi`, written in `psi`, of the film integrands (`H = 1 - eps cos
+/// phi`): `cc3 = int cos^2/H^3`, `sc3 = int sin cos/H^3`, `ss3 = int sin^2/H^3`, `s2 = int
+/// sin/H^2`, `s3 = int sin/H^3`, `c2 = int cos/H^2`, `c3 = int cos/H^3`.
+struct Moments {
+    cc3: f64,
+    sc3: f64,
+    ss3: f64,
+    s2: f64,
+    s3: f64,
+    c2: f64,
+    c3: f64,
+}
+
+impl Moments {
+    /// The definite integrals from `other`'s end to this one's.
+    fn minus(&self, other: &Moments) -> Moments {
+        Moments {
+            cc3: self.cc3 - other.cc3,
+            sc3: self.sc3 - other.sc3,
+            ss3: self.ss3 - other.ss3,
+            s2: self.s2 - other.s2,
+            s3: self.s3 - other.s3,
+            c2: self.c2 - other.c2,
+            c3: self.c3 - other.c3,
+        }
+    }
+}
+
+impl Sommerfeld {
+    fn new(eps: f64) -> Self {
+        let root = (1.0 - eps * eps).sqrt();
+        Sommerfeld { eps, root, beta: eps / (1.0 + root) }
+    }
+
+    /// Dimensionless film thickness `H = h/c` at `phi`.
+    fn h(&self, phi: f64) -> f64 {
+        1.0 - self.eps * phi.cos()
+    }
+
+    /// `psi` of `phi`: `tan(psi/2) = k tan(phi/2)` jumps at `phi = pi`; written as
+    /// `psi = phi + 2 atan(beta sin phi / (1 - beta cos phi))` it is continuous and
+    /// increasing for every `phi`, so an arc needs no splitting.
+    fn psi(&self, phi: f64) -> f64 {
+        let (s, c) = phi.sin_cos();
+        phi + 2.0 * (self.beta * s).atan2(1.0 - self.beta * c)
+    }
+
+    /// `phi` of `psi`, the inverse of [`Self::psi`] (`beta` changes sign).
+    fn phi(&self, psi: f64) -> f64 {
+        let (s, c) = psi.sin_cos();
+        psi - 2.0 * (self.beta * s).atan2(1.0 + self.beta * c)
+    }
+
+    /// The antiderivatives at `psi`.
+    fn moments(&self, psi: f64) -> Moments {
+        let (e, r) = (self.eps, self.root);
+        let (s, c) = psi.sin_cos();
+        let (r2, r3) = (r * r, r * r * r);
+        let (r4, r5) = (r2 * r2, r2 * r3);
+        Moments {
+            // (cos psi + eps)^2 / r^5
+            cc3: (0.5 * (psi + s * c) + 2.0 * e * s + e * e * psi) / r5,
+            // sin psi (cos psi + eps) / r^4
+            sc3: -(0.5 * c * c + e * c) / r4,
+            // sin^2 psi / r^3
+            ss3: 0.5 * (psi - s * c) / r3,
+            // sin psi / r^2
+            s2: -c / r2,
+            // sin psi (1 + eps cos psi) / r^4
+            s3: -(c + 0.5 * e * c * c) / r4,
+            // (cos psi + eps) / r^3
+            c2: (s + e * psi) / r3,
+            // (cos psi + eps)(1 + eps cos psi) / r^5
+            c3: ((1.0 + e * e) * s + 0.5 * e * (3.0 * psi + s * c)) / r5,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// psi and phi are inverse maps, continuous through phi = pi, and psi keeps the
+    /// thinnest and widest film (0 and pi) in place.
+    #[test]
+    fn sommerfeld_variable_is_continuous_and_inverts() {
+        for eps in [0.0, 0.3, 0.9, 0.999] {
+            let s = Sommerfeld::new(eps);
+            assert!(s.psi(0.0).abs() < 1e-15 && (s.psi(PI) - PI).abs() < 1e-13);
+            let mut last = s.psi(-4.0);
+            for k in 0..=800 {
+                let phi = -4.0 + 8.0 * k as f64 / 800.0;
+                let psi = s.psi(phi);
+                assert!(psi >= last, "psi decreases at phi {phi}, eps {eps}");
+                assert!((s.phi(psi) - phi).abs() < 1e-12, "eps {eps} phi {phi}");
+                // 1 - eps cos phi = (1 - eps^2) / (1 + eps cos psi)
+                assert!((s.h(phi) - (1.0 - eps * eps) / (1.0 + eps * psi.cos())).abs() < 1e-12);
+                last = psi;
+            }
+        }
+    }
+
+    /// The roots of (t - 0.5)(t + 0.3)(t - 0.9)(t + 0.95) in (-1, 1), and a double root
+    /// (no sign change) left out.
+    #[test]
+    fn polynomial_roots_are_all_found() {
+        let mut out = [0.0; 4];
+        // Expanded with the roots r: coefficients of prod (t - r), constant first.
+        let product = |roots: &[f64]| {
+            let mut c = vec![1.0];
+            for &r in roots {
+                let mut next = vec![0.0; c.len() + 1];
+                for (k, &ck) in c.iter().enumerate() {
+                    next[k + 1] += ck;
+                    next[k] -= r * ck;
+                }
+                c = next;
+            }
+            c
+        };
+        let n = poly_roots(&product(&[0.5, -0.3, 0.9, -0.95]), -1.0, 1.0, &mut out);
+        assert_eq!(n, 4);
+        for (got, want) in out.iter().zip([-0.95, -0.3, 0.5, 0.9]) {
+            assert!((got - want).abs() < 1e-14, "{out:?}");
+        }
+        let n = poly_roots(&product(&[0.2, 0.2, -0.6]), -1.0, 1.0, &mut out);
+        assert_eq!((n, (out[0] + 0.6).abs() < 1e-14), (1, true), "{out:?}");
     }
 }
