@@ -536,3 +536,80 @@ fn spatial_joints_with_play_are_free_then_stop_with_the_laws_restitution() {
         );
     }
 }
+
+/// A journal spinning at `omega` in a fixed lubricated bearing (short film) under a
+/// constant load `W` along -y (no gravity).
+fn loaded_journal(load: f64, omega: f64, film: &str, t_end: f64) -> SimResult {
+    let (c, r, l, mu) = (5e-5, 0.02, 0.01, 0.05);
+    let m = model(json!({
+        "gravity": [0.0, 0.0],
+        // A heavy flywheel keeps the spin: the film's torque changes it by < 1e-6 relative.
+        "bodies": [{"name": "journal", "mass": 1.0, "inertia": 50.0, "omega": omega}],
+        "joints": [{"name": "bearing", "type": "lubricated_revolute", "body_i": "ground", "point_i": [0.0, 0.0],
+                    "body_j": "journal", "point_j": [0.0, 0.0],
+                    "clearance": {"journal_radius": r, "clearance": c, "stiffness": 1e10,
+                                  "normal_law": {"type": "hunt_crossley", "restitution": 0.5}},
+                    "lubrication": {"length": l, "viscosity": mu, "film": film}}],
+        "forces": [{"type": "applied_force", "name": "load", "body": "journal", "force": [0.0, -load]}]
+    }));
+    run(&m, &SimOptions { rate: Some(1e3), rtol: 1e-9, atol: 1e-14, ..SimOptions::new(t_end) })
+}
+
+/// Under a constant load the journal settles where the short bearing's steady film
+/// carries it: the eccentricity ratio of Ocvirk's load relation
+/// `W = mu omega R L^3 / (4 c^2) eps / (1 - eps^2)^2 sqrt(16 eps^2 + pi^2 (1 - eps^2))`
+/// and the attitude angle `tan(phi) = pi sqrt(1 - eps^2) / (4 eps)` between the load line
+/// and the line of centres, the journal displaced from the load line in the sense of its
+/// spin; the film carries the load alone (no contact) and its force balances it.
+#[test]
+fn loaded_journal_settles_at_the_ocvirk_eccentricity_and_attitude() {
+    let (c, r, l, mu, omega): (f64, f64, f64, f64, f64) = (5e-5, 0.02, 0.01, 0.05, 100.0);
+    let eps: f64 = 0.6;
+    let pi = std::f64::consts::PI;
+    let load = mu * omega * r * l.powi(3) / (4.0 * c * c) * eps / (1.0 - eps * eps).powi(2)
+        * (16.0 * eps * eps + pi * pi * (1.0 - eps * eps)).sqrt();
+    let res = loaded_journal(load, omega, "short", 0.5);
+    let last = res.time.len() - 1;
+    let ratio = channel(&res, "bearing.eccentricity_ratio")[last];
+    assert!((ratio - eps).abs() < 1e-4, "eccentricity ratio {ratio} vs {eps}");
+    let (ex, ey) = (channel(&res, "bearing.ex")[last], channel(&res, "bearing.ey")[last]);
+    // The load points along -y; the line of centres is turned from it by +phi (the spin
+    // is counter-clockwise).
+    let phi = f64::atan2(ex, -ey);
+    let expected = (pi * (1.0 - eps * eps).sqrt() / (4.0 * eps)).atan();
+    assert!((phi - expected).abs() < 1e-4, "attitude {phi} vs {expected}");
+    let (fx, fy) = (channel(&res, "bearing.film_fx")[last], channel(&res, "bearing.film_fy")[last]);
+    assert!((fy - load).abs() < 1e-6 * load && fx.abs() < 1e-6 * load, "film force ({fx}, {fy}) vs {load}");
+    assert!(channel(&res, "bearing.film_mode").iter().all(|&m| m == 0.0));
+    assert!(res.impacts[0].impacts.is_empty());
+    // The shear torque at the steady state: Petroff's over sqrt(1 - eps^2), less e F_t / 2
+    // (F_t the film force across the line of centres).
+    let couette = -2.0 * pi * mu * r.powi(3) * l * omega / (c * (1.0 - eps * eps).sqrt());
+    let across = -load * phi.sin(); // the load's part across n, which the film balances
+    let torque = channel(&res, "bearing.friction_torque")[last];
+    let expected_torque = couette - 0.5 * eps * c * (-across);
+    assert!(
+        (torque - expected_torque).abs() < 1e-3 * expected_torque.abs(),
+        "torque {torque} vs {expected_torque}"
+    );
+}
+
+/// A load far beyond what the film can carry at its threshold (three times the
+/// roughness) presses the journal through the film: the dry laws take over (mode mixed,
+/// then dry contact), an impact is listed, and at rest the film's force at the capped
+/// eccentricity and the dry contact force together balance the load.
+#[test]
+fn overloaded_film_passes_into_dry_contact() {
+    let res = loaded_journal(2e5, 100.0, "short", 0.2);
+    let last = res.time.len() - 1;
+    let mode = channel(&res, "bearing.film_mode");
+    assert!(mode[0] == 0.0 && mode[last] >= 1.0, "film mode {} -> {}", mode[0], mode[last]);
+    assert!(!res.impacts[0].impacts.is_empty(), "the dry laws' onset is located");
+    let thickness = channel(&res, "bearing.film_thickness")[last];
+    assert!(thickness < 3e-6, "film thickness {thickness} below the threshold");
+    let (fx, fy) = (channel(&res, "bearing.fx")[last], channel(&res, "bearing.fy")[last]);
+    assert!((fy - 2e5).abs() < 1e-3 * 2e5 && fx.abs() < 1e-3 * 2e5, "force on the journal ({fx}, {fy})");
+    let dry = channel(&res, "bearing.fn")[last];
+    let film = channel(&res, "bearing.film_fy")[last];
+    assert!(dry > 0.0 && film > 0.0 && dry > film, "dry {dry} and film {film}");
+}
