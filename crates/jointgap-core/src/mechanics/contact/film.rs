@@ -208,10 +208,12 @@ impl Film {
     /// variable, `None` where the pressure is nowhere positive. In `psi` the pressure is
     /// `2 cos(psi/2) F(psi) k / (1 - eps^2)^2` with
     /// `F = eps_dot cos(psi/2) (2 - eps + eps cos psi) + w sin(psi/2) (2 - eps^2 + eps cos psi)`,
-    /// `w = -wbar eps sqrt(1 - eps^2)/(2 + eps^2)`; `F / cos(psi/2)` times `1 + tan^2(psi/2)`
-    /// is `2 eps_dot (1 + (1 - eps) t^2) + w t ((1 + eps)(2 - eps) + (1 - eps)(2 + eps) t^2)`
-    /// in `t = tan(psi/2)`, whose ratio of its two terms is monotone in `t`: `F` has
-    /// exactly one zero in `(-pi, pi)` besides the zero of the pressure at `psi = pi`.
+    /// `w = -wbar eps sqrt(1 - eps^2)/(2 + eps^2)`; on `(-pi, pi)` the sign of `F` is that
+    /// of `2 eps_dot + w r(t)`, `t = tan(psi/2)`, `r = t (A + B t^2)/(1 + D t^2)`,
+    /// `A = (1 + eps)(2 - eps)`, `B = (1 - eps)(2 + eps)`, `D = 1 - eps`. `r` is increasing
+    /// (`r'` has positive coefficients) with `r/t` between `A` and `B/D`, so the pressure
+    /// has exactly one zero besides `psi = pi`, at `r(t) = q = -2 eps_dot / w`, within
+    /// `t` in `q / [max, min](A, B/D)`.
     fn long_positive_arc(s: &Sommerfeld, squeeze: f64, wedge: f64) -> Option<(f64, f64)> {
         let eps = s.eps;
         let w = -wedge * eps * s.root / (2.0 + eps * eps);
@@ -219,15 +221,13 @@ impl Film {
             // Pure squeeze: positive all round when approaching, nowhere when receding.
             return (squeeze > 0.0).then_some((-PI, PI));
         }
-        let f = |psi: f64| {
-            let (sh, ch) = (0.5 * psi).sin_cos();
-            let (sn, cs) = psi.sin_cos();
-            let (u, v) = (2.0 - eps + eps * cs, 2.0 - eps * eps + eps * cs);
-            let value = squeeze * ch * u + w * sh * v;
-            let slope = squeeze * (-0.5 * sh * u - eps * sn * ch) + w * (0.5 * ch * v - eps * sn * sh);
-            (value, slope)
-        };
-        let zero = root(f, -PI, PI);
+        let (a, b, d) = ((1.0 + eps) * (2.0 - eps), (1.0 - eps) * (2.0 + eps), 1.0 - eps);
+        let q = -2.0 * squeeze / w;
+        // r(t) = q times (1 + D t^2): a cubic with one real root.
+        let cubic =
+            |t: f64| (t * (a + b * t * t) - q * (1.0 + d * t * t), a + 3.0 * b * t * t - 2.0 * q * d * t);
+        let (t1, t2) = (q / a, q * d / b);
+        let zero = 2.0 * root(cubic, t1.min(t2), t1.max(t2)).atan();
         Some(if w > 0.0 { (zero, PI) } else { (-PI, zero) })
     }
 }
@@ -275,8 +275,10 @@ fn poly_roots(p: &[f64], lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
     n
 }
 
-/// The root in `[lo, hi]` of a function `f` (value and slope) that changes sign there:
-/// Newton's steps, replaced by bisection when one would leave the shrinking bracket.
+/// The root in `[lo, hi]` of a function `f` (value and slope) that changes sign there
+/// (or is zero at an end): Newton's steps, replaced by bisection when one would leave the
+/// shrinking bracket (a step that ends within rounding beyond it stops at its edge, so that
+/// a root at an edge is reached at Newton's pace).
 fn root(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
     let low_negative = f(lo).0 < 0.0;
     let mut x = 0.5 * (lo + hi);
@@ -290,9 +292,16 @@ fn root(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
         } else {
             hi = x;
         }
+        let tol = 1e-15 * (1.0 + x.abs());
         let newton = x - value / slope;
-        let next = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
-        if (next - x).abs() <= 1e-15 * (1.0 + x.abs()) || hi - lo <= 1e-15 * (1.0 + x.abs()) {
+        if (newton - x).abs() <= tol {
+            return newton.clamp(lo, hi);
+        }
+        let next = match newton.clamp(lo, hi) {
+            inside if newton > lo - 1e3 * tol && newton < hi + 1e3 * tol && inside != x => inside,
+            _ => 0.5 * (lo + hi),
+        };
+        if hi - lo <= tol {
             return next;
         }
         x = next;
