@@ -37,19 +37,9 @@ const CLEARANCE_QUANTITIES: [(&str, bool); 10] = [
     ("slip", true),
     ("mode", true),
 ];
-/// A lubricated revolute joint's: the clearance joint's (`fx fy` the film's and the
-/// contact's force together), then the film's.
-const LUBRICATED_QUANTITIES: [(&str, bool); 18] = [
-    ("fx", false),
-    ("fy", false),
-    ("fn", true),
-    ("ft", true),
-    ("penetration", true),
-    ("penetration_rate", true),
-    ("ex", false),
-    ("ey", false),
-    ("slip", true),
-    ("mode", true),
+/// A lubricated revolute joint's, after the clearance joint's (whose `fx fy` are then the
+/// film's and the contact's force together): the film's.
+const FILM_QUANTITIES: [(&str, bool); 8] = [
     ("eccentricity_ratio", false),
     ("attitude", false),
     ("film_thickness", false),
@@ -115,15 +105,16 @@ fn joint_quantities(kind: JointKind) -> &'static [&'static str] {
     }
 }
 
-/// The contact channels of a joint with contact.
-fn contact_quantities(c: &PlanarClearance) -> &'static [(&'static str, bool)] {
+/// The contact channels of a joint with contact, in two parts written one after the
+/// other.
+fn contact_quantities(c: &PlanarClearance) -> [&'static [(&'static str, bool)]; 2] {
     match c {
-        PlanarClearance::Revolute(_) => &CLEARANCE_QUANTITIES,
-        PlanarClearance::Lubricated(_) => &LUBRICATED_QUANTITIES,
-        PlanarClearance::Translational(_) => &TRANSLATIONAL_QUANTITIES,
-        PlanarClearance::Play(p) if p.coordinate == PlayCoordinate::Angle => &ANGLE_PLAY_QUANTITIES,
-        PlanarClearance::Play(_) => &TRAVEL_PLAY_QUANTITIES,
-        PlanarClearance::Gear(_) => &GEAR_QUANTITIES,
+        PlanarClearance::Revolute(_) => [&CLEARANCE_QUANTITIES, &[]],
+        PlanarClearance::Lubricated(_) => [&CLEARANCE_QUANTITIES, &FILM_QUANTITIES],
+        PlanarClearance::Translational(_) => [&TRANSLATIONAL_QUANTITIES, &[]],
+        PlanarClearance::Play(p) if p.coordinate == PlayCoordinate::Angle => [&ANGLE_PLAY_QUANTITIES, &[]],
+        PlanarClearance::Play(_) => [&TRAVEL_PLAY_QUANTITIES, &[]],
+        PlanarClearance::Gear(_) => [&GEAR_QUANTITIES, &[]],
     }
 }
 
@@ -134,7 +125,9 @@ fn joint_channels(sys: &System, j: &JointInfo) -> Vec<(&'static str, Option<usiz
     let mut out: Vec<_> = joint_quantities(j.kind).iter().map(|&q| (q, None)).collect();
     if let Some(k) = j.clearance {
         let c = &sys.clearances[k];
-        out.extend(clearance_channels(contact_quantities(c), c.points()));
+        for part in contact_quantities(c) {
+            out.extend(clearance_channels(part, c.points()));
+        }
     }
     out
 }
@@ -144,7 +137,7 @@ fn joint_channel_count(sys: &System, j: &JointInfo) -> usize {
     joint_quantities(j.kind).len()
         + j.clearance.map_or(0, |k| {
             let c = &sys.clearances[k];
-            clearance_channel_count(contact_quantities(c), c.points())
+            contact_quantities(c).iter().map(|part| clearance_channel_count(part, c.points())).sum::<usize>()
         })
 }
 

@@ -14,7 +14,7 @@ use crate::mechanics::contact::{self, ClearanceJoint, Mode};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::{BodyKind, RowEval};
 use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
-use crate::mechanics::spatial::joints::{perpendiculars, SpatialRowKind};
+use crate::mechanics::spatial::joints::{perpendiculars, row_rate, SpatialRowKind};
 use crate::mechanics::spatial::kind::Spatial;
 use crate::mechanics::spatial::orientation::EulerConvention;
 use crate::model::spatial::{JointKind, SpatialModel};
@@ -107,13 +107,6 @@ fn coordinate_rows(j: &JointInfo<Spatial>) -> Vec<SpatialRowKind> {
         JointKind::Cylindrical => vec![angle, travel],
         _ => Vec::new(),
     }
-}
-
-/// `Cq v` of a row over the two bodies.
-fn rate(ev: &RowEval<BodyRow>, bi: &BodyState, bj: &BodyState) -> f64 {
-    let part =
-        |jac: &BodyRow, b: &BodyState| (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>();
-    part(&ev.jac_i, bi) + part(&ev.jac_j, bj)
 }
 
 /// A clearance joint's channels at one state.
@@ -240,7 +233,7 @@ impl Kind for Spatial {
         for row in coordinate_rows(j) {
             let ev = row.eval(bi, bj, NO_MOTION);
             out.put(ev.c);
-            out.put(rate(&ev, bi, bj));
+            out.put(row_rate(&ev, bi, bj));
         }
     }
 

@@ -352,9 +352,7 @@ impl ClearanceJoint for ClearanceRevolute {
     /// acts only under a pressing normal force.
     #[inline]
     fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
-        let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed);
-        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
-        (f_n, f_t)
+        dry_force(&self.normal, &self.friction, p, onset_speed)
     }
 
     /// Power [W] the joint dissipates, as `(normal, friction)`. At each contact point
@@ -366,19 +364,47 @@ impl ClearanceJoint for ClearanceRevolute {
     /// clipping, which drops the elastic force a pulling force would return),
     /// `-F_T . v_t >= 0` by friction.
     fn losses(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState]) -> (f64, f64) {
-        sum_losses(self.contacts(bearing, journal, self.reach()).iter(), |p| {
-            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
-            (
-                (f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate,
-                -point::dot(&f_t, &p.slip),
-            )
-        })
+        dry_losses(self, &self.normal, bearing, journal, states)
     }
 
     #[inline]
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
         add_point_forces(self, bearing, journal, states, qe);
     }
+}
+
+/// Normal force [N] and friction force along the tangents [N] of the dry laws `normal`
+/// and `friction` at contact point `p` for the impact onset speed `onset_speed` [m/s]:
+/// friction opposes the slip, and acts only under a pressing normal force.
+#[inline]
+pub(crate) fn dry_force(
+    normal: &NormalForce,
+    friction: &FrictionSpec,
+    p: &ContactPoint,
+    onset_speed: f64,
+) -> (f64, Tangential) {
+    let f_n = normal.force(p.penetration, p.penetration_rate, onset_speed);
+    let f_t = if f_n > 0.0 { friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
+    (f_n, f_t)
+}
+
+/// The losses of a planar joint `c` whose points take the dry laws (normal law
+/// `normal`): `(F_N - K delta^n) delta_dot` by the law's damping and clipping,
+/// `-F_T . v_t` by friction, summed over its points.
+pub(crate) fn dry_losses<C>(
+    c: &C,
+    normal: &NormalForce,
+    i: &BodyState,
+    j: &BodyState,
+    states: &[ContactState],
+) -> (f64, f64)
+where
+    C: ClearanceJoint<State = BodyState, Point = ContactPoint, Points = ContactPoints, Friction = Tangential>,
+{
+    sum_losses(c.contacts(i, j, c.reach()).iter(), |p| {
+        let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+        ((f_n - normal.elastic_force(p.penetration)) * p.penetration_rate, -point::dot(&f_t, &p.slip))
+    })
 }
 
 /// The sum over `points` of each one's `(normal, friction)` losses.

@@ -6,6 +6,7 @@
 use std::ops::Deref;
 
 use nalgebra::SVector;
+use smallvec::SmallVec;
 
 use crate::math::{perp, Vec2};
 
@@ -84,44 +85,24 @@ impl ContactPoint {
 /// The most contact points any geometry has: a block in its guide has four corners.
 pub const MAX_POINTS: usize = 4;
 
-/// The contact points a geometry returns for one joint at one state, a list of fixed
-/// capacity ([`MAX_POINTS`]), so that an evaluation allocates nothing.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactPoints {
-    points: [ContactPoint; MAX_POINTS],
-    len: usize,
-}
+/// The contact points a geometry returns for one joint at one state: a list kept on the
+/// stack up to [`MAX_POINTS`] (smallvec: its free slots are left unwritten, so a joint of
+/// one point pays for one), so that an evaluation allocates nothing.
+#[derive(Debug, Clone, Default)]
+pub struct ContactPoints(SmallVec<[ContactPoint; MAX_POINTS]>);
 
 impl ContactPoints {
     /// No points.
     #[inline]
     pub fn new() -> Self {
-        let none = MaterialPoint { body: None, at: Vec2::zeros() };
-        let point = ContactPoint {
-            index: 0,
-            normal: Vec2::zeros(),
-            penetration: 0.0,
-            penetration_rate: 0.0,
-            slip: Tangential::zeros(),
-            share: 1.0,
-            on_i: none,
-            on_j: none,
-        };
-        ContactPoints { points: [point; MAX_POINTS], len: 0 }
+        ContactPoints(SmallVec::new())
     }
 
     /// Adds a point; a geometry adds at most the points it declares, at most
     /// [`MAX_POINTS`].
     #[inline]
     pub fn push(&mut self, point: ContactPoint) {
-        self.points[self.len] = point;
-        self.len += 1;
-    }
-}
-
-impl Default for ContactPoints {
-    fn default() -> Self {
-        Self::new()
+        self.0.push(point);
     }
 }
 
@@ -130,6 +111,6 @@ impl Deref for ContactPoints {
 
     #[inline]
     fn deref(&self) -> &[ContactPoint] {
-        &self.points[..self.len]
+        &self.0
     }
 }

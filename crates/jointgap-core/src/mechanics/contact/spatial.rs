@@ -14,7 +14,7 @@ use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::RowEval;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
-use crate::mechanics::spatial::joints::SpatialRowKind;
+use crate::mechanics::spatial::joints::{row_rate, SpatialRowKind};
 use crate::model::FrictionSpec;
 use crate::output::ClearanceData;
 
@@ -51,10 +51,7 @@ impl SpatialPlay {
     #[inline]
     pub fn measure(&self, i: &BodyState, j: &BodyState) -> (f64, f64, RowEval<BodyRow>) {
         let ev = self.row.eval(i, j, NO_MOTION);
-        let part = |jac: &BodyRow, b: &BodyState| {
-            (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>()
-        };
-        (ev.c, part(&ev.jac_i, i) + part(&ev.jac_j, j), ev)
+        (ev.c, row_rate(&ev, i, j), ev)
     }
 
     /// The one point: penetration `|x| - play/2`, its normal's first component the side.

@@ -3,7 +3,7 @@
 
 use super::geometry::{contact_slider_guide, SliderGuide};
 use super::normal::NormalForce;
-use super::point::{self, ContactPoint, ContactPoints, Tangential};
+use super::point::{ContactPoint, ContactPoints, Tangential};
 use super::{friction, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORCE};
 use crate::error::{Error, Named};
 use crate::math::{rotate, Vec2};
@@ -192,19 +192,11 @@ impl ClearanceJoint for ClearanceTranslational {
 
     #[inline]
     fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
-        let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed);
-        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
-        (f_n, f_t)
+        super::dry_force(&self.normal, &self.friction, p, onset_speed)
     }
 
     fn losses(&self, guide: &BodyState, block: &BodyState, states: &[ContactState]) -> (f64, f64) {
-        super::sum_losses(self.contacts(guide, block, self.reach()).iter(), |p| {
-            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
-            (
-                (f_n - self.normal.elastic_force(p.penetration)) * p.penetration_rate,
-                -point::dot(&f_t, &p.slip),
-            )
-        })
+        super::dry_losses(self, &self.normal, guide, block, states)
     }
 
     fn elastic_energy(&self, p: &ContactPoint) -> f64 {

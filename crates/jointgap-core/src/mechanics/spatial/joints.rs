@@ -327,6 +327,15 @@ pub fn joint_rows(
     Ok(rows)
 }
 
+/// The rate of an evaluated row's value, `Cq v` over the two bodies (velocities and
+/// body-frame angular velocities).
+#[inline]
+pub fn row_rate(ev: &SpatialRowEval, bi: &BodyState, bj: &BodyState) -> f64 {
+    let part =
+        |jac: &BodyRow, b: &BodyState| (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>();
+    part(&ev.jac_i, bi) + part(&ev.jac_j, bj)
+}
+
 /// The row that holds a joint coordinate at `initial` (the value at the placement when
 /// `None`), for a driver (which adds its motion to it) or an initial condition, with the
 /// coordinate's value at the placement; `None` where the joint has no such coordinate.
@@ -403,14 +412,6 @@ mod tests {
         BodyState::new(r, orientation, b.v, b.omega)
     }
 
-    /// `Cq v` of an evaluated row.
-    fn cq_v(ev: &SpatialRowEval, bi: &BodyState, bj: &BodyState) -> f64 {
-        let part = |jac: &BodyRow, b: &BodyState| {
-            (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>()
-        };
-        part(&ev.jac_i, bi) + part(&ev.jac_j, bj)
-    }
-
     /// Checks the Jacobian blocks against central differences of C, `ct` against dC/dt
     /// along the motion, and gamma against `-(d/dt (Cq v))` at fixed v plus the driver's
     /// acceleration (what `-Ctt` contributes; `Cqt` is zero for every row).
@@ -431,11 +432,11 @@ mod tests {
         let dcdt = (kind.eval(&moved(&bi, e), &moved(&bj, e), shifted(e)).c
             - kind.eval(&moved(&bi, -e), &moved(&bj, -e), shifted(-e)).c)
             / (2.0 * e);
-        let velocity = cq_v(&ev, &bi, &bj) + ev.ct;
+        let velocity = row_rate(&ev, &bi, &bj) + ev.ct;
         assert!((dcdt - velocity).abs() < 1e-7, "{kind:?} velocity equation {dcdt} vs {velocity}");
         let plus = kind.eval(&moved(&bi, e), &moved(&bj, e), motion);
         let minus = kind.eval(&moved(&bi, -e), &moved(&bj, -e), motion);
-        let quad = (cq_v(&plus, &bi, &bj) - cq_v(&minus, &bi, &bj)) / (2.0 * e);
+        let quad = (row_rate(&plus, &bi, &bj) - row_rate(&minus, &bi, &bj)) / (2.0 * e);
         let expected = -quad + motion.acceleration;
         assert!(
             (ev.gamma - expected).abs() < 1e-6 * (1.0 + expected.abs()),
