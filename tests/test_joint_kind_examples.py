@@ -14,16 +14,20 @@ from pathlib import Path
 import pytest
 from jointgap.cli import main
 
+#: Each example's joint, channels it must write, and whether its parts strike (the oil
+#: film keeps the lubricated founding case's journal off its bearing's wall).
 EXAMPLES = {
     "slider_crank_guide_clearance.toml": (
         "slider_guide",
         ["slider_guide.p3.fn", "slider_guide.tilt"],
+        True,
     ),
     "slider_crank_lubricated.toml": (
         "rod_slider",
         ["rod_slider.eccentricity_ratio", "rod_slider.film_mode"],
+        False,
     ),
-    "gear_backlash_arm.toml": ("mesh", ["mesh.mesh", "mesh.torque_2"]),
+    "gear_backlash_arm.toml": ("mesh", ["mesh.mesh", "mesh.torque_2"], True),
 }
 
 
@@ -31,7 +35,7 @@ EXAMPLES = {
 def test_each_example_runs_with_outputs_impacts_and_a_report(
     examples, tmp_path, capsys, name
 ) -> None:
-    joint, channels = EXAMPLES[name]
+    joint, channels, strikes = EXAMPLES[name]
     out = tmp_path / "out"
     status = main(
         [
@@ -52,7 +56,13 @@ def test_each_example_runs_with_outputs_impacts_and_a_report(
     assert all(c in header for c in channels), [c for c in channels if c not in header]
     with open(out / "impacts.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert any(r["joint"].split(".")[0] == joint for r in rows), "the joint's impacts are listed"
+    listed = any(r["joint"].split(".")[0] == joint for r in rows)
+    assert listed == strikes, f"{joint}: impacts listed {listed}, expected {strikes}"
+    if not strikes:
+        with open(out / "results.csv", newline="") as f:
+            table = list(csv.reader(f))
+        mode = table[0].index(f"{joint}.film_mode")
+        assert all(float(row[mode]) == 0.0 for row in table[1:]), "the film carries throughout"
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "finished"
     assert joint in (out / "report.html").read_text()
