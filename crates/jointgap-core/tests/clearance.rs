@@ -276,8 +276,7 @@ fn sticking_friction_hands_auto_to_radau5() {
     assert!(nrmse(&auto) < 1e-4 && nrmse(&explicit) < 1e-4, "{} {}", nrmse(&auto), nrmse(&explicit));
 }
 
-#[path = "common.rs"]
-mod common;
+use crate::common;
 
 /// A journal thrown up inside its bearing that just reaches the wall at the top of its
 /// flight (apex penetration `eps c`): the brief contact at the apex is found at the

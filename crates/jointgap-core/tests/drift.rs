@@ -9,7 +9,7 @@
 //! they do at angle 0, but its angle and the driver's row `phi - offset - theta(t)`
 //! round at 2.3e-13 rad.
 
-mod common;
+use crate::common;
 
 use std::f64::consts::TAU;
 

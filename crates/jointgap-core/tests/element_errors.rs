@@ -3,7 +3,7 @@
 //! and key are those of the value (the key as the model file writes it, dotted for a
 //! nested one), and whose message is the one the docs and front ends quote.
 
-mod common;
+use crate::common;
 
 use jointgap_core::simulate::{check, prepare};
 use jointgap_core::{simulate, Error, Model, SimOptions};

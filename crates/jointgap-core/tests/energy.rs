@@ -1,7 +1,7 @@
 //! Energy accounts: the work of drivers and loads and the energy dissipated, against
 //! closed forms, and the balance `T + V - W_in + D`, which stays at its initial value.
 
-mod common;
+use crate::common;
 
 use jointgap_core::{simulate, Model, SimOptions, SimResult, Status};
 use serde_json::json;

@@ -1,9 +1,7 @@
 //! End-to-end checks of the engine: closed-form kinematics, corners, redundant
 //! constraints, assembly errors and failure reporting.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use jointgap_core::{simulate, Method, Model, SimOptions, Status};
 use serde_json::json;
 use std::f64::consts::FRAC_PI_2;

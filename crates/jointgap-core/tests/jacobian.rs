@@ -100,5 +100,4 @@ fn keeps_the_stiff_part_on_the_founding_case_in_contact() {
     assert!(diff <= 1e-3 * scale, "differ by {diff:.3e} of {scale:.3e}");
 }
 
-#[path = "common.rs"]
-mod common;
+use crate::common;

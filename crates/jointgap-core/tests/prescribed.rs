@@ -4,7 +4,7 @@
 //! system `[M Cq^T; Cq 0][qdd; lambda] = [Qe; gamma]` assembled densely and solved by LU,
 //! at states that need not satisfy the constraints (the equations hold at any state).
 
-mod common;
+use crate::common;
 
 use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
 use jointgap_core::simulate::prepare;

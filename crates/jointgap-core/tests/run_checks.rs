@@ -2,7 +2,7 @@
 //! no mechanism can have is an error before the run: numbers that overflow at t = 0 or
 //! during the run, and a clearance joint's journal deep in its bearing wall.
 
-mod common;
+use crate::common;
 
 use jointgap_core::simulate::{check, prepare};
 use jointgap_core::{simulate, Model, SimOptions, Status};

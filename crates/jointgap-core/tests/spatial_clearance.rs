@@ -508,8 +508,7 @@ fn tilted_journal_touches_at_one_end_and_its_moment_is_force_times_arm() {
 
 // --- the founding planar case in 3D -------------------------------------------------
 
-#[path = "common.rs"]
-mod common;
+use crate::common;
 
 /// The founding slider-crank with its clearance joint (tests/common.rs,
 /// `slider_crank_clearance`) written as a spatial model: revolute joints about z, the

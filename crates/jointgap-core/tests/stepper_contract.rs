@@ -2,7 +2,7 @@
 //! `(t + h, y_new)`, so the drift check after the step reads the constraint rows of that
 //! evaluation (`Workspace::violation_here`) instead of evaluating them again.
 
-mod common;
+use crate::common;
 
 use jointgap_core::dynamics::{violation, Workspace};
 use jointgap_core::integrators::stepper::Stepper;
