@@ -277,6 +277,16 @@ pub struct Clearance {
     /// Distance between the guide's two surfaces [m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub guide_width: Option<f64>,
+    /// Depth of a spatial block across its channel (across the guide's axis and height
+    /// direction) [m]; give two of `block_depth`, `guide_depth` and `depth_clearance`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub block_depth: Option<f64>,
+    /// Distance between a spatial channel's two side walls [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub guide_depth: Option<f64>,
+    /// `guide_depth - block_depth` [m].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub depth_clearance: Option<f64>,
 }
 
 /// The oil film of a lubricated revolute joint (docs/lubrication.md).

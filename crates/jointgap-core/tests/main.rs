@@ -18,5 +18,6 @@ mod singular;
 mod spatial_body;
 mod spatial_clearance;
 mod spatial_engine;
+mod spatial_joint_kinds;
 mod spatial_mechanisms;
 mod stepper_contract;

@@ -164,6 +164,14 @@ pub enum JointKind {
     /// Prismatic joint whose travel along the axis is free within a play, then stopped
     /// by a contact force (5 equations). See [`crate::model::Play`].
     PrismaticWithPlay,
+    /// Prismatic joint with lateral clearance: a box-shaped block (body j, point j: its
+    /// centre) in a guide channel of rectangular section (body i, point i on its
+    /// centreline, along `axis`, its height across `height_axis`); no constraint, a
+    /// contact element at the block's eight corners.
+    ClearanceTranslational,
+    /// A cylindrical clearance joint carried by an oil film (`lubrication`), with the
+    /// dry laws where the film is thinner than its threshold.
+    LubricatedCylindrical,
 }
 
 /// A joint between body `body_i` and body `body_j` (either may be `ground`).
@@ -191,6 +199,11 @@ pub struct Joint {
     /// placement (a universal joint needs it: body j's cross axis).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub axis_j: Option<[f64; 3]>,
+    /// A spatial translational clearance joint's height direction in the frame of body
+    /// i, perpendicular to `axis`: `block_height` and `guide_width` are measured along
+    /// it, `block_depth` and `guide_depth` across both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_axis: Option<[f64; 3]>,
     /// Contact data of a clearance joint (hole on body i, pin on body j): radii,
     /// stiffness or materials, laws; required for the clearance kinds, rejected for the
     /// others.
@@ -199,6 +212,9 @@ pub struct Joint {
     /// The play of a `revolute_with_play` or `prismatic_with_play`; required for those.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub play: Option<crate::model::Play>,
+    /// The oil film of a `lubricated_cylindrical` joint; required for it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lubrication: Option<crate::model::Lubrication>,
     /// Length of a cylindrical clearance joint's journal [m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length: Option<f64>,

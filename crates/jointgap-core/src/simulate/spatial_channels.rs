@@ -4,12 +4,12 @@
 //! penetration, slip and mode, the joint coordinates, the drivers' efforts and the
 //! markers' motion (docs/outputs.md).
 
-use super::kind::{clearance_channel_count, clearance_channels, Kind};
+use super::kind::{clearance_channels, Kind};
 use super::record::Cursor;
 use crate::dynamics::Workspace;
 use crate::error::Error;
 use crate::mechanics::contact::point3::ContactPoint3;
-use crate::mechanics::contact::spatial::SpatialGeometry;
+use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
 use crate::mechanics::contact::{self, ClearanceJoint, Mode};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::{BodyKind, RowEval};
@@ -47,6 +47,50 @@ const CLEARANCE_QUANTITIES: [(&str, bool); 18] = [
     ("fty", true),
     ("ftz", true),
 ];
+
+/// A block in its channel's channels: the resultant contact force on the block, each
+/// point's contact quantities (point `2k - 1` is corner `k` against its height wall,
+/// `2k` against its depth wall), the block's travel and speed along the channel, its
+/// centre's offset across the height and the depth, and its tilt (rotation vector in
+/// the channel's axes).
+const BLOCK_QUANTITIES: [(&str, bool); 16] = [
+    ("fx", false),
+    ("fy", false),
+    ("fz", false),
+    ("fn", true),
+    ("ft", true),
+    ("penetration", true),
+    ("penetration_rate", true),
+    ("slip", true),
+    ("mode", true),
+    ("travel", false),
+    ("speed", false),
+    ("offset_height", false),
+    ("offset_depth", false),
+    ("tilt_along", false),
+    ("tilt_height", false),
+    ("tilt_depth", false),
+];
+
+/// A lubricated joint's film channels, after the dry joint's: the film's resultant force
+/// on the journal (global), and for each half (1 on the side of journal end 1, 2 on the
+/// other) its eccentricity ratio, smallest thickness, force, peak pressure (the whole
+/// film's at that eccentricity), mode and
+/// torque on the journal about the bearing axis.
+const FILM_QUANTITIES: [(&str, bool); 9] = [
+    ("film_fx", false),
+    ("film_fy", false),
+    ("film_fz", false),
+    ("eccentricity_ratio", true),
+    ("film_thickness", true),
+    ("film_force", true),
+    ("peak_pressure", true),
+    ("film_mode", true),
+    ("friction_torque", true),
+];
+
+/// The film's halves.
+const HALVES: usize = 2;
 
 /// A joint's play, after its reaction: the coordinate from the middle of the play, the
 /// stop's torque about (or force along) the axis on body j, its contact quantities.
@@ -129,9 +173,14 @@ fn put_clearance(
     let e = match &c.geometry {
         SpatialGeometry::BallSocket(g) => g.eccentricity(&bi, &bj),
         SpatialGeometry::Cylinder(g) => g.eccentricity(&bi, &bj),
-        SpatialGeometry::Play(_) => unreachable!("a joint with play writes its own channels"),
+        SpatialGeometry::Lubricated(g) => g.dry.eccentricity(&bi, &bj),
+        SpatialGeometry::Block(_) | SpatialGeometry::Play(_) => Vec3::zeros(),
     };
     let e_local = bi.a.tr_mul(&e);
+    let block = match &c.geometry {
+        SpatialGeometry::Block(g) => Some(g),
+        _ => None,
+    };
     let mode = |p: &ContactPoint3| {
         let state = &states[p.index];
         if state.in_contact {
@@ -145,14 +194,45 @@ fn put_clearance(
     forces.iter().for_each(|(_, f_t)| out.put(f_t.norm()));
     points.iter().for_each(|p| out.put(p.penetration));
     points.iter().for_each(|p| out.put(p.penetration_rate));
-    e_local.iter().for_each(|&x| out.put(x));
+    if block.is_none() {
+        e_local.iter().for_each(|&x| out.put(x));
+    }
     points.iter().for_each(|p| out.put(p.slip.norm()));
     points.iter().for_each(|p| out.put(mode(p) as u8 as f64));
+    if let Some(g) = block {
+        let pose = g.pose(&bi, &bj);
+        let [h, d] = pose.offset;
+        [pose.travel, g.speed(&bi, &bj), h, d].iter().chain(pose.tilt.iter()).for_each(|&x| out.put(x));
+        return;
+    }
     for d in 0..3 {
         points.iter().zip(&forces).for_each(|(p, (f_n, _))| out.put(-p.normal[d] * f_n));
     }
     for d in 0..3 {
         forces.iter().for_each(|(_, f_t)| out.put(f_t[d]));
+    }
+    if let SpatialGeometry::Lubricated(g) = &c.geometry {
+        let halves = g.halves(&bi, &bj);
+        halves.iter().fold(Vec3::zeros(), |sum, h| sum + h.force).iter().for_each(|&x| out.put(x));
+        halves.iter().for_each(|h| out.put(h.eccentricity.norm() / g.film.clearance));
+        halves.iter().for_each(|h| out.put(h.thickness));
+        halves.iter().for_each(|h| out.put(h.force.norm()));
+        halves.iter().for_each(|h| out.put(h.film.peak_pressure));
+        halves.iter().for_each(|h| out.put(h.mode as u8 as f64));
+        halves.iter().for_each(|h| out.put(h.torque));
+    }
+}
+
+/// The contact channels of clearance joint `c`, as `(quantity, point)`.
+fn contact_channels(c: &SpatialClearance) -> Vec<(&'static str, Option<usize>)> {
+    match &c.geometry {
+        SpatialGeometry::Block(_) => clearance_channels(&BLOCK_QUANTITIES, c.points()),
+        SpatialGeometry::Lubricated(_) => {
+            let mut out = clearance_channels(&CLEARANCE_QUANTITIES, c.points());
+            out.extend(clearance_channels(&FILM_QUANTITIES, HALVES));
+            out
+        }
+        _ => clearance_channels(&CLEARANCE_QUANTITIES, c.points()),
     }
 }
 
@@ -175,7 +255,7 @@ impl Kind for Spatial {
             Some(_) if !j.rows.is_empty() => {
                 REACTION_QUANTITIES.iter().chain(play_quantities(j.kind)).map(|&q| (q, None)).collect()
             }
-            Some(k) => clearance_channels(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
+            Some(k) => contact_channels(&sys.clearances[k]),
             None => REACTION_QUANTITIES.iter().map(|&q| (q, None)).collect(),
         }
     }
@@ -183,7 +263,7 @@ impl Kind for Spatial {
     fn joint_force_channel_count(sys: &System<Spatial>, j: &JointInfo<Spatial>) -> usize {
         match j.clearance {
             Some(_) if !j.rows.is_empty() => REACTION_QUANTITIES.len() + play_quantities(j.kind).len(),
-            Some(k) => clearance_channel_count(&CLEARANCE_QUANTITIES, sys.clearances[k].points()),
+            Some(k) => contact_channels(&sys.clearances[k]).len(),
             None => REACTION_QUANTITIES.len(),
         }
     }

@@ -10,9 +10,12 @@ use super::{
     MarkerInfo, Names, Owner, Row, System, COMPILATIONS,
 };
 use crate::error::{Error, Named};
-use crate::mechanics::contact::geometry::{BallSocket, CylinderBearing};
+use crate::mechanics::contact::geometry::{BallSocket, BlockChannel, CylinderBearing};
+use crate::mechanics::contact::lubricated::checked_film;
+use crate::mechanics::contact::lubricated_cylinder::LubricatedCylinder;
 use crate::mechanics::contact::play::check_play;
 use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry, SpatialPlay};
+use crate::mechanics::contact::translational::BlockData;
 use crate::mechanics::contact::Laws;
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Layout;
@@ -52,7 +55,10 @@ fn ideal(kind: JointKind) -> Option<SpatialJointKind> {
         JointKind::Planar => SpatialJointKind::Planar,
         JointKind::RevoluteWithPlay => SpatialJointKind::Revolute,
         JointKind::PrismaticWithPlay => SpatialJointKind::Prismatic,
-        JointKind::ClearanceSpherical | JointKind::ClearanceCylindrical => return None,
+        JointKind::ClearanceSpherical
+        | JointKind::ClearanceCylindrical
+        | JointKind::ClearanceTranslational
+        | JointKind::LubricatedCylindrical => return None,
     })
 }
 
@@ -140,6 +146,89 @@ fn axis_of(who: Named, key: &str, axis: Option<[f64; 3]>) -> Result<Option<Vec3>
     }
 }
 
+/// A joint kind's name as the model file spells it.
+fn kind_name(kind: JointKind) -> String {
+    serde_json::to_value(kind).ok().and_then(|v| v.as_str().map(str::to_owned)).unwrap_or_default()
+}
+
+/// A cylindrical clearance joint's journal in its bearing (`length` and
+/// `axial_clearance` checked), the bearing on body `bi` at `s_i` along `a_i`, the journal
+/// on body `bj` at `s_j` along `a_j`.
+fn cylinder_bearing(
+    who: Named,
+    j: &model::Joint,
+    laws: &Laws,
+    (bi, s_i, a_i): (Option<usize>, Vec3, Vec3),
+    (bj, s_j, a_j): (Option<usize>, Vec3, Vec3),
+) -> Result<CylinderBearing, Error> {
+    let length = match j.length {
+        Some(l) if l.is_finite() && l > 0.0 => l,
+        Some(l) => return Err(who.error("length", format!("length = {l} m must be positive"))),
+        None => {
+            return Err(
+                who.error("length", "a cylindrical clearance joint needs its journal's 'length'".into())
+            )
+        }
+    };
+    let axial_clearance = match j.axial_clearance {
+        Some(c) if !(c.is_finite() && c > 0.0) => {
+            return Err(who.error("axial_clearance", format!("axial_clearance = {c} m must be positive")))
+        }
+        c => c,
+    };
+    Ok(CylinderBearing {
+        bearing: bi,
+        s_bearing: s_i,
+        u_bearing: a_i,
+        journal: bj,
+        s_journal: s_j,
+        u_journal: a_j,
+        r_bearing: laws.r_bearing,
+        r_journal: laws.r_journal,
+        clearance: laws.r_bearing - laws.r_journal,
+        length,
+        axial_clearance,
+    })
+}
+
+/// A block in its guide channel: the channel on body `bi` through `s_i` along `axis`,
+/// its height across `height` (both in body i's frame, `height` perpendicular to `axis`
+/// within 1e-6 rad); the block on body `bj` centred at `s_j`, its edges along the
+/// channel's directions at the placement (`pi`, `pj`).
+fn block_channel(
+    who: Named,
+    data: &crate::model::Clearance,
+    (bi, s_i, axis, height): (Option<usize>, Vec3, Vec3, Vec3),
+    (bj, s_j): (Option<usize>, Vec3),
+    (pi, pj): (&BodyState, &BodyState),
+) -> Result<(BlockChannel, BlockData), Error> {
+    if axis.dot(&height).abs() > 1e-6 {
+        return Err(who.error(
+            "height_axis",
+            format!(
+                "height_axis is not perpendicular to axis (their angle is {:.4} deg)",
+                axis.angle(&height).to_degrees()
+            ),
+        ));
+    }
+    let laws = BlockData::new(who.name, data, true)?;
+    let height = (height - axis * axis.dot(&height)).normalize();
+    let axes_guide = [axis, height, axis.cross(&height)];
+    let to_block = pj.a.tr_mul(&pi.a);
+    let ((h, w), (d, dw)) = (laws.height, laws.depth.expect("a spatial block has a depth"));
+    let geometry = BlockChannel {
+        guide: bi,
+        s_guide: s_i,
+        axes_guide,
+        block: bj,
+        s_block: s_j,
+        axes_block: axes_guide.map(|a| to_block * a),
+        half_block: Vec3::new(laws.length, h, d) * 0.5,
+        half_channel: [0.5 * w, 0.5 * dw],
+    };
+    Ok((geometry, laws))
+}
+
 /// The joints compiled: each ideal joint's rows (appended to `rows`), each clearance
 /// joint's contact element, and every joint's frames on its two bodies.
 #[allow(clippy::type_complexity)]
@@ -175,6 +264,15 @@ fn compile_joints<'m>(
                 "a 'play' table belongs to revolute_with_play and prismatic_with_play joints, and they need it"
                     .into(),
             ));
+        }
+        for (key, given, kind) in [
+            ("height_axis", j.height_axis.is_some(), JointKind::ClearanceTranslational),
+            ("lubrication", j.lubrication.is_some(), JointKind::LubricatedCylindrical),
+        ] {
+            if given != (j.kind == kind) {
+                return Err(who
+                    .error(key, format!("'{key}' belongs to {} joints, and they need it", kind_name(kind))));
+            }
         }
         let (pi, pj) = (bodies.placement(bi), bodies.placement(bj));
         let given_i = axis_of(who, "axis", j.axis)?;
@@ -242,60 +340,47 @@ fn compile_joints<'m>(
             }
             None => {
                 let data = j.clearance.as_ref().expect("checked above");
-                let laws = Laws::new(&j.name, data)?;
-                let (r_bearing, r_journal) = (laws.r_bearing, laws.r_journal);
-                let geometry = if j.kind == JointKind::ClearanceSpherical {
-                    SpatialGeometry::BallSocket(BallSocket {
-                        socket: bi,
-                        s_socket: s_i,
-                        ball: bj,
-                        s_ball: s_j,
-                        r_socket: r_bearing,
-                        r_ball: r_journal,
-                        clearance: r_bearing - r_journal,
-                    })
-                } else {
-                    let length = match j.length {
-                        Some(l) if l.is_finite() && l > 0.0 => l,
-                        Some(l) => {
-                            return Err(who.error("length", format!("length = {l} m must be positive")))
-                        }
-                        None => {
-                            return Err(who.error(
-                                "length",
-                                "a cylindrical clearance joint needs its journal's 'length'".into(),
-                            ))
-                        }
-                    };
-                    let axial_clearance = match j.axial_clearance {
-                        Some(c) if !(c.is_finite() && c > 0.0) => {
-                            return Err(who.error(
-                                "axial_clearance",
-                                format!("axial_clearance = {c} m must be positive"),
-                            ))
-                        }
-                        c => c,
-                    };
-                    SpatialGeometry::Cylinder(CylinderBearing {
-                        bearing: bi,
-                        s_bearing: s_i,
-                        u_bearing: a_i,
-                        journal: bj,
-                        s_journal: s_j,
-                        u_journal: a_j,
-                        r_bearing,
-                        r_journal,
-                        clearance: r_bearing - r_journal,
-                        length,
-                        axial_clearance,
-                    })
+                let (geometry, normal, friction) = match j.kind {
+                    JointKind::ClearanceTranslational => {
+                        let height = axis_of(who, "height_axis", j.height_axis)?.expect("checked above");
+                        let (geometry, laws) = block_channel(
+                            who,
+                            data,
+                            (bi, s_i, a_i, bodies.inward(bi, height)),
+                            (bj, s_j),
+                            (&pi, &pj),
+                        )?;
+                        (SpatialGeometry::Block(geometry), laws.normal, laws.friction)
+                    }
+                    JointKind::ClearanceSpherical => {
+                        let laws = Laws::new(&j.name, data)?;
+                        let geometry = SpatialGeometry::BallSocket(BallSocket {
+                            socket: bi,
+                            s_socket: s_i,
+                            ball: bj,
+                            s_ball: s_j,
+                            r_socket: laws.r_bearing,
+                            r_ball: laws.r_journal,
+                            clearance: laws.r_bearing - laws.r_journal,
+                        });
+                        (geometry, laws.normal, laws.friction)
+                    }
+                    _ => {
+                        let laws = Laws::new(&j.name, data)?;
+                        let mut dry = cylinder_bearing(who, j, &laws, (bi, s_i, a_i), (bj, s_j, a_j))?;
+                        let geometry = match &j.lubrication {
+                            Some(l) => {
+                                let (film, threshold) =
+                                    checked_film(&j.name, l, dry.r_journal, dry.clearance)?;
+                                dry.clearance -= threshold;
+                                SpatialGeometry::Lubricated(LubricatedCylinder { dry, film, threshold })
+                            }
+                            None => SpatialGeometry::Cylinder(dry),
+                        };
+                        (geometry, laws.normal, laws.friction)
+                    }
                 };
-                clearances.push(SpatialClearance {
-                    name: j.name.clone(),
-                    geometry,
-                    normal: laws.normal,
-                    friction: laws.friction,
-                });
+                clearances.push(SpatialClearance { name: j.name.clone(), geometry, normal, friction });
                 clearance = Some(clearances.len() - 1);
             }
         }

@@ -57,6 +57,52 @@ pub struct FilmState {
     pub mode: FilmMode,
 }
 
+/// Checks joint `name`'s film `l` for a journal of radius `radius` in a radial
+/// clearance `clearance`: the film and its threshold (three times the roughness), which
+/// must be small against the clearance. Errors name the joint and key.
+pub(crate) fn checked_film(
+    name: &str,
+    l: &Lubrication,
+    radius: f64,
+    clearance: f64,
+) -> Result<(Film, f64), Error> {
+    let who = Named::joint(name);
+    for (key, v, unit) in [
+        ("lubrication.length", l.length, "m"),
+        ("lubrication.viscosity", l.viscosity, "Pa s"),
+        ("lubrication.roughness", l.roughness, "m"),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(who.error(key, format!("{} = {v} {unit} must be positive", &key[12..])));
+        }
+    }
+    let threshold = FULL_FILM_LAMBDA * l.roughness;
+    if threshold >= 0.5 * clearance {
+        return Err(who.error(
+            "lubrication.roughness",
+            format!(
+                "roughness = {} m gives a film threshold of {threshold} m (3 x roughness), not \
+                 small against the radial clearance {clearance} m: the film would never carry \
+                 the journal (check the units: roughness is a few micrometres)",
+                l.roughness
+            ),
+        ));
+    }
+    let film = Film { radius, clearance, length: l.length, viscosity: l.viscosity, model: l.film };
+    Ok((film, threshold))
+}
+
+/// The mode of a film of smallest thickness `thickness` and threshold `threshold`.
+pub(crate) fn film_mode(thickness: f64, threshold: f64) -> FilmMode {
+    if thickness > threshold {
+        FilmMode::Film
+    } else if thickness > 0.0 {
+        FilmMode::Mixed
+    } else {
+        FilmMode::Dry
+    }
+}
+
 impl LubricatedRevolute {
     /// Checks joint `j`'s contact data `c` and film `l`; errors name the joint and key.
     pub(crate) fn new(
@@ -67,42 +113,10 @@ impl LubricatedRevolute {
         journal: Option<usize>,
         res: &Resolver,
     ) -> Result<Self, Error> {
-        let who = Named::joint(&j.name);
         let mut dry = ClearanceRevolute::new(j, c, bearing, journal, res)?;
-        for (key, v, unit) in [
-            ("lubrication.length", l.length, "m"),
-            ("lubrication.viscosity", l.viscosity, "Pa s"),
-            ("lubrication.roughness", l.roughness, "m"),
-        ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(who.error(key, format!("{} = {v} {unit} must be positive", &key[12..])));
-            }
-        }
-        let clearance = dry.geometry.clearance;
-        let threshold = FULL_FILM_LAMBDA * l.roughness;
-        if threshold >= 0.5 * clearance {
-            return Err(who.error(
-                "lubrication.roughness",
-                format!(
-                    "roughness = {} m gives a film threshold of {threshold} m (3 x roughness), not \
-                     small against the radial clearance {clearance} m: the film would never carry \
-                     the journal (check the units: roughness is a few micrometres)",
-                    l.roughness
-                ),
-            ));
-        }
-        dry.geometry.clearance = clearance - threshold;
-        Ok(LubricatedRevolute {
-            film: Film {
-                radius: dry.geometry.r_journal,
-                clearance,
-                length: l.length,
-                viscosity: l.viscosity,
-                model: l.film,
-            },
-            dry,
-            threshold,
-        })
+        let (film, threshold) = checked_film(&j.name, l, dry.geometry.r_journal, dry.geometry.clearance)?;
+        dry.geometry.clearance -= threshold;
+        Ok(LubricatedRevolute { film, dry, threshold })
     }
 
     /// The film at the bodies' states: its kinematics from the centres' relative motion
@@ -123,13 +137,7 @@ impl LubricatedRevolute {
             omega_journal: journal.omega,
             omega_bearing: bearing.omega,
         });
-        let mode = if thickness > self.threshold {
-            FilmMode::Film
-        } else if thickness > 0.0 {
-            FilmMode::Mixed
-        } else {
-            FilmMode::Dry
-        };
+        let mode = film_mode(thickness, self.threshold);
         FilmState { eccentricity: e, thickness, force: n * film.along + perp(n) * film.across, film, mode }
     }
 

@@ -9,6 +9,7 @@ pub mod friction;
 pub mod gear;
 pub mod geometry;
 pub mod lubricated;
+pub mod lubricated_cylinder;
 pub mod materials;
 pub mod normal;
 pub mod planar_clearance;

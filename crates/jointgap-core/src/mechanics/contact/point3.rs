@@ -8,6 +8,8 @@
 
 use std::ops::Deref;
 
+use smallvec::SmallVec;
+
 use crate::mechanics::spatial::body::{BodyState, Vec3};
 
 /// A point of a spatial body, in global axes.
@@ -77,48 +79,28 @@ impl ContactPoint3 {
     }
 }
 
-/// The most contact points any spatial geometry has: a journal in a bearing with thrust
-/// faces has four (two journal ends, two thrust faces).
-pub const MAX_POINTS3: usize = 4;
+/// The contact points a spatial geometry keeps on the stack: a journal in a bearing with
+/// thrust faces has four (two journal ends, two thrust faces). A block in its guide has
+/// sixteen (eight corners, each against two faces); those beyond four spill to the heap.
+pub const INLINE_POINTS3: usize = 4;
 
-/// The contact points a spatial geometry returns for one joint at one state, a list of
-/// fixed capacity ([`MAX_POINTS3`]), so that an evaluation allocates nothing.
-#[derive(Debug, Clone, Copy)]
-pub struct ContactPoints3 {
-    points: [ContactPoint3; MAX_POINTS3],
-    len: usize,
-}
+/// The contact points a spatial geometry returns for one joint at one state: a list kept
+/// on the stack up to [`INLINE_POINTS3`] (smallvec: its free slots are left unwritten,
+/// so a joint of one point pays for one).
+#[derive(Debug, Clone, Default)]
+pub struct ContactPoints3(SmallVec<[ContactPoint3; INLINE_POINTS3]>);
 
 impl ContactPoints3 {
     /// No points.
     #[inline]
     pub fn new() -> Self {
-        let none = MaterialPoint3 { body: None, at: Vec3::zeros(), arm: Vec3::zeros() };
-        let point = ContactPoint3 {
-            index: 0,
-            normal: Vec3::zeros(),
-            penetration: 0.0,
-            penetration_rate: 0.0,
-            slip: Vec3::zeros(),
-            share: 0.0,
-            on_i: none,
-            on_j: none,
-        };
-        ContactPoints3 { points: [point; MAX_POINTS3], len: 0 }
+        ContactPoints3(SmallVec::new())
     }
 
-    /// Adds a point; a geometry adds at most the points it declares, at most
-    /// [`MAX_POINTS3`].
+    /// Adds a point; a geometry adds at most the points it declares.
     #[inline]
     pub fn push(&mut self, point: ContactPoint3) {
-        self.points[self.len] = point;
-        self.len += 1;
-    }
-}
-
-impl Default for ContactPoints3 {
-    fn default() -> Self {
-        Self::new()
+        self.0.push(point);
     }
 }
 
@@ -127,7 +109,7 @@ impl Deref for ContactPoints3 {
 
     #[inline]
     fn deref(&self) -> &[ContactPoint3] {
-        &self.points[..self.len]
+        &self.0
     }
 }
 

@@ -5,7 +5,11 @@
 //! share of the law's (a journal end carries half) and its friction acts against the
 //! slip vector.
 
-use super::geometry::{contact_ball_socket, contact_cylinder_bearing, BallSocket, CylinderBearing};
+use super::geometry::{
+    contact_ball_socket, contact_block_channel, contact_cylinder_bearing, BallSocket, BlockChannel,
+    CylinderBearing,
+};
+use super::lubricated_cylinder::LubricatedCylinder;
 use super::normal::NormalForce;
 use super::point3::{ContactPoint3, ContactPoints3, MaterialPoint3};
 use super::{ClearanceJoint, ContactMeasure, ContactState, MAX_INITIAL_CONTACT_FORCE};
@@ -27,6 +31,10 @@ pub enum SpatialGeometry {
     Cylinder(CylinderBearing),
     /// A revolute or prismatic joint's play about or along its axis.
     Play(SpatialPlay),
+    /// A box-shaped block (body j) in a guide channel (body i).
+    Block(BlockChannel),
+    /// A journal (body j) in a cylindrical bearing (body i) carried by an oil film.
+    Lubricated(LubricatedCylinder),
 }
 
 /// The play of a spatial revolute or prismatic joint: its coordinate (angle about the
@@ -117,6 +125,10 @@ impl SpatialClearance {
             SpatialGeometry::BallSocket(g) => (g.r_socket, g.r_ball, g.clearance),
             SpatialGeometry::Cylinder(g) => (g.r_bearing, g.r_journal, g.clearance),
             SpatialGeometry::Play(g) => (0.0, 0.0, g.half_play),
+            SpatialGeometry::Block(g) => {
+                (g.half_channel[0], g.half_block.y, g.half_channel[0] - g.half_block.y)
+            }
+            SpatialGeometry::Lubricated(g) => (g.dry.r_bearing, g.dry.r_journal, g.film.clearance),
         }
     }
 }
@@ -136,6 +148,8 @@ impl ClearanceJoint for SpatialClearance {
             SpatialGeometry::BallSocket(g) => [g.socket, g.ball],
             SpatialGeometry::Cylinder(g) => [g.bearing, g.journal],
             SpatialGeometry::Play(g) => g.bodies,
+            SpatialGeometry::Block(g) => [g.guide, g.block],
+            SpatialGeometry::Lubricated(g) => [g.dry.bearing, g.dry.journal],
         }
     }
 
@@ -159,7 +173,7 @@ impl ClearanceJoint for SpatialClearance {
             Some(p) => {
                 let mm = 1e3;
                 Err(Named::joint(&self.name).error_of_element(format!(
-                    "contact point {} starts {:.4} mm deep (radial clearance {:.4} mm), deeper \
+                    "contact point {} starts {:.4} mm deep (clearance {:.4} mm), deeper \
                      than any elastic contact: this joint's normal law (K = {:.4e} N/m^{}) presses \
                      {:.4} mm deep only under {:.0e} N; likely a wrong point (point_i or point_j), a \
                      wrong radius, or a length in the wrong unit",
@@ -180,6 +194,8 @@ impl ClearanceJoint for SpatialClearance {
             SpatialGeometry::BallSocket(_) => BallSocket::POINTS,
             SpatialGeometry::Cylinder(g) => g.points(),
             SpatialGeometry::Play(_) => 1,
+            SpatialGeometry::Block(_) => BlockChannel::POINTS,
+            SpatialGeometry::Lubricated(g) => g.dry.points(),
         }
     }
 
@@ -194,6 +210,8 @@ impl ClearanceJoint for SpatialClearance {
             SpatialGeometry::BallSocket(g) => contact_ball_socket(g, i, j, reach, &mut out),
             SpatialGeometry::Cylinder(g) => contact_cylinder_bearing(g, i, j, reach, &mut out),
             SpatialGeometry::Play(g) => g.contact(i, j, reach, &mut out),
+            SpatialGeometry::Block(g) => contact_block_channel(g, i, j, reach, &mut out),
+            SpatialGeometry::Lubricated(g) => contact_cylinder_bearing(&g.dry, i, j, reach, &mut out),
         }
         out
     }
@@ -207,19 +225,25 @@ impl ClearanceJoint for SpatialClearance {
 
     /// As the planar joint's ([`super::ClearanceRevolute`]): the law's damping and
     /// clipping lose `(F_N - share K delta^n) delta_dot`, friction `-F_T . v_t`.
+    /// A film loses its power on the two bodies as normal losses.
     fn losses(&self, i: &BodyState, j: &BodyState, states: &[ContactState]) -> (f64, f64) {
-        super::sum_losses(self.contacts(i, j, self.reach()).iter(), |p| {
+        let (normal, friction) = super::sum_losses(self.contacts(i, j, self.reach()).iter(), |p| {
             let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
             let elastic = p.share * self.normal.elastic_force(p.penetration);
             ((f_n - elastic) * p.penetration_rate, -f_t.dot(&p.slip))
-        })
+        });
+        match &self.geometry {
+            SpatialGeometry::Lubricated(g) => (normal - g.film_power(i, j), friction),
+            _ => (normal, friction),
+        }
     }
 
     fn elastic_energy(&self, p: &ContactPoint3) -> f64 {
         p.share * self.normal.elastic_energy(p.penetration)
     }
 
-    /// Each point's force on body j at its point and the opposite on body i at its own;
+    /// Each point's force on body j at its point and the opposite on body i at its own, and
+    /// a film's loads;
     /// a play's stop as the generalized force `-side F` along its coordinate's gradient
     /// (a torque about the axis, a force along it), minus the derivative of its energy.
     #[inline]
@@ -246,6 +270,9 @@ impl ClearanceJoint for SpatialClearance {
                 add_force_at(qe, &p.on_j, j, &f);
                 add_force_at(qe, &p.on_i, i, &-f);
             }
+        }
+        if let SpatialGeometry::Lubricated(g) = &self.geometry {
+            g.add_film(i, j, qe);
         }
     }
 }

@@ -26,19 +26,26 @@ pub struct ClearanceTranslational {
     pub friction: FrictionSpec,
 }
 
-impl ClearanceTranslational {
-    /// Checks joint `j`'s contact data `c`, the guide on body `guide` along `axis` (unit,
-    /// its frame), the block on body `block`, whose long axis is the guide's at the
-    /// model's placement, `rel_angle` the block body's angle less the guide body's there.
-    /// Errors name the joint and the key.
-    pub(crate) fn new(
-        j: &Joint,
-        c: &Clearance,
-        (guide, s_guide, axis): (Option<usize>, Vec2, Vec2),
-        (block, s_block): (Option<usize>, Vec2),
-        rel_angle: f64,
-    ) -> Result<Self, Error> {
-        let who = Named::joint(&j.name);
+/// A translational clearance joint's checked sizes and laws, planar or spatial.
+#[derive(Debug, Clone)]
+pub(crate) struct BlockData {
+    /// The block's length along the guide [m].
+    pub length: f64,
+    /// The block's height and the guide's width across it [m].
+    pub height: (f64, f64),
+    /// The block's depth and the channel's across it [m] (spatial only).
+    pub depth: Option<(f64, f64)>,
+    /// The normal law at each contact point.
+    pub normal: NormalForce,
+    /// The friction law (checked).
+    pub friction: FrictionSpec,
+}
+
+impl BlockData {
+    /// Checks joint `name`'s contact data `c`: the depth's keys in space only
+    /// (`spatial`). Errors name the joint and the key.
+    pub(crate) fn new(name: &str, c: &Clearance, spatial: bool) -> Result<Self, Error> {
+        let who = Named::joint(name);
         for (key, given) in [
             ("bearing_radius", c.bearing_radius.is_some()),
             ("journal_radius", c.journal_radius.is_some()),
@@ -56,49 +63,39 @@ impl ClearanceTranslational {
                 ));
             }
         }
-        let positive = |key: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
-            match v {
-                Some(x) if !(x.is_finite() && x > 0.0) => {
-                    Err(who.error(key, format!("{key} = {x} m must be positive")))
-                }
-                _ => Ok(v),
-            }
-        };
-        let length = positive("block_length", c.block_length)?.ok_or_else(|| {
-            who.error("block_length", "a translational clearance joint needs block_length".into())
-        })?;
-        let (height, width) = match (
-            positive("block_height", c.block_height)?,
-            positive("guide_width", c.guide_width)?,
-            positive("clearance", c.clearance)?,
-        ) {
-            (Some(h), Some(w), None) => (h, w),
-            (Some(h), None, Some(c)) => (h, h + c),
-            (None, Some(w), Some(c)) => (w - c, w),
-            (Some(h), Some(w), Some(c)) => {
-                if ((w - h) - c).abs() > 1e-9 * w {
+        if !spatial {
+            for (key, given) in [
+                ("block_depth", c.block_depth.is_some()),
+                ("guide_depth", c.guide_depth.is_some()),
+                ("depth_clearance", c.depth_clearance.is_some()),
+            ] {
+                if given {
                     return Err(who.error(
-                        "clearance",
-                        format!("guide_width - block_height = {} m contradicts clearance = {c} m", w - h),
+                        key,
+                        format!(
+                            "'{key}' belongs to a spatial block in its channel; a planar block has no depth"
+                        ),
                     ));
                 }
-                (h, w)
             }
-            _ => {
-                return Err(
-                    who.error_of_element("give two of block_height, guide_width and clearance".into())
-                );
-            }
-        };
-        if height >= width {
-            return Err(who.error(
-                "block_height",
-                format!(
-                    "block_height = {height} m does not fit the guide: it must be smaller than \
-                     guide_width = {width} m (the clearance is guide_width - block_height)"
-                ),
-            ));
         }
+        let length = positive(who, "block_length", c.block_length)?.ok_or_else(|| {
+            who.error("block_length", "a translational clearance joint needs block_length".into())
+        })?;
+        let height = fit(
+            who,
+            ["block_height", "guide_width", "clearance"],
+            [c.block_height, c.guide_width, c.clearance],
+        )?;
+        let depth = if spatial {
+            Some(fit(
+                who,
+                ["block_depth", "guide_depth", "depth_clearance"],
+                [c.block_depth, c.guide_depth, c.depth_clearance],
+            )?)
+        } else {
+            None
+        };
         let stiffness = match c.stiffness {
             Some(k) if k.is_finite() && k > 0.0 => k,
             Some(k) => return Err(who.error("stiffness", format!("stiffness = {k} must be positive"))),
@@ -106,7 +103,81 @@ impl ClearanceTranslational {
                 return Err(who.error("stiffness", "a translational clearance joint needs a stiffness".into()))
             }
         };
-        friction::check(&j.name, &c.friction)?;
+        friction::check(name, &c.friction)?;
+        Ok(BlockData {
+            length,
+            height,
+            depth,
+            normal: NormalForce::new(name, &c.normal_law, stiffness, None)?,
+            friction: c.friction.clone(),
+        })
+    }
+}
+
+/// `v` when it is absent or positive; an error naming `key` otherwise.
+fn positive(who: Named, key: &str, v: Option<f64>) -> Result<Option<f64>, Error> {
+    match v {
+        Some(x) if !(x.is_finite() && x > 0.0) => {
+            Err(who.error(key, format!("{key} = {x} m must be positive")))
+        }
+        _ => Ok(v),
+    }
+}
+
+/// The block's size and the guide's across one direction from two (or three agreeing)
+/// of the block's size, the guide's and the clearance `guide - block` (keys in that
+/// order); the block must fit.
+fn fit(who: Named, keys: [&str; 3], values: [Option<f64>; 3]) -> Result<(f64, f64), Error> {
+    let [block_key, guide_key, clearance_key] = keys;
+    let (block, guide) = match (
+        positive(who, block_key, values[0])?,
+        positive(who, guide_key, values[1])?,
+        positive(who, clearance_key, values[2])?,
+    ) {
+        (Some(h), Some(w), None) => (h, w),
+        (Some(h), None, Some(c)) => (h, h + c),
+        (None, Some(w), Some(c)) => (w - c, w),
+        (Some(h), Some(w), Some(c)) => {
+            if ((w - h) - c).abs() > 1e-9 * w {
+                return Err(who.error(
+                    clearance_key,
+                    format!("{guide_key} - {block_key} = {} m contradicts {clearance_key} = {c} m", w - h),
+                ));
+            }
+            (h, w)
+        }
+        _ => {
+            return Err(
+                who.error_of_element(format!("give two of {block_key}, {guide_key} and {clearance_key}"))
+            );
+        }
+    };
+    if block >= guide {
+        return Err(who.error(
+            block_key,
+            format!(
+                "{block_key} = {block} m does not fit the guide: it must be smaller than \
+                 {guide_key} = {guide} m (the clearance is {guide_key} - {block_key})"
+            ),
+        ));
+    }
+    Ok((block, guide))
+}
+
+impl ClearanceTranslational {
+    /// Checks joint `j`'s contact data `c`, the guide on body `guide` along `axis` (unit,
+    /// its frame), the block on body `block`, whose long axis is the guide's at the
+    /// model's placement, `rel_angle` the block body's angle less the guide body's there.
+    /// Errors name the joint and the key.
+    pub(crate) fn new(
+        j: &Joint,
+        c: &Clearance,
+        (guide, s_guide, axis): (Option<usize>, Vec2, Vec2),
+        (block, s_block): (Option<usize>, Vec2),
+        rel_angle: f64,
+    ) -> Result<Self, Error> {
+        let data = BlockData::new(&j.name, c, false)?;
+        let (height, width) = data.height;
         Ok(ClearanceTranslational {
             name: j.name.clone(),
             geometry: SliderGuide {
@@ -116,12 +187,12 @@ impl ClearanceTranslational {
                 block,
                 s_block,
                 block_axis: rotate(-rel_angle, axis),
-                half_length: 0.5 * length,
+                half_length: 0.5 * data.length,
                 half_height: 0.5 * height,
                 half_width: 0.5 * width,
             },
-            normal: NormalForce::new(&j.name, &c.normal_law, stiffness, None)?,
-            friction: c.friction.clone(),
+            normal: data.normal,
+            friction: data.friction,
         })
     }
 }

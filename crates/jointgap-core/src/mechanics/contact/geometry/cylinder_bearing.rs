@@ -108,7 +108,7 @@ impl CylinderBearing {
 /// end's gap is then the whole clearance and no force acts, so any normal in the plane
 /// gives the same (zero) loads, and a fixed one keeps every output finite.
 #[inline]
-fn radial_normal(d: Vec3, len: f64, a: Vec3) -> Vec3 {
+pub fn radial_normal(d: Vec3, len: f64, a: Vec3) -> Vec3 {
     if len > 1e-15 {
         return d / len;
     }

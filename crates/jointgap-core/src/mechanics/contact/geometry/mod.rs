@@ -8,6 +8,7 @@
 //! that acts apart (a fluid film) still gets its point.
 
 mod ball_socket;
+mod block_channel;
 mod cylinder_bearing;
 mod journal_bearing;
 mod slider_guide;
@@ -15,6 +16,7 @@ mod slider_guide;
 mod spatial_checks;
 
 pub use ball_socket::{contact_ball_socket, BallSocket};
-pub use cylinder_bearing::{contact_cylinder_bearing, CylinderBearing};
+pub use block_channel::{contact_block_channel, BlockChannel, Pose, CORNERS3};
+pub use cylinder_bearing::{contact_cylinder_bearing, radial_normal, CylinderBearing};
 pub use journal_bearing::{contact_journal_bearing, JournalBearing};
 pub use slider_guide::{contact_slider_guide, SliderGuide, CORNERS};
