@@ -171,6 +171,9 @@ _CLEARANCE = [
 BLOCK_KEYS = ("block_length", "block_height", "guide_width")
 """A clearance_translational joint's own keys of its ``clearance`` table (with
 ``clearance``, ``stiffness``, ``normal_law`` and ``friction``)."""
+DEPTH_KEYS = ("block_depth", "guide_depth", "depth_clearance")
+"""A spatial clearance_translational joint's keys of its ``clearance`` table for the
+channel's depth, beside :data:`BLOCK_KEYS`."""
 
 _AXIS = Param(
     "axis",
@@ -683,7 +686,8 @@ _SPATIAL_JOINT_COMMON = [
         "choice",
         required=True,
         doc="spherical, revolute, cylindrical, prismatic, universal, fixed, planar, "
-        "revolute_with_play, prismatic_with_play, clearance_spherical or clearance_cylindrical",
+        "revolute_with_play, prismatic_with_play, clearance_spherical, clearance_cylindrical, "
+        "lubricated_cylindrical or clearance_translational",
     ),
     Param("body_i", "ref", required=True, doc="first body, or ground"),
     Param("point_i", "point", u.LENGTH, required=True, doc="joint point on body_i"),
@@ -750,6 +754,20 @@ _SPHERE_CLEARANCE = [
     Param("ball_material", "material", doc="as socket_material"),
     _CLEARANCE[-2],  # normal_law
     _CLEARANCE[-1],  # friction
+]
+
+_CYLINDER_CLEARANCE = [
+    *_SPATIAL_JOINT_COMMON,
+    _axis("the bearing's axis"),
+    Param("axis_j", "vector", u.DIMENSIONLESS, doc="the journal's axis, in body_j's frame"),
+    *_CLEARANCE,
+    Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
+    Param(
+        "axial_clearance",
+        "scalar",
+        u.LENGTH,
+        doc="gap on each side between the journal's ends and thrust faces; none by default",
+    ),
 ]
 
 SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
@@ -856,18 +874,40 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             _play("travel_play"),
         ],
         "clearance_spherical": [*_SPATIAL_JOINT_COMMON, *_SPHERE_CLEARANCE],
-        "clearance_cylindrical": [
+        "clearance_cylindrical": _CYLINDER_CLEARANCE,
+        "lubricated_cylindrical": [*_CYLINDER_CLEARANCE, _LUBRICATION],
+        "clearance_translational": [
             *_SPATIAL_JOINT_COMMON,
-            _axis("the bearing's axis"),
-            Param("axis_j", "vector", u.DIMENSIONLESS, doc="the journal's axis, in body_j's frame"),
-            *_CLEARANCE,
-            Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
+            _axis(
+                "the guide's direction (its centreline passes through point_i; the block is "
+                "centred at point_j)"
+            ),
             Param(
-                "axial_clearance",
+                "height_axis",
+                "vector",
+                u.DIMENSIONLESS,
+                required=True,
+                doc="the direction across which block_height and guide_width are measured, "
+                "in the frame of body_i, perpendicular to axis",
+            ),
+            *_BLOCK_CLEARANCE[:4],
+            Param("block_depth", "scalar", u.LENGTH, bound=">0", doc="depth of the block"),
+            Param(
+                "guide_depth",
                 "scalar",
                 u.LENGTH,
-                doc="gap on each side between the journal's ends and thrust faces; none by default",
+                bound=">0",
+                doc="distance between the channel's side walls, across axis and height_axis",
             ),
+            Param(
+                "depth_clearance",
+                "scalar",
+                u.LENGTH,
+                bound=">0",
+                doc="guide_depth - block_depth; give two of block_depth, guide_depth, "
+                "depth_clearance",
+            ),
+            *_BLOCK_CLEARANCE[4:],
         ],
     },
     "driver": [
@@ -932,6 +972,8 @@ SPATIAL_JOINT_EQUATIONS = {
     "prismatic_with_play": 5,
     "clearance_spherical": 0,
     "clearance_cylindrical": 0,
+    "lubricated_cylindrical": 0,
+    "clearance_translational": 0,
 }
 SPATIAL_DRIVEN_MOTION = {
     "revolute": "rotation",
@@ -994,7 +1036,7 @@ def convert_element(
     out = _convert_table(kind, raw, ctx, motions)
     if carried:
         out.update(_convert_carried(carried, str(out["type"]), ctx))
-    keys = PLANAR_CLEARANCE_KEYS if dimension == 2 else CLEARANCE_KEYS
+    keys = PLANAR_CLEARANCE_KEYS if dimension == 2 else SPATIAL_CLEARANCE_KEYS
     if kind == "joint" and (out.get("type") in CLEARANCE_TYPES or any(k in out for k in keys)):
         nested = {k: out.pop(k) for k in keys if k in out}
         nested.update({SPHERE_KEYS[k]: out.pop(k) for k in SPHERE_KEYS if k in out})
@@ -1012,6 +1054,9 @@ def convert_element(
 PLANAR_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS)
 """The keys of a planar joint's ``clearance`` table: a revolute clearance joint's and a
 translational one's."""
+SPATIAL_CLEARANCE_KEYS = (*PLANAR_CLEARANCE_KEYS, *DEPTH_KEYS)
+"""The keys of a spatial joint's ``clearance`` table: the planar ones and a block's
+depth."""
 
 _DATA_TABLES = {
     "clearance": ("clearance_revolute", "clearance_translational"),
@@ -1097,7 +1142,7 @@ def _flatten_clearance(raw: Mapping[str, Any], ctx: _Context) -> Mapping[str, An
     flat = {k: v for k, v in raw.items() if k != "clearance"}
     sphere = raw.get("type") == "clearance_spherical"
     renamed = {engine: own for own, engine in SPHERE_KEYS.items()} if sphere else {}
-    keys = PLANAR_CLEARANCE_KEYS if ctx.dimension == 2 else CLEARANCE_KEYS
+    keys = PLANAR_CLEARANCE_KEYS if ctx.dimension == 2 else SPATIAL_CLEARANCE_KEYS
     for key, value in nested.items():
         if key not in keys:
             raise ctx.error(

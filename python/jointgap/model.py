@@ -565,6 +565,10 @@ class Model:
         stiffness: Quantity,
         normal_law: Law | Mapping[str, Any],
         friction: Law | Mapping[str, Any] | None = None,
+        height_axis: Vector | None = None,
+        block_depth: Quantity | None = None,
+        guide_depth: Quantity | None = None,
+        depth_clearance: Quantity | None = None,
     ) -> Model:
         """Adds a slider with clearance in its guide: no constraint, a block (on
         ``block_body``, centred at ``point_block``) between the two surfaces of a guide (on
@@ -584,6 +588,15 @@ class Model:
             stiffness: contact stiffness K [N/m^n] of a corner on a surface, n the normal
                 law's exponent.
             normal_law, friction: as for :meth:`add_clearance_revolute`.
+            height_axis, block_depth, guide_depth, depth_clearance: spatial only. The
+                block is a box in a channel of rectangular section: ``height_axis`` (in
+                the guide body's frame, perpendicular to ``axis``) is the direction of
+                ``block_height`` and ``guide_width``; two of the block's depth, the
+                channel's and their difference size it across both. Its eight corners
+                each touch the height wall and the depth wall on their side: points
+                ``p<2k-1>`` and ``p<2k>`` of corner ``k``; channels ``<name>.fx fy fz``,
+                ``travel speed offset_height offset_depth tilt_along tilt_height
+                tilt_depth`` and per point as in the plane.
         """
         raw = {
             "name": name,
@@ -593,9 +606,13 @@ class Model:
             "body_j": block_body,
             "point_j": point_block,
             "axis": axis,
+            "height_axis": height_axis,
             "block_length": block_length,
             "block_height": block_height,
             "guide_width": guide_width,
+            "block_depth": block_depth,
+            "guide_depth": guide_depth,
+            "depth_clearance": depth_clearance,
             "clearance": clearance,
             "stiffness": stiffness,
             "normal_law": normal_law,
@@ -846,6 +863,55 @@ class Model:
             "friction": friction,
             "length": length,
             "axial_clearance": axial_clearance,
+        }
+        return self._add("joint", raw)
+
+    def add_lubricated_cylindrical(
+        self,
+        name: str,
+        bearing_body: str,
+        journal_body: str,
+        axis: Vector,
+        point_bearing: PointRef,
+        point_journal: PointRef,
+        *,
+        length: Quantity,
+        viscosity: Quantity,
+        normal_law: Law | Mapping[str, Any],
+        film: str | None = None,
+        roughness: Quantity | None = None,
+        **contact: Any,
+    ) -> Model:
+        """Spatial: a cylindrical clearance joint whose journal an oil film over its
+        ``length`` carries, the film taken in two halves at their mid-planes so that a
+        tilted journal feels a restoring moment; the contact laws act where the film gets
+        thinner than three times the roughness (docs/lubrication.md, "In space").
+
+        ``contact`` takes the other arguments of :meth:`add_clearance_cylindrical`
+        (``axis_j``, ``axial_clearance``, the radii, ``stiffness`` or the materials,
+        ``friction``); ``viscosity``, ``film`` and ``roughness`` are those of
+        :meth:`add_lubricated_revolute`. Channels as the dry joint's, then
+        ``<name>.film_fx fy fz`` (the film's force on the journal) and per half
+        (``<name>.p1``, ``<name>.p2``) ``eccentricity_ratio film_thickness film_force
+        peak_pressure film_mode friction_torque``.
+        """
+        raw = {
+            "name": name,
+            "type": "lubricated_cylindrical",
+            "body_i": bearing_body,
+            "point_i": point_bearing,
+            "body_j": journal_body,
+            "point_j": point_journal,
+            "axis": axis,
+            "length": length,
+            "normal_law": normal_law,
+            **contact,
+            "lubrication": {
+                "length": length,
+                "viscosity": viscosity,
+                "film": film,
+                "roughness": roughness,
+            },
         }
         return self._add("joint", raw)
 

@@ -63,10 +63,11 @@ CLEARANCE_TYPES = (
     "revolute_with_play",
     "prismatic_with_play",
     "gear_pair",
+    "lubricated_cylindrical",
 )
 """The joint types with contact: contact force elements with impact lists."""
 
-MULTI_POINT_TYPES = ("clearance_cylindrical", "clearance_translational")
+MULTI_POINT_TYPES = ("clearance_cylindrical", "clearance_translational", "lubricated_cylindrical")
 """The joint types of several contact points, whose impact lists and contact channels
 are named by point, ``<joint>.p1``, ``<joint>.p2``, ..."""
 

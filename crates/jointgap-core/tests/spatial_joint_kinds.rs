@@ -249,3 +249,33 @@ fn overloaded_spatial_film_passes_into_dry_contact() {
     let fy = channel(&res, "bearing.fy")[last] + channel(&res, "bearing.film_fy")[last];
     assert!((fy - 2e5).abs() < 1e-3 * 2e5, "force on the journal {fy}");
 }
+
+/// Bad input to the spatial joints with contact: each a clear error naming the joint and
+/// the key.
+#[test]
+fn bad_spatial_joint_data_is_named() {
+    let error = |edit: &dyn Fn(&mut Value), base: Value| -> String {
+        let mut m = base;
+        edit(&mut m["joints"][0]);
+        match SpatialModel::from_json(&m.to_string()) {
+            Err(e) => e.to_string(),
+            Ok(model) => simulate_spatial(&model, &SimOptions::new(1e-3), &mut Silent).unwrap_err().to_string(),
+        }
+    };
+    let block = || block_in_channel([0.0; 3], [0.0; 3]);
+    let journal = || lubricated_journal(1.0, 1.0, 0.0, [0.0; 3], FLYWHEEL);
+    for (edit, base, expected) in [
+        (&(|j: &mut Value| j["height_axis"] = Value::Null) as &dyn Fn(&mut Value), block(), "height_axis"),
+        (&|j: &mut Value| j["height_axis"] = json!([0.1, 1.0, 0.0]), block(), "not perpendicular"),
+        (&|j: &mut Value| j["clearance"]["guide_depth"] = Value::Null, block(), "block_depth, guide_depth"),
+        (&|j: &mut Value| j["clearance"]["block_depth"] = json!(0.03), block(), "block_depth = 0.03 m does not fit"),
+        (&|j: &mut Value| j["clearance"]["block_height"] = json!(0.011), block(), "block_height"),
+        (&|j: &mut Value| j["type"] = json!("clearance_cylindrical"), journal(), "'lubrication' belongs to lubricated_cylindrical"),
+        (&|j: &mut Value| j["lubrication"]["viscosity"] = json!(0.0), journal(), "viscosity = 0"),
+        (&|j: &mut Value| j["lubrication"] = Value::Null, journal(), "lubrication"),
+    ] {
+        let e = error(edit, base);
+        assert!(e.contains(expected), "{e}");
+        assert!(e.contains("guide") || e.contains("bearing"), "names the joint: {e}");
+    }
+}

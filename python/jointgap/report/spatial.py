@@ -55,8 +55,9 @@ __all__ = [
     "spatial_section",
 ]
 
-CLEARANCE_TYPES = ("clearance_spherical", "clearance_cylindrical")
-"""The spatial clearance joints, whose orbits the report draws."""
+CLEARANCE_TYPES = ("clearance_spherical", "clearance_cylindrical", "lubricated_cylindrical")
+"""The spatial clearance joints, whose orbits the report draws (a block in its channel has
+its contact forces plotted and its impacts listed, no orbit)."""
 _TRIAD_FRACTION = 0.08  # length of a body frame's triad, as a fraction of the drawing's size
 _POSE = ("x", "y", "z", "e0", "e1", "e2", "e3")
 
@@ -377,7 +378,7 @@ def spatial_section(
         mode = _joint_mode(result, name)
         c = _clearance_size(result, joint)
         axis = None
-        if joint.get("type") == "clearance_cylindrical":
+        if joint.get("type") != "clearance_spherical":
             a = np.asarray(joint.get("axis") or (0.0, 0.0, 1.0), dtype=float)
             axis = (a / np.linalg.norm(a)).tolist()
         keep = _path_indices(e, max_points)
