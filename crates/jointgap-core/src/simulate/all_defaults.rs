@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use super::options::SimOptions;
 use crate::defaults::{CONTACT_CLIP, CONTACT_EXPONENT, GRAVITY};
+use crate::mechanics::contact::wear_coefficients::{WearPair, DEFAULT_WEAR_PAIR, WEAR_PAIRS};
 
 /// The defaults of the normal contact laws.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -25,6 +26,10 @@ pub struct Defaults {
     /// Every run option but `t_end`, which has none, as [`SimOptions::new`] fills
     /// them in (`null` where the engine decides per run, as the step budget).
     pub options: serde_json::Map<String, serde_json::Value>,
+    /// The wear coefficients of common pairs ([`WEAR_PAIRS`]).
+    pub wear_pairs: Vec<WearPair>,
+    /// The pair a wear prediction takes by default ([`DEFAULT_WEAR_PAIR`]).
+    pub wear_pair: &'static str,
 }
 
 /// The engine's defaults, for the binding.
@@ -39,6 +44,8 @@ pub fn defaults() -> Defaults {
         gravity: GRAVITY,
         normal_law: NormalLawDefaults { exponent: CONTACT_EXPONENT, clip: CONTACT_CLIP },
         options,
+        wear_pairs: WEAR_PAIRS.to_vec(),
+        wear_pair: DEFAULT_WEAR_PAIR,
     }
 }
 

@@ -19,6 +19,7 @@ pub mod point3;
 pub mod spatial;
 mod state;
 pub mod translational;
+pub mod wear_coefficients;
 
 pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};
 pub use state::{ContactState, Mode};
