@@ -46,8 +46,8 @@ pub const WEAR_PAIRS: [WearPair; 6] = [
 ];
 
 /// The pair a wear prediction takes when none is given: the founding slider-crank's
-/// steel journal in its bronze bearing, dry.
-pub const DEFAULT_WEAR_PAIR: &str = "steel_bronze_dry";
+/// steel journal in its brass bearing, dry.
+pub const DEFAULT_WEAR_PAIR: &str = "steel_brass_dry";
 
 #[cfg(test)]
 mod tests {
