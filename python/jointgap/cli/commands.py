@@ -289,7 +289,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 # Modules that add subcommands: each has `add_commands(sub)` and a `COMMANDS` table.
-_COMMAND_MODULES = ("measured", "study", "report")
+_COMMAND_MODULES = ("measured", "study", "report", "wear")
 
 
 def _command_modules() -> list[Any]:

@@ -1,0 +1,178 @@
+"""Wear over life (:func:`jointgap.wear.predict_wear`, ``jointgap wear``): the loop that
+scales simulated cycles' wear into worn profiles, against Archard's closed form for a
+pressed journal, against simulating every cycle, converging as its tolerance tightens,
+resuming where it was interrupted; the command's files (docs/wear.md, "Over life")."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import jointgap
+import numpy as np
+import pytest
+from jointgap.cli import main
+from jointgap.wear import WearStep, predict_wear, resolve_coefficient, wear_pairs
+
+LOAD, OMEGA = 200.0, 50.0
+R_B, R_J, LENGTH = 7.5e-3, 7.0e-3, 0.01
+PERIOD = 2 * math.pi / OMEGA
+
+
+def pressed_journal() -> jointgap.Model:
+    """A pin turned at constant speed by a motor on a carrier that slides freely up and
+    down, pressed by a constant load into a fixed bearing (the engine's closed-form wear
+    case, crates/jointgap-core/tests/wear.rs)."""
+    return jointgap.Model.from_dict(
+        {
+            "gravity": [0.0, 0.0],
+            "bodies": [
+                {"name": "carrier", "mass": 1.0, "inertia": 1e-3, "position": [0.0, -0.5e-3]},
+                {"name": "pin", "mass": 0.5, "inertia": 1e-5, "position": [0.0, -0.5e-3]},
+            ],
+            "joints": [
+                {"name": "slide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0],
+                 "body_j": "carrier", "point_j": [0.0, 0.0], "axis": [0.0, 1.0]},
+                {"name": "spin", "type": "revolute", "body_i": "carrier", "point_i": [0.0, 0.0],
+                 "body_j": "pin", "point_j": [0.0, 0.0]},
+                {"name": "bearing", "type": "clearance_revolute", "body_i": "ground",
+                 "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0],
+                 "clearance": {"bearing_radius": R_B, "clearance": 0.5e-3, "length": LENGTH,
+                               "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
+                               "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
+                               "normal_law": {"type": "kelvin_voigt", "exponent": 1.5,
+                                              "damping": 1e4}}},
+            ],
+            "drivers": [{"name": "motor", "joint": "spin",
+                         "profile": {"type": "constant_speed", "speed": OMEGA}}],
+            "forces": [{"type": "applied_force", "name": "load", "body": "carrier",
+                        "force": [0.0, -LOAD]}],
+        }
+    )
+
+
+def test_coefficients_by_name_and_with_units() -> None:
+    pairs = wear_pairs()
+    assert {"steel_brass_dry", "steel_bronze_dry", "steel_steel_dry"} <= set(pairs)
+    assert resolve_coefficient("steel_steel_dry") == (pairs["steel_steel_dry"]["coefficient"], "steel_steel_dry")
+    assert resolve_coefficient(None)[1] == "steel_brass_dry"
+    assert resolve_coefficient("1e-4 mm^3/(N*m)")[0] == pytest.approx(1e-13)
+    with pytest.raises(ValueError, match="steel_brass_dry"):
+        resolve_coefficient("5 N")
+
+
+def test_a_pressed_journal_wears_as_archards_closed_form() -> None:
+    """Constant load and speed: the wear rate does not change as the bearing wears (the
+    pocket stays under the load, the pressure is the nominal Hertz one), so the loop's
+    steps grow while its estimate stays exact. After N cycles, 36 cells of 10 deg, the
+    loaded cell (270 deg) holds the pressure averaged over its arc times the sliding
+    distance, `N k F / (L R_B dtheta) 2 pi R_J`; the journal wears uniformly `N k F / L`;
+    each part loses the volume `N k F 2 pi R_J`."""
+    k, cycles, cells = 3.7e-15, 2000.0, 36
+    p = predict_wear(
+        pressed_journal(), cycles, coefficient=k, cells=cells, period=PERIOD, warmup=PERIOD
+    )
+    assert p.status == "finished", p.message
+    assert p.cycles == pytest.approx(cycles)
+    _, bearing, journal = p.profiles["bearing"][-1]
+    dtheta = 2 * math.pi / cells
+    spot = cycles * k * LOAD / (LENGTH * R_B * dtheta) * 2 * math.pi * R_J
+    assert bearing[27] == pytest.approx(spot, rel=2e-3)
+    assert bearing.max() == bearing[27]
+    assert journal == pytest.approx(cycles * k * LOAD / LENGTH, rel=2e-3)
+    last = p.history[p.history.cycles == p.history.cycles.max()].iloc[0]
+    volume = cycles * k * LOAD * 2 * math.pi * R_J
+    assert last.bearing_volume == pytest.approx(volume, rel=2e-3)
+    assert last.journal_volume == pytest.approx(volume, rel=2e-3)
+    assert last.clearance == pytest.approx(0.5e-3 + bearing.max() + journal.max())
+    # The steps grew: far fewer runs than cycles.
+    assert p.runs < 40
+
+
+def test_extrapolation_against_every_cycle_and_as_the_tolerance_tightens() -> None:
+    """A wear fast enough to change the contact within the run (the bearing's pocket a
+    tenth of the clearance deep after 40 cycles): the extrapolated prediction agrees with
+    simulating every cycle, and tightening the tolerance moves it less than the
+    tolerance."""
+    kwargs = {"coefficient": 1e-12, "cells": 36, "period": PERIOD, "warmup": PERIOD}
+    every = predict_wear(pressed_journal(), 40, every_cycle=True, **kwargs)
+    assert every.runs == 41
+    deepest = every.profiles["bearing"][-1][1].max()
+    assert deepest > 0.05 * 0.5e-3
+    results = {}
+    for tolerance in (0.1, 0.02):
+        p = predict_wear(pressed_journal(), 40, tolerance=tolerance, **kwargs)
+        results[tolerance] = p.profiles["bearing"][-1][1].max()
+        assert p.runs < every.runs
+    assert results[0.02] == pytest.approx(deepest, rel=0.02)
+    assert results[0.1] == pytest.approx(results[0.02], rel=0.1)
+
+
+def test_an_interrupted_prediction_resumes_where_it_stopped(tmp_path: Path) -> None:
+    kwargs = {"coefficient": 3.7e-15, "cells": 36, "period": PERIOD, "warmup": PERIOD, "out": tmp_path}
+    whole = predict_wear(pressed_journal(), 2000.0, **{**kwargs, "out": tmp_path / "whole"})
+    seen: list[WearStep] = []
+
+    def stop_after_two(step: WearStep) -> None:
+        seen.append(step)
+        if len(seen) == 2:
+            raise KeyboardInterrupt
+
+    first = predict_wear(pressed_journal(), 2000.0, progress=stop_after_two, **kwargs)
+    assert first.status == "interrupted" and first.cycles == pytest.approx(seen[-1].cycles)
+    state = json.loads((tmp_path / "state.json").read_text())
+    assert state["cycles"] == pytest.approx(seen[-1].cycles)
+    resumed = predict_wear(pressed_journal(), 2000.0, **kwargs)
+    assert resumed.status == "finished"
+    np.testing.assert_allclose(resumed.profiles["bearing"][-1][1], whole.profiles["bearing"][-1][1], rtol=1e-12)
+    assert list(resumed.history.cycles) == list(whole.history.cycles)
+    with pytest.raises(ValueError, match="other inputs"):
+        predict_wear(pressed_journal(), 1000.0, **kwargs)
+
+
+def test_a_clearance_limit_stops_the_prediction() -> None:
+    p = predict_wear(
+        pressed_journal(), 1e6, coefficient=3.7e-15, cells=36, period=PERIOD, warmup=PERIOD,
+        clearance_limit="0.505 mm",
+    )
+    assert p.status == "limit"
+    # The clearance grows by the spot's and the journal's wear per cycle.
+    dtheta = 2 * math.pi / 36
+    per_cycle = 3.7e-15 * LOAD * (2 * math.pi * R_J / (LENGTH * R_B * dtheta) + 1 / LENGTH)
+    assert p.cycles_to_limit == pytest.approx(5e-6 / per_cycle, rel=5e-3)
+
+
+def test_bad_input_is_named() -> None:
+    model = pressed_journal()
+    with pytest.raises(ValueError, match="cycles"):
+        predict_wear(model, -1)
+    data = model.to_dict()
+    del data["joints"][2]["clearance"]["length"]
+    with pytest.raises(jointgap.ModelError, match="length"):
+        predict_wear(jointgap.Model.from_dict(data), 10, period=PERIOD, warmup=PERIOD)
+    with pytest.raises(jointgap.ModelError, match="clearance_revolute"):
+        predict_wear(model, 10, joints=["spin"], period=PERIOD, warmup=PERIOD)
+    with pytest.raises(ValueError, match="not above"):
+        predict_wear(model, 10, clearance_limit="0.4 mm", period=PERIOD, warmup=PERIOD)
+
+
+def test_the_command_writes_its_tables_figures_and_report(tmp_path: Path, capsys) -> None:
+    path = tmp_path / "pressed.toml"
+    pressed_journal().save(path)
+    out = tmp_path / "wear"
+    status = main(
+        ["wear", str(path), "--cycles", "500", "--coefficient", "3.7e-6 mm^3/(N*m)", "--cells", "36",
+         "--period", f"{PERIOD} s", "--warmup", f"{PERIOD} s", "--out", str(out)]
+    )
+    assert status == 0, capsys.readouterr().err
+    for name in ("history.csv", "profiles_bearing.csv", "summary.json", "wear_history.png",
+                 "wear_profile_bearing.png", "report.html", "state.json"):
+        assert (out / name).stat().st_size > 0, name
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["cycles"] == pytest.approx(500)
+    assert summary["coefficient"] == pytest.approx(3.7e-15)
+    page = (out / "report.html").read_text()
+    assert page.count("data:image/png;base64,") == 2
+    printed = capsys.readouterr().out
+    assert "deepest wear bearing" in printed
