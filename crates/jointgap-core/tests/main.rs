@@ -20,3 +20,4 @@ mod spatial_clearance;
 mod spatial_engine;
 mod spatial_mechanisms;
 mod stepper_contract;
+mod wear;

@@ -13,8 +13,10 @@ mod journal_bearing;
 mod slider_guide;
 #[cfg(test)]
 mod spatial_checks;
+pub mod worn;
 
 pub use ball_socket::{contact_ball_socket, BallSocket};
 pub use cylinder_bearing::{contact_cylinder_bearing, CylinderBearing};
 pub use journal_bearing::{contact_journal_bearing, JournalBearing};
 pub use slider_guide::{contact_slider_guide, SliderGuide, CORNERS};
+pub use worn::{contact_worn, Worn};
