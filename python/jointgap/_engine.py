@@ -66,6 +66,7 @@ def run_options(
     step_peaks: bool | None = None,
     energy: bool | None = None,
     profile: bool | None = None,
+    wear_cells: int | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
 
@@ -97,6 +98,10 @@ def run_options(
         options["step_peaks"] = bool(step_peaks)
     if energy is not None:
         options["energy"] = bool(energy)
+    if wear_cells is not None:
+        if int(wear_cells) != wear_cells or wear_cells < 1:
+            raise ValueError(f"option wear_cells = {wear_cells}: must be a whole number")
+        options["wear"] = {"cells": int(wear_cells)}
     if decimate is not None:
         if int(decimate) != decimate or decimate < 1:
             raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")
@@ -295,6 +300,7 @@ def _result(arrays: Any, model: Mapping[str, Any], options: Mapping[str, Any]) -
         options=dict(options),
         impacts=summary.get("impacts", []),
         clearances=summary.get("clearances", []),
+        wear=summary.get("wear", []),
         samples=summary.get("samples"),
         mode_time={contact_name(j): j["mode_time"] for j in summary.get("impacts", [])},
         peaks=summary.get("peaks", []),

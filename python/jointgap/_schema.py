@@ -168,6 +168,34 @@ _CLEARANCE = [
     Param("friction", "friction", doc="friction law, a table with a type; none by default"),
 ]
 
+WEAR_KEYS = ("length", "bearing_wear", "journal_wear")
+"""A planar clearance_revolute joint's own keys of its ``clearance`` table for wear
+(docs/wear.md)."""
+
+_WEAR = [
+    Param(
+        "length",
+        "scalar",
+        u.LENGTH,
+        bound=">0",
+        doc="bearing length along the axis: the line contact's length, needed for wear",
+    ),
+    Param(
+        "bearing_wear",
+        "list",
+        u.LENGTH,
+        doc="wear depth of the bearing at N >= 8 equally spaced angles 2 pi k / N in body_i's "
+        "frame (from its x axis): the hole's radius becomes bearing_radius + w(theta)",
+    ),
+    Param(
+        "journal_wear",
+        "list",
+        u.LENGTH,
+        doc="wear depth of the journal at N >= 8 equally spaced angles in body_j's frame: "
+        "its radius becomes journal_radius - w(theta)",
+    ),
+]
+
 BLOCK_KEYS = ("block_length", "block_height", "guide_width")
 """A clearance_translational joint's own keys of its ``clearance`` table (with
 ``clearance``, ``stiffness``, ``normal_law`` and ``friction``)."""
@@ -350,7 +378,7 @@ ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
         "revolute": [*_JOINT_COMMON, *_REVOLUTE_INITIAL],
         "prismatic": [*_JOINT_COMMON, _AXIS, *_PRISMATIC_INITIAL],
         "fixed": _JOINT_COMMON,
-        "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE],
+        "clearance_revolute": [*_JOINT_COMMON, *_CLEARANCE, *_WEAR],
         "lubricated_revolute": [*_JOINT_COMMON, *_CLEARANCE, _LUBRICATION],
         "clearance_translational": [
             *_JOINT_COMMON,
@@ -1051,12 +1079,12 @@ def convert_element(
     return out, (motions.pop() if motions else None)
 
 
-PLANAR_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS)
-"""The keys of a planar joint's ``clearance`` table: a revolute clearance joint's and a
-translational one's."""
-SPATIAL_CLEARANCE_KEYS = (*PLANAR_CLEARANCE_KEYS, *DEPTH_KEYS)
-"""The keys of a spatial joint's ``clearance`` table: the planar ones and a block's
-depth."""
+PLANAR_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS, *WEAR_KEYS)
+"""The keys of a planar joint's ``clearance`` table: a revolute clearance joint's (with
+its wear data) and a translational one's."""
+SPATIAL_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS, *DEPTH_KEYS)
+"""The keys of a spatial joint's ``clearance`` table: the planar joints' contact keys
+and a block's depth (a spatial joint's ``length`` is its own, not the clearance's)."""
 
 _DATA_TABLES = {
     "clearance": ("clearance_revolute", "clearance_translational"),

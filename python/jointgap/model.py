@@ -1231,6 +1231,7 @@ class Model:
         profile: bool = False,
         step_peaks: bool = False,
         energy: bool = False,
+        wear_cells: int | None = None,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -1268,6 +1269,9 @@ class Model:
                 steps) and ``system.energy_balance``, kinetic + potential - work in +
                 dissipated, which stays at its initial value. Costs about three more
                 evaluations of the equations of motion per step and per sample.
+            wear_cells: accumulate the Archard wear of the clearance_revolute joints
+                (each needs its ``length``) on angular grids of this many cells (at
+                least 8) into :attr:`Result.wear` (docs/wear.md).
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -1291,6 +1295,7 @@ class Model:
             energy=energy,
             profile=profile,
             step_peaks=step_peaks,
+            wear_cells=wear_cells,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

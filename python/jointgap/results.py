@@ -335,6 +335,13 @@ class Result:
         clearances: per clearance joint, its contact data as the engine resolved them
             (SI): ``bearing_radius``, ``journal_radius``, ``clearance``, ``stiffness``
             (computed from the materials when the model does not give it), ``exponent``.
+        wear: for a run with ``wear_cells``, per clearance_revolute joint the wear it
+            accumulated per unit wear coefficient k [1/Pa] (docs/wear.md): ``angles``
+            [rad] (the grid's cell centres, 2 pi c / N in each part's body frame),
+            ``bearing_depth`` and ``journal_depth`` [Pa m] (int p ds per cell: k times
+            it is the worn depth [m]), ``load_distance`` [N m] (int F_n ds),
+            ``bearing_volume`` and ``journal_volume`` [N m] (k times them the worn
+            volume [m^3]); empty otherwise.
         samples: for a run that recorded every step as well as its rate
             (``every_step=True`` with a ``rate``), the indices of the output samples (at
             ``k / rate`` and the end time) among the records, as the engine marked them;
@@ -358,6 +365,7 @@ class Result:
     options: dict[str, Any] = field(default_factory=dict)
     impacts: dict[str, list[Impact]] = field(default_factory=dict)
     clearances: dict[str, dict[str, float]] = field(default_factory=dict)
+    wear: dict[str, dict[str, Any]] = field(default_factory=dict)
     samples: np.ndarray | None = None
     mode_time: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     peaks: dict[str, float] = field(default_factory=dict)
@@ -367,6 +375,7 @@ class Result:
 
         object.__setattr__(self, "impacts", _impacts(self.impacts))
         object.__setattr__(self, "clearances", _clearances(self.clearances))
+        object.__setattr__(self, "wear", _wear(self.wear))
         time = _frozen(self.time)
         object.__setattr__(self, "time", time)
         if not isinstance(self.data, StoredChannels):
@@ -526,6 +535,10 @@ class Result:
             "warnings": self.warnings,
             "channels": self.channels,
             "clearances": self.clearances,
+            "wear": {
+                joint: {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in w.items()}
+                for joint, w in self.wear.items()
+            },
             "mode_time": self.mode_time,
             "peaks": self.peaks,
             "samples": None if self.samples is None else self.samples.tolist(),
@@ -595,6 +608,7 @@ class Result:
             options=summary.get("options", {}),
             impacts=impacts,
             clearances=summary.get("clearances", {}),
+            wear=summary.get("wear", {}),
             samples=summary.get("samples"),
             mode_time=summary.get("mode_time", {}),
             peaks=summary.get("peaks", {}),
@@ -725,6 +739,22 @@ def _clearances(value: Any) -> dict[str, dict[str, float]]:
     if isinstance(value, Mapping):
         return {str(k): {q: float(x) for q, x in v.items()} for k, v in value.items()}
     return {str(d["joint"]): {q: float(x) for q, x in d.items() if q != "joint"} for d in value}
+
+
+WEAR_ARRAYS = ("angles", "bearing_depth", "journal_depth")
+"""The arrays of a joint's wear in :attr:`Result.wear`; its other entries are floats."""
+
+
+def _wear(value: Any) -> dict[str, dict[str, Any]]:
+    """The engine's list of ``{"joint": .., ...}`` (or a saved dict) keyed by joint, its
+    grids as frozen float arrays."""
+    items = value.items() if isinstance(value, Mapping) else ((d["joint"], d) for d in value)
+    return {
+        str(joint): {
+            k: _frozen(v) if k in WEAR_ARRAYS else float(v) for k, v in w.items() if k != "joint"
+        }
+        for joint, w in items
+    }
 
 
 def _jsonable(value: Any) -> Any:

@@ -38,8 +38,9 @@ pub mod simulate;
 
 pub use error::Error;
 pub use model::Model;
-pub use output::{ClearanceData, Impact, JointImpacts, RunStats, SimResult, Status};
+pub use output::{ClearanceData, Impact, JointImpacts, JointWear, RunStats, SimResult, Status};
 pub use simulate::{
     simulate, simulate_batch, simulate_with, BatchControl, Method, Monitor, Progress, SimOptions, Stop,
+    WearOptions,
 };
 pub use system::System;

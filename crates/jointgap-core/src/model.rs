@@ -287,6 +287,22 @@ pub struct Clearance {
     /// `guide_depth - block_depth` [m].
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub depth_clearance: Option<f64>,
+    /// Length of a revolute clearance joint's bearing along its axis [m], > 0: the
+    /// length of the line contact whose pressure wears the parts (docs/wear.md); needed
+    /// when a run accumulates wear.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length: Option<f64>,
+    /// Wear depth of a revolute clearance joint's bearing [m], >= 0, at `N >= 8` equally
+    /// spaced angles `2 pi k / N` in the bearing body's frame, measured from its x axis
+    /// about the joint's point: the hole's radius becomes `bearing_radius + w_B(theta)`
+    /// (docs/wear.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bearing_wear: Option<Vec<f64>>,
+    /// Wear depth of the journal [m], >= 0, at `N >= 8` equally spaced angles in the
+    /// journal body's frame from its x axis about the joint's point: the journal's radius
+    /// becomes `journal_radius - w_J(theta)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub journal_wear: Option<Vec<f64>>,
 }
 
 /// The oil film of a lubricated revolute joint (docs/lubrication.md).

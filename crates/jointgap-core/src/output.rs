@@ -122,6 +122,33 @@ pub struct SimResult {
     pub impacts: Vec<JointImpacts>,
     /// Contact data of each clearance joint, in model order.
     pub clearances: Vec<ClearanceData>,
+    /// The wear each revolute clearance joint accumulated, in model order, when the run
+    /// was asked for it (`SimOptions::wear`); a run that stopped early has what it
+    /// accumulated until then.
+    pub wear: Vec<JointWear>,
+}
+
+/// The Archard wear one revolute clearance joint accumulated in a run, per unit wear
+/// coefficient `k` [1/Pa] (docs/wear.md): a part's worn depth is `k` times its
+/// `*_depth`, its worn volume `k` times its `*_volume`.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct JointWear {
+    /// Joint name.
+    pub joint: String,
+    /// Angles of the grid's cell centres `2 pi c / N` in each part's body frame, from its
+    /// x axis about the joint's point [rad]: the angles of a wear table.
+    pub angles: Vec<f64>,
+    /// `int p ds` over the bearing's cells (the cell average of the pressure) [Pa m].
+    pub bearing_depth: Vec<f64>,
+    /// `int p ds` over the journal's cells [Pa m].
+    pub journal_depth: Vec<f64>,
+    /// `int F_n ds`, the normal force over the sliding distance [N m]: `k` times it is
+    /// the volume each part loses.
+    pub load_distance: f64,
+    /// The bearing's worn volume per unit `k`, `sum depth R_B dtheta L` [N m].
+    pub bearing_volume: f64,
+    /// The journal's, `sum depth R_J dtheta L` [N m].
+    pub journal_volume: f64,
 }
 
 impl SimResult {

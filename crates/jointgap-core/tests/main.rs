@@ -21,3 +21,4 @@ mod spatial_engine;
 mod spatial_joint_kinds;
 mod spatial_mechanisms;
 mod stepper_contract;
+mod wear;

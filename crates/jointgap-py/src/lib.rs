@@ -174,6 +174,7 @@ fn to_python<'py>(py: Python<'py>, result: jointgap_core::SimResult) -> PyResult
         "warnings": result.warnings,
         "impacts": result.impacts,
         "clearances": result.clearances,
+        "wear": result.wear,
         "samples": result.samples,
         "peaks": result.peaks,
     });

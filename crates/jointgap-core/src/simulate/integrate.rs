@@ -8,6 +8,7 @@ use super::monitor::{Monitor, Progress};
 use super::options::{Method, SimOptions};
 use super::record::{self, Recorder, SampleError, NON_FINITE_CAUSE};
 use super::switching::AutoSwitch;
+use super::wear::Wear;
 use super::Kind;
 use crate::dynamics::{project, violation};
 use crate::integrators::dopri5::Dopri5;
@@ -29,8 +30,9 @@ pub fn stepper<R: Rhs + ?Sized>(method: Method, shape: StateShape) -> Box<dyn St
     }
 }
 
-/// Integrates from `(0, y)` to `t_end`, recording into `rec` and reporting to `monitor`.
-/// Returns the final status.
+/// Integrates from `(0, y)` to `t_end`, recording into `rec`, reporting to `monitor`,
+/// and accumulating `wear` at each accepted step. Returns the final status.
+#[allow(clippy::too_many_arguments)]
 pub fn integrate<K: Kind>(
     ode: &mut Ode<'_, K>,
     opts: &SimOptions,
@@ -39,6 +41,7 @@ pub fn integrate<K: Kind>(
     log: &mut ImpactLog<PointOf<K>>,
     stats: &mut RunStats,
     monitor: &mut dyn Monitor,
+    mut wear: Option<&mut Wear>,
 ) -> Status {
     let mut clock = ProgressClock::start(monitor.progress_interval());
     let chunk = monitor.chunk_len();
@@ -175,6 +178,9 @@ pub fn integrate<K: Kind>(
                             }
                         }
                         log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
+                        if let Some(wear) = wear.as_deref_mut() {
+                            wear.step(sys, &ode.ws.contacts, h_taken, &y[..n], &y[n..]);
+                        }
                         if let Err(status) = record_step_end(ode, rec, &grid, t, y) {
                             break 'run status;
                         }

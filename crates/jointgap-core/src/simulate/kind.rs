@@ -5,6 +5,7 @@
 use super::record::Cursor;
 use crate::dynamics::{Contacts, Workspace};
 use crate::error::Error;
+use crate::mechanics::contact::{ClearanceRevolute, ContactState};
 use crate::mechanics::kind::RowEval;
 use crate::system::{BodyInfo, JointInfo, MarkerInfo, System};
 
@@ -61,6 +62,25 @@ pub trait Kind: Contacts {
 
     /// A marker's channels.
     const MARKER_QUANTITIES: &'static [&'static str];
+
+    /// The clearance joint `c` as a joint that wears, a dry revolute clearance joint
+    /// (docs/wear.md); a kind without wear has none.
+    fn wears(_c: &Self::Clearance) -> Option<&ClearanceRevolute> {
+        None
+    }
+
+    /// The wear integrand of clearance joint `k` at `(q, v)`, its contact point in
+    /// `state` ([`super::wear::integrand`]): `None` where it does not wear or carries no
+    /// load.
+    fn wear_integrand(
+        _sys: &System<Self>,
+        _k: usize,
+        _state: &ContactState,
+        _q: &[f64],
+        _v: &[f64],
+    ) -> Option<super::wear::Integrand> {
+        None
+    }
 
     /// Writes marker `m`'s channels at `(q, v)`, the accelerations in `ws`.
     fn put_marker(

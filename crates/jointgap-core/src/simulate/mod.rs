@@ -16,10 +16,12 @@ mod planar_channels;
 pub mod record;
 mod spatial_channels;
 pub mod switching;
+pub mod wear;
 
 pub use kind::Kind;
 pub use monitor::{BatchControl, Monitor, Progress, Silent, Stop};
 pub use options::{Method, SimOptions};
+pub use wear::WearOptions;
 
 use crate::dynamics::{self, assembly};
 use crate::mechanics::contact::ClearanceJoint;
@@ -273,9 +275,13 @@ pub(crate) fn run_prepared<K: Kind>(
     if opts.every_step && opts.rate.is_some() {
         rec.mark_samples();
     }
+    let mut wear = opts.wear.as_ref().map(|w| wear::Wear::new(system, w)).transpose()?;
+    if let Some(wear) = wear.as_mut() {
+        wear.start(system, &ode.ws.contacts, &y[..n], &y[n..]);
+    }
     let mut status = if record_initial(system, &mut ode.ws, &mut rec, &y[..n], &y[n..])? {
         rec.mark_sample();
-        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor)
+        integrate::integrate(&mut ode, opts, &mut y, &mut rec, &mut log, &mut stats, monitor, wear.as_mut())
     } else {
         Status::Failed { time: 0.0, reason: SINGULAR_AT_START.into() }
     };
@@ -325,5 +331,6 @@ pub(crate) fn run_prepared<K: Kind>(
         warnings: system.warnings.clone(),
         impacts,
         clearances,
+        wear: wear.map(wear::Wear::finish).unwrap_or_default(),
     })
 }

@@ -111,6 +111,10 @@ pub struct SimOptions {
     /// events, projection) into `RunStats::profile`.
     #[serde(default)]
     pub profile: bool,
+    /// Accumulate the Archard wear of the revolute clearance joints on angular grids
+    /// into `SimResult::wear` (docs/wear.md); none by default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear: Option<super::wear::WearOptions>,
 }
 
 impl SimOptions {
@@ -130,6 +134,7 @@ impl SimOptions {
             step_peaks: false,
             energy: false,
             profile: false,
+            wear: None,
         }
     }
 
@@ -173,6 +178,9 @@ impl SimOptions {
                 key: "max_steps",
                 problem: "option max_steps = 0: must be at least 1".into(),
             });
+        }
+        if let Some(w) = &self.wear {
+            w.check()?;
         }
         if self.decimate == 0 {
             return Err(crate::error::Error::Options {

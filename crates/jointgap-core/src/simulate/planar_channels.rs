@@ -10,7 +10,9 @@ use crate::error::Error;
 use crate::math::{cross, rotate, Vec2};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::contact::play::PlayCoordinate;
-use crate::mechanics::contact::{self, ClearanceJoint, ContactPoint, Mode, Tangential, MAX_POINTS};
+use crate::mechanics::contact::{
+    self, ClearanceJoint, ClearanceRevolute, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS,
+};
 use crate::mechanics::kind::RowEval;
 use crate::mechanics::planar::{self, BodyRow, BodyState, Planar};
 use crate::model::{JointKind, Model};
@@ -286,6 +288,25 @@ fn put_contact(out: &mut Cursor, sys: &System, ws: &Workspace, k: usize, (q, v):
 
 impl Kind for Planar {
     type Model = Model;
+
+    fn wears(c: &PlanarClearance) -> Option<&ClearanceRevolute> {
+        match c {
+            PlanarClearance::Revolute(c) => Some(c),
+            _ => None,
+        }
+    }
+
+    fn wear_integrand(
+        sys: &System,
+        k: usize,
+        state: &ContactState,
+        q: &[f64],
+        v: &[f64],
+    ) -> Option<super::wear::Integrand> {
+        let c = Self::wears(&sys.clearances[k])?;
+        let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
+        super::wear::integrand(c, &bearing, &journal, state)
+    }
 
     fn compile(model: &Model) -> Result<System, Error> {
         System::new(model)

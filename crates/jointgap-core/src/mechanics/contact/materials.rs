@@ -78,6 +78,14 @@ pub fn journal_bearing_stiffness(
     4.0 / (3.0 * (sigma(journal) + sigma(bearing))) * (ri * rj / (ri + rj)).sqrt()
 }
 
+/// The contact modulus `E* = 1 / (sigma_j + sigma_b)`, `sigma = (1 - nu^2) / E`, of
+/// two materials in contact [Pa] (Johnson 1985, section 4.2): what sets the width of a
+/// Hertz contact.
+pub fn contact_modulus(a: &Material, b: &Material) -> f64 {
+    let sigma = |m: &Material| (1.0 - m.poisson_ratio.powi(2)) / m.youngs_modulus;
+    1.0 / (sigma(a) + sigma(b))
+}
+
 /// The Hertz stiffness of a ball of radius `r_ball` in a concave spherical seat of radius
 /// `r_socket` (larger), `K = 4/3 E* sqrt(R*)` [N/m^1.5] with `1/E* = sigma_ball +
 /// sigma_socket`, `sigma = (1 - nu^2) / E`, and `R* = R_B R_S / (R_S - R_B)`: two

@@ -31,9 +31,9 @@ use crate::math::Vec2;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
-use crate::model::{Clearance, FrictionSpec, Joint};
+use crate::model::{Clearance, FrictionSpec, Joint, JointKind};
 use crate::output::ClearanceData;
-use geometry::{contact_journal_bearing, JournalBearing};
+use geometry::{contact_journal_bearing, contact_worn, JournalBearing, Worn};
 use normal::NormalForce;
 
 /// What the run reads of any contact point, planar or spatial: which of its joint's
@@ -115,11 +115,34 @@ pub struct Laws {
     pub normal: NormalForce,
     /// Friction law (checked).
     pub friction: FrictionSpec,
+    /// The materials' contact modulus `E*` [Pa] ([`materials::contact_modulus`]), when
+    /// both are given.
+    pub contact_modulus: Option<f64>,
 }
 
 impl Laws {
-    /// Checks joint `name`'s contact data `c`; errors name the joint.
+    /// Checks joint `name`'s contact data `c`, which has no wear data (the keys of a
+    /// planar `clearance_revolute` alone, [`ClearanceRevolute::new`]); errors name the
+    /// joint.
     pub fn new(name: &str, c: &Clearance) -> Result<Self, Error> {
+        let who = Named::joint(name);
+        for (key, given) in [
+            ("length", c.length.is_some()),
+            ("bearing_wear", c.bearing_wear.is_some()),
+            ("journal_wear", c.journal_wear.is_some()),
+        ] {
+            if given {
+                return Err(who.error(
+                    key,
+                    format!("'{key}' (wear data) belongs to a planar clearance_revolute joint only"),
+                ));
+            }
+        }
+        Self::checked(name, c)
+    }
+
+    /// [`Laws::new`] without the check that `c` has no wear data.
+    fn checked(name: &str, c: &Clearance) -> Result<Self, Error> {
         let who = Named::joint(name);
         let positive = |what: &str, v: Option<f64>| -> Result<Option<f64>, Error> {
             match v {
@@ -200,6 +223,13 @@ impl Laws {
                 ));
             }
         };
+        let contact_modulus = match (&c.bearing_material, &c.journal_material) {
+            (Some(mb), Some(mj)) => Some(materials::contact_modulus(
+                &materials::resolve(who, "bearing_material", mb)?.0,
+                &materials::resolve(who, "journal_material", mj)?.0,
+            )),
+            _ => None,
+        };
         Ok(Laws {
             r_bearing,
             r_journal,
@@ -208,6 +238,7 @@ impl Laws {
                 friction::check(name, &c.friction)?;
                 c.friction.clone()
             },
+            contact_modulus,
         })
     }
 }
@@ -223,6 +254,35 @@ pub struct ClearanceRevolute {
     pub normal: NormalForce,
     /// Friction law (checked).
     pub friction: FrictionSpec,
+    /// The parts' wear profiles (docs/wear.md); `None`: both round, and the contact is
+    /// [`contact_journal_bearing`]'s.
+    pub worn: Option<Box<Worn>>,
+    /// What a run that accumulates wear needs of the joint: the bearing's length and
+    /// the contact modulus; `Err` says what is missing, for that run's error.
+    pub wear_contact: Result<WearContact, String>,
+}
+
+/// A revolute clearance joint's line contact, for the contact pressure that wears its
+/// parts (docs/wear.md).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WearContact {
+    /// Bearing length along the axis [m].
+    pub length: f64,
+    /// Contact modulus `E*` [Pa].
+    pub contact_modulus: f64,
+    /// Effective radius of the internal contact `R* = R_J R_B / (R_B - R_J)` [m].
+    pub effective_radius: f64,
+}
+
+impl WearContact {
+    /// Half width [m] of the Hertz line contact of two cylinders under normal force
+    /// `f_n` [N]: `b = sqrt(4 F R* / (pi L E*))` (Johnson 1985, section 5.3, eq. 5.39;
+    /// the bearing's curvature counts negative, so `R*` is that of internal contact).
+    #[inline]
+    pub fn half_width(&self, f_n: f64) -> f64 {
+        (4.0 * f_n * self.effective_radius / (std::f64::consts::PI * self.length * self.contact_modulus))
+            .sqrt()
+    }
 }
 
 /// The largest normal force [N] an initial penetration may stand for: a journal that
@@ -252,7 +312,15 @@ impl ClearanceRevolute {
         res: &Resolver,
     ) -> Result<Self, Error> {
         let who = Named::joint(&j.name);
-        let laws = Laws::new(&j.name, c)?;
+        // Only the dry joint takes wear data; a lubricated one's keys are checked as any
+        // other joint's.
+        let laws = match j.kind {
+            JointKind::ClearanceRevolute => Laws::checked(&j.name, c)?,
+            _ => Laws::new(&j.name, c)?,
+        };
+        let worn = Worn::new(who, (c.bearing_wear.as_deref(), c.journal_wear.as_deref()), laws.r_journal)?
+            .map(Box::new);
+        let wear_contact = wear_contact(who, c, &laws)?;
         Ok(ClearanceRevolute {
             name: j.name.clone(),
             geometry: JournalBearing {
@@ -266,6 +334,8 @@ impl ClearanceRevolute {
             },
             normal: laws.normal,
             friction: laws.friction,
+            worn,
+            wear_contact,
         })
     }
 
@@ -345,7 +415,10 @@ impl ClearanceJoint for ClearanceRevolute {
     #[inline]
     fn contacts(&self, bearing: &BodyState, journal: &BodyState, reach: f64) -> ContactPoints {
         let mut out = ContactPoints::new();
-        contact_journal_bearing(&self.geometry, bearing, journal, reach, &mut out);
+        match &self.worn {
+            None => contact_journal_bearing(&self.geometry, bearing, journal, reach, &mut out),
+            Some(worn) => contact_worn(&self.geometry, worn, bearing, journal, reach, &mut out),
+        }
         out
     }
 
@@ -373,6 +446,38 @@ impl ClearanceJoint for ClearanceRevolute {
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
         add_point_forces(self, bearing, journal, states, qe);
     }
+}
+
+/// The line contact of joint `who` (`c` its data, `laws` its checked laws) for a run
+/// that accumulates wear: its `length`, checked, and the contact modulus from the
+/// materials or, with a stiffness alone of exponent 1.5, the `E* = 3 K / (4 sqrt(R*))`
+/// whose journal-bearing stiffness ([`materials::journal_bearing_stiffness`]) is `K`.
+/// `Ok(Err(why))` where the joint lacks them (only a run with wear needs them).
+fn wear_contact(who: Named, c: &Clearance, laws: &Laws) -> Result<Result<WearContact, String>, Error> {
+    let effective_radius = laws.r_journal * laws.r_bearing / (laws.r_bearing - laws.r_journal);
+    let length = match c.length {
+        Some(l) if !(l.is_finite() && l > 0.0) => {
+            return Err(who.error("length", format!("length = {l} m must be positive")));
+        }
+        Some(l) => l,
+        None => {
+            return Ok(Err(format!(
+                "{who}: wear needs the bearing's length along its axis (clearance.length), the \
+                 length of the line contact that carries the load"
+            )));
+        }
+    };
+    let contact_modulus = match laws.contact_modulus {
+        Some(e) => e,
+        None if laws.normal.exponent == 1.5 => 0.75 * laws.normal.stiffness / effective_radius.sqrt(),
+        None => {
+            return Ok(Err(format!(
+                "{who}: wear needs the contact's width, from bearing_material and journal_material \
+                 (a stiffness alone gives it for a Hertz exponent of 1.5 only)"
+            )));
+        }
+    };
+    Ok(Ok(WearContact { length, contact_modulus, effective_radius }))
 }
 
 /// Normal force [N] and friction force along the tangents [N] of the dry laws `normal`

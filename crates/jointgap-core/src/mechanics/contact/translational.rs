@@ -51,6 +51,9 @@ impl BlockData {
             ("journal_radius", c.journal_radius.is_some()),
             ("bearing_material", c.bearing_material.is_some()),
             ("journal_material", c.journal_material.is_some()),
+            ("length", c.length.is_some()),
+            ("bearing_wear", c.bearing_wear.is_some()),
+            ("journal_wear", c.journal_wear.is_some()),
         ] {
             if given {
                 return Err(who.error(

@@ -30,7 +30,7 @@ impl JournalBearing {
 
     /// The bearing's and the journal's centres, global [m].
     #[inline]
-    fn centres(&self, bearing: &BodyState, journal: &BodyState) -> (Vec2, Vec2) {
+    pub fn centres(&self, bearing: &BodyState, journal: &BodyState) -> (Vec2, Vec2) {
         (bearing.r + bearing.rotate(self.s_bearing), journal.r + journal.rotate(self.s_journal))
     }
 

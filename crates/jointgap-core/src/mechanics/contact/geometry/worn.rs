@@ -1,0 +1,489 @@
+//! A worn journal in a worn bearing: each part's profile as data, a wear depth against
+//! the angle in its own body frame (docs/wear.md), and the one contact point of the two
+//! profiles.
+//!
+//! A profile is given by its support function: the distance `h(theta)` from the part's
+//! centre to the tangent line whose outward normal points along `theta`, `h_B = R_B +
+//! w_B(theta)` for the bearing's hole and `h_J = R_J - w_J(theta)` for the journal. A
+//! wear depth `w` removed along the surface normal moves that tangent line by `w`, so the
+//! support function is how Archard's depth, measured along the normal at the contact,
+//! changes the shape; it is the polar radius to first order in the wear's slope (they
+//! differ by `w'^2 / (2 R)`). The surface point of normal `u(theta)` is `h u + h' u_perp`
+//! (the envelope of the tangent lines), and in direction `u(alpha)` the journal reaches
+//! past the bearing's wall by `delta(alpha) = e . u + h_J(alpha) - h_B(alpha)`, `e` the
+//! eccentricity: for convex parts the penetration is the largest `delta(alpha)` (the
+//! separating-axis theorem), at the angle where `delta'(alpha) = 0`, whose `u` is the
+//! contact normal.
+
+use crate::error::{Error, Named};
+use crate::math::{perp, Vec2};
+use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint, Tangential};
+use crate::mechanics::planar::BodyState;
+
+use super::JournalBearing;
+
+/// The fewest points a wear table may have: fewer cannot describe a profile worn at one
+/// spot (its spline would ring around the whole circumference).
+pub const MIN_POINTS: usize = 8;
+
+/// A periodic function of the angle over `[0, 2 pi)` through values at equally spaced
+/// angles `2 pi k / N`: the periodic cubic spline (de Boor, A Practical Guide to
+/// Splines, chapter IV). It is C2: its value, slope and curvature are continuous, so the
+/// penetration, the normal and the penetration rate of a worn joint are continuous in
+/// the bodies' states and the penetration's rate is continuous in time, which the
+/// location of contact events (a root of the penetration along a step's dense output)
+/// and the implicit integrators' Newton iterations (a Jacobian of the forces) rely on.
+/// A piecewise linear table would turn the normal with a jump at each table angle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicSpline {
+    /// Values at the angles `2 pi k / N`.
+    values: Vec<f64>,
+    /// Second derivatives there.
+    curvatures: Vec<f64>,
+    /// Angle between table points [rad].
+    spacing: f64,
+}
+
+impl PeriodicSpline {
+    /// The spline through `values` (at least 3) at `2 pi k / N`.
+    pub fn new(values: &[f64]) -> Self {
+        let n = values.len();
+        let spacing = std::f64::consts::TAU / n as f64;
+        // M_{k-1} + 4 M_k + M_{k+1} = 6 / h^2 (y_{k-1} - 2 y_k + y_{k+1}), cyclic.
+        let rhs: Vec<f64> = (0..n)
+            .map(|k| {
+                6.0 / (spacing * spacing) * (values[(k + n - 1) % n] - 2.0 * values[k] + values[(k + 1) % n])
+            })
+            .collect();
+        PeriodicSpline { values: values.to_vec(), curvatures: solve_cyclic(&rhs), spacing }
+    }
+
+    /// `(s, s', s'')` at angle `theta` [rad], any value.
+    #[inline]
+    pub fn eval(&self, theta: f64) -> (f64, f64, f64) {
+        let n = self.values.len();
+        let h = self.spacing;
+        let x = theta.rem_euclid(std::f64::consts::TAU) / h;
+        let k = (x.floor() as usize).min(n - 1);
+        let t = (x - k as f64) * h;
+        let (y0, y1) = (self.values[k], self.values[(k + 1) % n]);
+        let (m0, m1) = (self.curvatures[k], self.curvatures[(k + 1) % n]);
+        let s = h - t;
+        let (c0, c1) = (y0 / h - m0 * h / 6.0, y1 / h - m1 * h / 6.0);
+        let value = (m0 * s * s * s + m1 * t * t * t) / (6.0 * h) + c0 * s + c1 * t;
+        let slope = (-m0 * s * s + m1 * t * t) / (2.0 * h) - c0 + c1;
+        let curvature = (m0 * s + m1 * t) / h;
+        (value, slope, curvature)
+    }
+
+    /// The largest and smallest second derivative (the spline's is linear between the
+    /// table points, so the extremes are at them).
+    fn curvature_range(&self) -> (f64, f64) {
+        self.curvatures.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &m| (lo.min(m), hi.max(m)))
+    }
+}
+
+/// Solves the cyclic system `x_{k-1} + 4 x_k + x_{k+1} = r_k` by the Thomas algorithm
+/// with the Sherman-Morrison correction for the corners (Press et al., Numerical
+/// Recipes, section 2.7).
+fn solve_cyclic(r: &[f64]) -> Vec<f64> {
+    let n = r.len();
+    // A = T + u v^T with T tridiagonal (diagonal 4 - gamma at the first row, 4 - 1/gamma
+    // at the last), u = (gamma, 0, .., 0, 1), v = (1, 0, .., 0, 1/gamma).
+    let gamma = -4.0;
+    let mut diag = vec![4.0; n];
+    diag[0] -= gamma;
+    diag[n - 1] -= 1.0 / gamma;
+    let tridiagonal = |d: &[f64], b: &[f64]| -> Vec<f64> {
+        let (mut c, mut x) = (vec![0.0; n], vec![0.0; n]);
+        let mut beta = d[0];
+        x[0] = b[0] / beta;
+        for k in 1..n {
+            c[k] = 1.0 / beta;
+            beta = d[k] - c[k];
+            x[k] = (b[k] - x[k - 1]) / beta;
+        }
+        for k in (0..n - 1).rev() {
+            x[k] -= c[k + 1] * x[k + 1];
+        }
+        x
+    };
+    let x = tridiagonal(&diag, r);
+    let mut u = vec![0.0; n];
+    u[0] = gamma;
+    u[n - 1] = 1.0;
+    let z = tridiagonal(&diag, &u);
+    let factor = (x[0] + x[n - 1] / gamma) / (1.0 + z[0] + z[n - 1] / gamma);
+    x.iter().zip(&z).map(|(x, z)| x - factor * z).collect()
+}
+
+/// The wear of a journal and its bearing: each part's depth against the angle in its own
+/// body frame, from the body's x axis about the joint's point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Worn {
+    /// Bearing wear `w_B(theta)` [m] (zero without a table).
+    pub bearing: Option<PeriodicSpline>,
+    /// Journal wear `w_J(theta)` [m].
+    pub journal: Option<PeriodicSpline>,
+}
+
+/// Newton iterations on the contact angle at most: from the eccentricity's direction,
+/// which is the answer for round parts, a smooth profile converges quadratically in two
+/// or three.
+const NEWTON_ITERATIONS: usize = 8;
+
+impl Worn {
+    /// Checks the wear tables `bearing_wear` and `journal_wear` [m] of joint `who`, whose
+    /// journal has radius `r_journal`:
+    /// at least [`MIN_POINTS`] finite depths, none negative, and a journal that stays
+    /// convex (a wear deeper than the journal is no journal). `None` without tables.
+    /// A profile curved more sharply than the clearance (`|w_B''| + |w_J''|` above it,
+    /// a pocket narrower than the journal's path) may touch at two points: the deepest
+    /// one near the eccentricity's direction is taken alone (docs/wear.md).
+    pub fn new(
+        who: Named,
+        (bearing_wear, journal_wear): (Option<&[f64]>, Option<&[f64]>),
+        r_journal: f64,
+    ) -> Result<Option<Self>, Error> {
+        let table = |key: &str, values: Option<&[f64]>| -> Result<Option<PeriodicSpline>, Error> {
+            let Some(values) = values else { return Ok(None) };
+            if values.len() < MIN_POINTS {
+                return Err(who.error(
+                    key,
+                    format!(
+                        "{key} has {} depths: give at least {MIN_POINTS}, equally spaced over the \
+                         circumference",
+                        values.len()
+                    ),
+                ));
+            }
+            if let Some((k, w)) = values.iter().enumerate().find(|(_, w)| !(w.is_finite() && **w >= 0.0)) {
+                return Err(who
+                    .error(key, format!("{key}[{k}] = {w} m: a wear depth is finite and zero or positive")));
+            }
+            Ok(Some(PeriodicSpline::new(values)))
+        };
+        let worn = Worn {
+            bearing: table("bearing_wear", bearing_wear)?,
+            journal: table("journal_wear", journal_wear)?,
+        };
+        if worn.bearing.is_none() && worn.journal.is_none() {
+            return Ok(None);
+        }
+        let range =
+            |s: &Option<PeriodicSpline>| s.as_ref().map_or((0.0, 0.0), PeriodicSpline::curvature_range);
+        let (journal_depth, journal_bend) = match &worn.journal {
+            Some(s) => (s.values.iter().fold(0.0f64, |a, &w| a.max(w)), range(&worn.journal).1),
+            None => (0.0, 0.0),
+        };
+        // The journal's radius of curvature, h + h'' = R_J - w_J - w_J'', stays positive.
+        if journal_depth + journal_bend >= r_journal {
+            return Err(who.error(
+                "journal_wear",
+                format!(
+                    "journal_wear reaches {journal_depth} m (curvature {journal_bend} m/rad^2) against \
+                     journal_radius = {r_journal} m: the worn journal is no longer convex (check the units)"
+                ),
+            ));
+        }
+        Ok(Some(worn))
+    }
+
+    /// `(w, w', w'')` of the bearing at its body angle `theta`.
+    #[inline]
+    fn bearing_at(&self, theta: f64) -> (f64, f64, f64) {
+        self.bearing.as_ref().map_or((0.0, 0.0, 0.0), |s| s.eval(theta))
+    }
+
+    /// `(w, w', w'')` of the journal at its body angle `theta`.
+    #[inline]
+    fn journal_at(&self, theta: f64) -> (f64, f64, f64) {
+        self.journal.as_ref().map_or((0.0, 0.0, 0.0), |s| s.eval(theta))
+    }
+}
+
+/// Velocity of a global point `p` of a body.
+#[inline]
+fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
+    b.v + perp(p - b.r) * b.omega
+}
+
+/// The contact point of a worn journal in its worn bearing, pushed onto `out` unless the
+/// gap is `reach` [m] or more: the normal angle `alpha` where the overlap `delta(alpha)
+/// = e . u + R_J - w_J(alpha - phi_J) - R_B - w_B(alpha - phi_B)` is largest (Newton's
+/// method on `delta' = 0` from the eccentricity's direction), the penetration
+/// `delta(alpha)`, the material points `c + h u + h' u_perp` of each part, and the
+/// relative velocity of the journal's point to the bearing's along `n` and the tangent.
+/// Since `delta' = 0` there, the penetration's time derivative is its partial one at
+/// fixed `alpha`, which is the relative velocity of the two material points along `n`.
+pub fn contact_worn(
+    g: &JournalBearing,
+    worn: &Worn,
+    bearing: &BodyState,
+    journal: &BodyState,
+    reach: f64,
+    out: &mut ContactPoints,
+) {
+    let (centre_b, centre_j) = g.centres(bearing, journal);
+    let e = centre_j - centre_b;
+    let (phi_b, phi_j) = (bearing.phi(), journal.phi());
+    let mut alpha = if e.norm() > 1e-15 { e.y.atan2(e.x) } else { 0.0 };
+    for _ in 0..NEWTON_ITERATIONS {
+        let u = Vec2::new(alpha.cos(), alpha.sin());
+        let (_, db, ddb) = worn.bearing_at(alpha - phi_b);
+        let (_, dj, ddj) = worn.journal_at(alpha - phi_j);
+        let slope = e.dot(&perp(u)) - dj - db;
+        let bend = -e.dot(&u) - ddj - ddb;
+        // Past a maximum only: where the overlap curves upwards (a worn pocket's edge,
+        // or a journal near the centre) Newton would head for a minimum.
+        let step = if bend < 0.0 { -slope / bend } else { slope.signum() * 0.1 };
+        let step = step.clamp(-0.5, 0.5);
+        alpha += step;
+        if step.abs() < 1e-13 {
+            break;
+        }
+    }
+    let u = Vec2::new(alpha.cos(), alpha.sin());
+    let (wb, db, _) = worn.bearing_at(alpha - phi_b);
+    let (wj, dj, _) = worn.journal_at(alpha - phi_j);
+    let penetration = e.dot(&u) + (g.r_journal - wj) - (g.r_bearing + wb);
+    if penetration <= -reach {
+        return;
+    }
+    let t = tangents(u);
+    let point_journal = centre_j + u * (g.r_journal - wj) - t[0] * dj;
+    let point_bearing = centre_b + u * (g.r_bearing + wb) + t[0] * db;
+    let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
+    out.push(ContactPoint {
+        index: 0,
+        normal: u,
+        penetration,
+        penetration_rate: v.dot(&u),
+        slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
+        share: 1.0,
+        on_i: MaterialPoint { body: g.bearing, at: point_bearing },
+        on_j: MaterialPoint { body: g.journal, at: point_journal },
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::rotate;
+    use std::f64::consts::{PI, TAU};
+
+    /// Depths `f(theta)` at `n` equally spaced angles.
+    fn table(n: usize, f: impl Fn(f64) -> f64) -> Vec<f64> {
+        (0..n).map(|k| f(TAU * k as f64 / n as f64)).collect()
+    }
+
+    /// A bearing of radius 10 mm with 0.5 mm clearance, its centre at (20, -5) mm on its
+    /// body, the journal's centre at (-30, 0) mm on its own, worn as given.
+    fn joint() -> JournalBearing {
+        JournalBearing {
+            bearing: Some(0),
+            s_bearing: Vec2::new(0.02, -0.005),
+            journal: Some(1),
+            s_journal: Vec2::new(-0.03, 0.0),
+            r_bearing: 0.01,
+            r_journal: 0.0095,
+            clearance: 0.0005,
+        }
+    }
+
+    /// The journal body placed so that its centre is at eccentricity `e` from the bearing
+    /// centre, turned by `phi`, with centre velocity `v_centre` and spin `omega`.
+    fn journal_at(
+        g: &JournalBearing,
+        bearing: &BodyState,
+        e: Vec2,
+        phi: f64,
+        v_centre: Vec2,
+        omega: f64,
+    ) -> BodyState {
+        let centre = bearing.r + rotate(bearing.phi(), g.s_bearing) + e;
+        let arm = rotate(phi, g.s_journal);
+        BodyState::new(centre - arm, phi, v_centre - perp(arm) * omega, omega)
+    }
+
+    fn point(g: &JournalBearing, w: &Worn, b: &BodyState, j: &BodyState) -> ContactPoint {
+        let mut out = ContactPoints::new();
+        contact_worn(g, w, b, j, f64::INFINITY, &mut out);
+        out[0]
+    }
+
+    fn worn(bearing: Option<Vec<f64>>, journal: Option<Vec<f64>>) -> Worn {
+        Worn::new(Named::joint("c"), (bearing.as_deref(), journal.as_deref()), 0.0095)
+            .expect("valid tables")
+            .expect("some table")
+    }
+
+    /// The spline of `a cos 2 theta + a` from 64 points against the function, its slope
+    /// and its curvature, between the table points too: within the cubic spline's error
+    /// bounds (`5/384 h^4 |f''''|` for the value, de Boor chapter IV), and exact at
+    /// the table points.
+    #[test]
+    fn spline_follows_a_smooth_function() {
+        let a = 1e-5;
+        let s = PeriodicSpline::new(&table(64, |t| a * (2.0 * t).cos() + a));
+        let h = TAU / 64.0;
+        for k in 0..640 {
+            let t = -PI + TAU * k as f64 / 640.0 + 1e-3;
+            let (v, d, dd) = s.eval(t);
+            assert!((v - (a * (2.0 * t).cos() + a)).abs() < 5.0 / 384.0 * h.powi(4) * 16.0 * a * 1.01, "{t}");
+            assert!((d + 2.0 * a * (2.0 * t).sin()).abs() < h.powi(3) * 16.0 * a, "{t}: {d}");
+            assert!((dd + 4.0 * a * (2.0 * t).cos()).abs() < h.powi(2) * 16.0 * a, "{t}: {dd}");
+        }
+        for k in 0..64 {
+            let t = TAU * k as f64 / 64.0;
+            assert!((s.eval(t).0 - (a * (2.0 * t).cos() + a)).abs() < 1e-19);
+        }
+        // A constant is kept exactly (to rounding), slope and curvature zero.
+        let c = PeriodicSpline::new(&[3e-6; 12]);
+        for t in [0.0, 0.3, 2.0, 6.2] {
+            let (v, d, dd) = c.eval(t);
+            assert!((v - 3e-6).abs() < 1e-21 && d.abs() < 1e-18 && dd.abs() < 1e-15, "{v} {d} {dd}");
+        }
+    }
+
+    /// An oval bearing `w_B = a cos 2 theta + a` on a turned bearing body: at an
+    /// eccentricity along the oval's axes the normal is the eccentricity's direction and
+    /// the penetration `|e| - c - w_B` in closed form (2a along the bearing's x axis, 0
+    /// along its y axis); elsewhere the penetration and normal are the maximum of the
+    /// closed-form overlap `|e| cos(alpha - beta) + R_J - R_B - w_B(alpha - phi_B)`,
+    /// found by a fine search and golden sections. The material points lie on the
+    /// normal at the penetration's distance, and each on its own surface's tangent line.
+    #[test]
+    fn oval_bearing_against_closed_form() {
+        let g = joint();
+        let a = 2e-5;
+        let w = worn(Some(table(72, |t| a * (2.0 * t).cos() + a)), None);
+        let phi_b = 0.3;
+        let bearing = BodyState::new(Vec2::new(0.1, 0.2), phi_b, Vec2::zeros(), 0.0);
+        let exact = |alpha: f64| a * (2.0 * (alpha - phi_b)).cos() + a;
+        let spline_error = 5.0 / 384.0 * (TAU / 72.0f64).powi(4) * 16.0 * a;
+        for (ecc, beta, closed) in [
+            (0.00055, phi_b, Some(0.00055 - g.clearance - 2.0 * a)),
+            (0.00051, phi_b + PI / 2.0, Some(0.00051 - g.clearance)),
+            (0.00054, phi_b + PI, Some(0.00054 - g.clearance - 2.0 * a)),
+            (0.00056, 1.0, None),
+            (0.00052, -2.2, None),
+            (0.00060, 2.9, None),
+        ] {
+            let e = Vec2::new(beta.cos(), beta.sin()) * ecc;
+            let journal = journal_at(&g, &bearing, e, 1.1, Vec2::zeros(), 0.0);
+            let p = point(&g, &w, &bearing, &journal);
+            let overlap = |alpha: f64| ecc * (alpha - beta).cos() + g.r_journal - g.r_bearing - exact(alpha);
+            // The maximum of the overlap: the best of 20 000 angles, then golden sections.
+            let mut best = (0..20_000).map(|k| beta - 1.0 + 2.0 * k as f64 / 20_000.0).fold(beta, |b, x| {
+                if overlap(x) > overlap(b) {
+                    x
+                } else {
+                    b
+                }
+            });
+            let (mut lo, mut hi) = (best - 2e-4, best + 2e-4);
+            for _ in 0..100 {
+                let (x1, x2) = (hi - 0.618 * (hi - lo), lo + 0.618 * (hi - lo));
+                if overlap(x1) > overlap(x2) {
+                    hi = x2;
+                } else {
+                    lo = x1;
+                }
+            }
+            best = 0.5 * (lo + hi);
+            let depth = closed.unwrap_or(overlap(best));
+            assert!(
+                (p.penetration - depth).abs() < 2.0 * spline_error,
+                "{beta}: {} vs {depth}",
+                p.penetration
+            );
+            let n = Vec2::new(best.cos(), best.sin());
+            assert!((p.normal - n).norm() < 1e-6, "{beta}: normal {:?} vs {n:?}", p.normal);
+            if closed.is_some() {
+                assert!((p.normal - e / ecc).norm() < 1e-9, "{beta}: normal {:?}", p.normal);
+            }
+            assert!(((p.on_j.at - p.on_i.at).dot(&p.normal) - p.penetration).abs() < 1e-15);
+            // Each material point on its tangent line: h(alpha) from its centre along n.
+            let (centre_b, centre_j) = g.centres(&bearing, &journal);
+            let alpha = p.normal.y.atan2(p.normal.x);
+            let h_b = g.r_bearing + w.bearing.as_ref().unwrap().eval(alpha - phi_b).0;
+            assert!(((p.on_i.at - centre_b).dot(&p.normal) - h_b).abs() < 1e-15);
+            assert!(((p.on_j.at - centre_j).dot(&p.normal) - g.r_journal).abs() < 1e-15);
+        }
+    }
+
+    /// The penetration rate is the time derivative of the penetration, by central
+    /// differences of placements along the bodies' velocities, both parts worn and both
+    /// bodies moving and turning; and the contact's slip is the material points' relative
+    /// velocity along the tangent.
+    #[test]
+    fn rate_is_the_derivative_of_the_penetration() {
+        let g = joint();
+        let w = worn(
+            Some(table(36, |t| 1e-5 * (1.0 + (2.0 * t).cos()) + 4e-6 * (1.0 + (3.0 * t + 0.4).sin()))),
+            Some(table(48, |t| 8e-6 * (1.0 + (t - 0.5).cos()))),
+        );
+        let bearing = BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, 0.1), 4.0);
+        for (e, omega) in [(Vec2::new(0.0004, 0.0003), 12.0), (Vec2::new(-0.0005, 0.0001), -30.0)] {
+            let journal = journal_at(&g, &bearing, e, 1.1, Vec2::new(-0.5, 0.9), omega);
+            let moved =
+                |b: &BodyState, dt: f64| BodyState::new(b.r + b.v * dt, b.phi() + b.omega * dt, b.v, b.omega);
+            let h = 1e-7;
+            let depth = |dt: f64| point(&g, &w, &moved(&bearing, dt), &moved(&journal, dt)).penetration;
+            let fd = (depth(h) - depth(-h)) / (2.0 * h);
+            let rate = point(&g, &w, &bearing, &journal).penetration_rate;
+            assert!((rate - fd).abs() < 1e-6 * rate.abs().max(1e-3), "{rate} vs {fd}");
+        }
+    }
+
+    /// A constant wear on both parts is a round joint of larger clearance: the same
+    /// point as [`super::super::contact_journal_bearing`]'s with `R_B + w_B`, `R_J - w_J`.
+    #[test]
+    fn constant_wear_is_a_larger_round_clearance() {
+        let g = joint();
+        let (wb, wj) = (3e-5, 1e-5);
+        let w = worn(Some(vec![wb; 16]), Some(vec![wj; 8]));
+        let round = JournalBearing {
+            r_bearing: g.r_bearing + wb,
+            r_journal: g.r_journal - wj,
+            clearance: g.clearance + wb + wj,
+            ..g.clone()
+        };
+        let bearing = BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, 0.1), 4.0);
+        for (e, omega) in [(Vec2::new(0.0004, 0.0004), 12.0), (Vec2::new(-0.0005, 0.0001), -30.0)] {
+            let journal = journal_at(&g, &bearing, e, 1.1, Vec2::new(-0.5, 0.9), omega);
+            let p = point(&g, &w, &bearing, &journal);
+            let mut out = ContactPoints::new();
+            super::super::contact_journal_bearing(&round, &bearing, &journal, f64::INFINITY, &mut out);
+            let q = out[0];
+            // To a few ulps of the radii (1.7e-18 m at 10 mm).
+            assert!((p.penetration - q.penetration).abs() < 1e-17, "{} vs {}", p.penetration, q.penetration);
+            assert!((p.normal - q.normal).norm() < 1e-14);
+            assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-13);
+            assert!((p.slip - q.slip).norm() < 1e-13);
+            assert!((p.on_i.at - q.on_i.at).norm() < 1e-17 && (p.on_j.at - q.on_j.at).norm() < 1e-17);
+        }
+    }
+
+    /// Bad tables are errors naming the key: too few points, a negative or NaN depth, a
+    /// journal worn through.
+    #[test]
+    fn bad_tables_name_the_key() {
+        let check = |b: Option<Vec<f64>>, j: Option<Vec<f64>>, key: &str, says: &str| {
+            let e =
+                Worn::new(Named::joint("pin"), (b.as_deref(), j.as_deref()), 0.0095).unwrap_err().to_string();
+            assert!(e.contains("pin") && e.contains(key) && e.contains(says), "{e}");
+        };
+        check(Some(vec![0.0; 7]), None, "bearing_wear", "at least 8");
+        check(
+            None,
+            Some(vec![0.0, 1e-6, -1e-6, 0.0, 0.0, 0.0, 0.0, 0.0]),
+            "journal_wear[2]",
+            "zero or positive",
+        );
+        check(Some(vec![f64::NAN; 8]), None, "bearing_wear[0]", "finite");
+        check(None, Some(vec![0.01; 8]), "journal_wear", "convex");
+        assert!(Worn::new(Named::joint("pin"), (None, None), 0.0095).unwrap().is_none());
+    }
+}
