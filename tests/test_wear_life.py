@@ -32,22 +32,50 @@ def pressed_journal() -> jointgap.Model:
                 {"name": "pin", "mass": 0.5, "inertia": 1e-5, "position": [0.0, -0.5e-3]},
             ],
             "joints": [
-                {"name": "slide", "type": "prismatic", "body_i": "ground", "point_i": [0.0, 0.0],
-                 "body_j": "carrier", "point_j": [0.0, 0.0], "axis": [0.0, 1.0]},
-                {"name": "spin", "type": "revolute", "body_i": "carrier", "point_i": [0.0, 0.0],
-                 "body_j": "pin", "point_j": [0.0, 0.0]},
-                {"name": "bearing", "type": "clearance_revolute", "body_i": "ground",
-                 "point_i": [0.0, 0.0], "body_j": "pin", "point_j": [0.0, 0.0],
-                 "clearance": {"bearing_radius": R_B, "clearance": 0.5e-3, "length": LENGTH,
-                               "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
-                               "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
-                               "normal_law": {"type": "kelvin_voigt", "exponent": 1.5,
-                                              "damping": 1e4}}},
+                {
+                    "name": "slide",
+                    "type": "prismatic",
+                    "body_i": "ground",
+                    "point_i": [0.0, 0.0],
+                    "body_j": "carrier",
+                    "point_j": [0.0, 0.0],
+                    "axis": [0.0, 1.0],
+                },
+                {
+                    "name": "spin",
+                    "type": "revolute",
+                    "body_i": "carrier",
+                    "point_i": [0.0, 0.0],
+                    "body_j": "pin",
+                    "point_j": [0.0, 0.0],
+                },
+                {
+                    "name": "bearing",
+                    "type": "clearance_revolute",
+                    "body_i": "ground",
+                    "point_i": [0.0, 0.0],
+                    "body_j": "pin",
+                    "point_j": [0.0, 0.0],
+                    "clearance": {
+                        "bearing_radius": R_B,
+                        "clearance": 0.5e-3,
+                        "length": LENGTH,
+                        "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
+                        "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
+                        "normal_law": {"type": "kelvin_voigt", "exponent": 1.5, "damping": 1e4},
+                    },
+                },
             ],
-            "drivers": [{"name": "motor", "joint": "spin",
-                         "profile": {"type": "constant_speed", "speed": OMEGA}}],
-            "forces": [{"type": "applied_force", "name": "load", "body": "carrier",
-                        "force": [0.0, -LOAD]}],
+            "drivers": [
+                {
+                    "name": "motor",
+                    "joint": "spin",
+                    "profile": {"type": "constant_speed", "speed": OMEGA},
+                }
+            ],
+            "forces": [
+                {"type": "applied_force", "name": "load", "body": "carrier", "force": [0.0, -LOAD]}
+            ],
         }
     )
 
@@ -55,7 +83,10 @@ def pressed_journal() -> jointgap.Model:
 def test_coefficients_by_name_and_with_units() -> None:
     pairs = wear_pairs()
     assert {"steel_brass_dry", "steel_bronze_dry", "steel_steel_dry"} <= set(pairs)
-    assert resolve_coefficient("steel_steel_dry") == (pairs["steel_steel_dry"]["coefficient"], "steel_steel_dry")
+    assert resolve_coefficient("steel_steel_dry") == (
+        pairs["steel_steel_dry"]["coefficient"],
+        "steel_steel_dry",
+    )
     assert resolve_coefficient(None)[1] == "steel_brass_dry"
     assert resolve_coefficient("1e-4 mm^3/(N*m)")[0] == pytest.approx(1e-13)
     with pytest.raises(ValueError, match="steel_brass_dry"):
@@ -90,27 +121,40 @@ def test_a_pressed_journal_wears_as_archards_closed_form() -> None:
     assert p.runs < 40
 
 
-def test_extrapolation_against_every_cycle_and_as_the_tolerance_tightens() -> None:
-    """A wear fast enough to change the contact within the run (the bearing's pocket a
-    tenth of the clearance deep after 40 cycles): the extrapolated prediction agrees with
-    simulating every cycle, and tightening the tolerance moves it less than the
-    tolerance."""
-    kwargs = {"coefficient": 1e-12, "cells": 36, "period": PERIOD, "warmup": PERIOD}
-    every = predict_wear(pressed_journal(), 40, every_cycle=True, **kwargs)
-    assert every.runs == 41
-    deepest = every.profiles["bearing"][-1][1].max()
-    assert deepest > 0.05 * 0.5e-3
-    results = {}
-    for tolerance in (0.1, 0.02):
-        p = predict_wear(pressed_journal(), 40, tolerance=tolerance, **kwargs)
-        results[tolerance] = p.profiles["bearing"][-1][1].max()
-        assert p.runs < every.runs
-    assert results[0.02] == pytest.approx(deepest, rel=0.02)
-    assert results[0.1] == pytest.approx(results[0.02], rel=0.1)
+def test_extrapolation_agrees_with_every_cycle_on_the_founding_case(examples) -> None:
+    """The founding slider-crank (10 mm bearing length), a coefficient large enough to
+    wear the brass bearing by about a micrometre in 10 cycles: extrapolating the wear of
+    simulated cycles agrees with wearing the profiles cycle by cycle, to within the
+    cycle-to-cycle scatter of the impacts (a few per cent of the wear); the history keeps
+    the peak contact force and the slider's peak acceleration."""
+    model = jointgap.load(examples / "slider_crank_clearance.toml")
+    kwargs = {"coefficient": 3e-12, "cells": 90, "length": "10 mm"}
+    every = predict_wear(model, 10, every_cycle=True, **kwargs)
+    assert every.status == "finished" and every.runs == 11
+    deepest = every.profiles["rod_slider"][-1][1].max()
+    assert 2e-7 < deepest < 5e-6
+    for tolerance in (0.2, 0.05):
+        p = predict_wear(model, 10, tolerance=tolerance, **kwargs)
+        assert p.profiles["rod_slider"][-1][1].max() == pytest.approx(deepest, rel=0.05)
+    # A hundred times the cycles at a hundredth of the coefficient: the same wear, and
+    # the steps grow with the predicted depth, so about the same number of runs.
+    many = predict_wear(model, 1000, tolerance=0.05, **{**kwargs, "coefficient": 3e-14})
+    assert many.profiles["rod_slider"][-1][1].max() == pytest.approx(deepest, rel=0.05)
+    assert many.runs < 40
+    assert every.watch == "slider.ax"
+    first = every.history.iloc[0]
+    assert first.peak_contact_force > 1000 and first.peak_watch > 500
 
 
 def test_an_interrupted_prediction_resumes_where_it_stopped(tmp_path: Path) -> None:
-    kwargs = {"coefficient": 3.7e-15, "cells": 36, "period": PERIOD, "warmup": PERIOD, "out": tmp_path}
+    kwargs = {
+        "coefficient": 3.7e-15,
+        "cells": 36,
+        "period": PERIOD,
+        "warmup": PERIOD,
+        "first_step": 100,
+        "out": tmp_path,
+    }
     whole = predict_wear(pressed_journal(), 2000.0, **{**kwargs, "out": tmp_path / "whole"})
     seen: list[WearStep] = []
 
@@ -125,7 +169,9 @@ def test_an_interrupted_prediction_resumes_where_it_stopped(tmp_path: Path) -> N
     assert state["cycles"] == pytest.approx(seen[-1].cycles)
     resumed = predict_wear(pressed_journal(), 2000.0, **kwargs)
     assert resumed.status == "finished"
-    np.testing.assert_allclose(resumed.profiles["bearing"][-1][1], whole.profiles["bearing"][-1][1], rtol=1e-12)
+    np.testing.assert_allclose(
+        resumed.profiles["bearing"][-1][1], whole.profiles["bearing"][-1][1], rtol=1e-12
+    )
     assert list(resumed.history.cycles) == list(whole.history.cycles)
     with pytest.raises(ValueError, match="other inputs"):
         predict_wear(pressed_journal(), 1000.0, **kwargs)
@@ -133,7 +179,12 @@ def test_an_interrupted_prediction_resumes_where_it_stopped(tmp_path: Path) -> N
 
 def test_a_clearance_limit_stops_the_prediction() -> None:
     p = predict_wear(
-        pressed_journal(), 1e6, coefficient=3.7e-15, cells=36, period=PERIOD, warmup=PERIOD,
+        pressed_journal(),
+        1e6,
+        coefficient=3.7e-15,
+        cells=36,
+        period=PERIOD,
+        warmup=PERIOD,
         clearance_limit="0.505 mm",
     )
     assert p.status == "limit"
@@ -162,12 +213,33 @@ def test_the_command_writes_its_tables_figures_and_report(tmp_path: Path, capsys
     pressed_journal().save(path)
     out = tmp_path / "wear"
     status = main(
-        ["wear", str(path), "--cycles", "500", "--coefficient", "3.7e-6 mm^3/(N*m)", "--cells", "36",
-         "--period", f"{PERIOD} s", "--warmup", f"{PERIOD} s", "--out", str(out)]
+        [
+            "wear",
+            str(path),
+            "--cycles",
+            "500",
+            "--coefficient",
+            "3.7e-6 mm^3/(N*m)",
+            "--cells",
+            "36",
+            "--period",
+            f"{PERIOD} s",
+            "--warmup",
+            f"{PERIOD} s",
+            "--out",
+            str(out),
+        ]
     )
     assert status == 0, capsys.readouterr().err
-    for name in ("history.csv", "profiles_bearing.csv", "summary.json", "wear_history.png",
-                 "wear_profile_bearing.png", "report.html", "state.json"):
+    for name in (
+        "history.csv",
+        "profiles_bearing.csv",
+        "summary.json",
+        "wear_history.png",
+        "wear_profile_bearing.png",
+        "report.html",
+        "state.json",
+    ):
         assert (out / name).stat().st_size > 0, name
     summary = json.loads((out / "summary.json").read_text())
     assert summary["cycles"] == pytest.approx(500)

@@ -67,6 +67,7 @@ def run_options(
     energy: bool | None = None,
     profile: bool | None = None,
     wear_cells: int | None = None,
+    wear_start: float | str | None = None,
 ) -> dict[str, Any]:
     """The options of a run as the engine reads them, every key present, SI units.
 
@@ -102,6 +103,8 @@ def run_options(
         if int(wear_cells) != wear_cells or wear_cells < 1:
             raise ValueError(f"option wear_cells = {wear_cells}: must be a whole number")
         options["wear"] = {"cells": int(wear_cells)}
+        if wear_start is not None:
+            options["wear"]["start"] = _quantity("wear_start", wear_start, u.TIME)
     if decimate is not None:
         if int(decimate) != decimate or decimate < 1:
             raise ValueError(f"option decimate = {decimate}: must be a whole number >= 1")

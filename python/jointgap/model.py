@@ -1232,6 +1232,7 @@ class Model:
         step_peaks: bool = False,
         energy: bool = False,
         wear_cells: int | None = None,
+        wear_start: Quantity | None = None,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -1272,6 +1273,8 @@ class Model:
             wear_cells: accumulate the Archard wear of the clearance_revolute joints
                 (each needs its ``length``) on angular grids of this many cells (at
                 least 8) into :attr:`Result.wear` (docs/wear.md).
+            wear_start: the time from which the wear counts [s] (by default from the
+                start): the steady cycles after a start-up.
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -1296,6 +1299,7 @@ class Model:
             profile=profile,
             step_peaks=step_peaks,
             wear_cells=wear_cells,
+            wear_start=wear_start,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

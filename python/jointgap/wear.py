@@ -8,7 +8,7 @@ is the rate at which the profiles grow. The profiles advance by a number of cycl
 time (explicit Euler in the cycle count), the step chosen by step doubling: a step of
 ``n`` cycles is compared with two of ``n/2``, the second half's rate evaluated on the
 profile its first half wore, and accepted when the two differ by less than
-``tolerance`` of the step's own wear; the two-halves result is kept. ``every_cycle``
+``tolerance`` of the predicted depth; the two-halves result is kept. ``every_cycle``
 runs each simulated cycle's wear into the profiles instead, with no extrapolation, to
 check the extrapolation against.
 
@@ -29,7 +29,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pandas as pd
+import pandas as pd  # type: ignore[import-untyped]
 
 from . import units as u
 from ._schema import ENGINE_DEFAULTS
@@ -176,6 +176,7 @@ def _setup(
     coefficient: float,
     sim: Mapping[str, Any],
     watch: str | None,
+    length: Quantity | None,
 ) -> _Setup:
     if model.spatial:
         raise ModelError("wear over life is modelled for planar clearance_revolute joints")
@@ -195,11 +196,18 @@ def _setup(
         names = list(joints)
     if not names:
         raise ModelError("the model has no clearance_revolute joint to wear")
+    if length is not None:
+        data = model.to_dict()
+        for joint in data["joints"]:
+            if joint["name"] in names and joint["clearance"].get("length") is None:
+                joint["clearance"]["length"] = u.to_si(length, u.LENGTH)
+        model = Model.from_dict(data)
+        entries = model.joints
     for name in names:
         if entries[name].get("clearance", {}).get("length") is None:
             raise ModelError(
                 "wear needs the bearing's length along its axis (the line contact's): "
-                "give the joint's 'length'",
+                "give the joint's 'length' (or the prediction's length)",
                 kind="joint",
                 name=name,
                 key="length",
@@ -225,7 +233,9 @@ def _setup(
             probe = model.simulate(max(w, 1e-3), channels=[f"{joint}.omega"], **sim)
             omega = abs(float(probe[f"{joint}.omega"][-1]))
             if not omega > 0:
-                raise ValueError(f"driver '{driver['name']}' is at rest after the warm-up: give the period")
+                raise ValueError(
+                    f"driver '{driver['name']}' is at rest after the warm-up: give the period"
+                )
             p = 2 * math.pi / omega
         # One cycle more settles what the ramp's end started.
         if warmup is None:
@@ -320,7 +330,9 @@ def _difference(
     return {j: (a[j][0] - b[j][0], a[j][1] - b[j][1]) for j in a}
 
 
-def effective_clearance(nominal: Mapping[str, float], bearing: np.ndarray, journal: np.ndarray) -> float:
+def effective_clearance(
+    nominal: Mapping[str, float], bearing: np.ndarray, journal: np.ndarray
+) -> float:
     """The largest radial clearance of a worn joint [m]: the nominal one plus the deepest
     bearing wear plus the deepest journal wear (the gap where both deepest spots face
     each other)."""
@@ -333,7 +345,9 @@ def worn_volume(nominal: Mapping[str, float], depth: np.ndarray, radius_key: str
     return float(np.sum(depth) * arc * nominal["length"])
 
 
-def _rows(s: _Setup, cycles: float, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]], rate: _Rate) -> list[dict[str, Any]]:
+def _rows(
+    s: _Setup, cycles: float, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]], rate: _Rate
+) -> list[dict[str, Any]]:
     rows = []
     for j, (b, w) in profiles.items():
         n = s.nominal[j]
@@ -353,10 +367,30 @@ def _rows(s: _Setup, cycles: float, profiles: Mapping[str, tuple[np.ndarray, np.
     return rows
 
 
-def _fingerprint(s: _Setup, target: float, tolerance: float, every_cycle: bool, limit: float | None) -> str:
+def _fingerprint(
+    s: _Setup,
+    target: float,
+    tolerance: float,
+    every_cycle: bool,
+    limit: float | None,
+    first: float | None,
+) -> str:
     text = json.dumps(
-        [s.model, s.joints, s.cells, s.warmup, s.period, s.cycles_per_run, s.coefficient, s.sim,
-         target, tolerance, every_cycle, limit],
+        [
+            s.model,
+            s.joints,
+            s.cells,
+            s.warmup,
+            s.period,
+            s.cycles_per_run,
+            s.coefficient,
+            s.sim,
+            target,
+            tolerance,
+            every_cycle,
+            limit,
+            first,
+        ],
         sort_keys=True,
         default=str,
     )
@@ -378,6 +412,7 @@ def predict_wear(
     clearance_limit: Quantity | None = None,
     every_cycle: bool = False,
     watch: str | None = None,
+    length: Quantity | None = None,
     out: str | os.PathLike[str] | None = None,
     progress: Progress | None = None,
     rtol: float | None = None,
@@ -398,13 +433,15 @@ def predict_wear(
             [s]; by default from the model's one driver: the warm-up its ramp plus one
             cycle, the period one turn at the speed it reaches.
         cycles_per_run: steady cycles each evaluation simulates and averages.
-        tolerance: the largest difference, as a fraction of a step's wear, between one
-            step and two half steps (step doubling).
+        tolerance: the largest difference, as a fraction of the predicted depth, between
+            one step and two half steps (step doubling).
         first_step: cycles of the first step; by default those that wear 1 % of the
             nominal clearance.
         clearance_limit: stop when a joint's largest clearance reaches it [m].
         every_cycle: no extrapolation: each evaluation's cycles wear the profiles as they
             were simulated (slow; to check the extrapolation).
+        length: the bearing length [m] of the joints whose model gives none (the
+            founding case's paper does not give one).
         watch: a channel whose largest magnitude over the steady cycles the history keeps
             (by default the slider's acceleration along its guide).
         out: a folder for the state, profiles, history, figures and report; a call with
@@ -418,8 +455,10 @@ def predict_wear(
     if not (0 < tolerance < 1):
         raise ValueError(f"tolerance = {tolerance}: must lie in (0, 1)")
     limit = None if clearance_limit is None else u.to_si(clearance_limit, u.LENGTH)
-    sim = {key: v for key, v in (("rtol", rtol), ("atol", atol), ("method", method)) if v is not None}
-    s = _setup(model, joints, cells, period, warmup, cycles_per_run, k, sim, watch)
+    sim = {
+        key: v for key, v in (("rtol", rtol), ("atol", atol), ("method", method)) if v is not None
+    }
+    s = _setup(model, joints, cells, period, warmup, cycles_per_run, k, sim, watch, length)
     if limit is not None:
         for j in s.joints:
             if limit <= s.nominal[j]["clearance"]:
@@ -428,7 +467,7 @@ def predict_wear(
                     f"{s.nominal[j]['clearance']} m"
                 )
     folder = None if out is None else Path(out)
-    key = _fingerprint(s, cycles, tolerance, every_cycle, limit)
+    key = _fingerprint(s, cycles, tolerance, every_cycle, limit, first_step)
     zero = np.zeros(s.cells)
     state: dict[str, Any] = {
         "cycles": 0.0,
@@ -453,7 +492,9 @@ def predict_wear(
         runs += 1
         return _evaluate(s, p)
 
-    def keep(cycles_now: float, p: Mapping[str, tuple[np.ndarray, np.ndarray]], rate: _Rate) -> None:
+    def keep(
+        cycles_now: float, p: Mapping[str, tuple[np.ndarray, np.ndarray]], rate: _Rate
+    ) -> None:
         history.extend(_rows(s, cycles_now, p, rate))
         saved.extend((j, cycles_now, b.copy(), w.copy()) for j, (b, w) in p.items())
 
@@ -478,11 +519,12 @@ def predict_wear(
                     mid_rate = evaluate(half)
                     new = _advance(half, mid_rate, n / 2)
                     error = _largest(_difference(new, full))
-                    wear = _largest(_difference(new, profiles))
-                    ratio = error / max(tolerance * wear, 1e-300)
-                    if ratio <= 1:
+                    ratio = error / max(tolerance * _largest(new), 1e-300)
+                    # Below the simulated cycles an update extrapolates nothing: the
+                    # difference left is the cycles' scatter, not the step's error.
+                    if ratio <= 1 or n <= s.cycles_per_run:
                         break
-                    n *= max(0.2, 0.9 / math.sqrt(ratio))
+                    n = max(s.cycles_per_run, n * max(0.2, 0.9 / math.sqrt(ratio)))
                 step = n * min(2.0, 0.9 / math.sqrt(max(ratio, 0.25**2)))
                 next_rate = evaluate(new)
             largest = max(effective_clearance(s.nominal[j], *new[j]) for j in s.joints)

@@ -36,17 +36,26 @@ def profile_figure(p: WearPrediction, joint: str) -> Figure:
     with _style():
         fig = Figure(figsize=_SIZE, layout="constrained")
         for column, (part, radius, sign, index) in enumerate(
-            (("bearing", nominal["bearing_radius"], 1.0, 1), ("journal", nominal["journal_radius"], -1.0, 2))
+            (
+                ("bearing", nominal["bearing_radius"], 1.0, 1),
+                ("journal", nominal["journal_radius"], -1.0, 2),
+            )
         ):
             ax = fig.add_subplot(1, 2, column + 1, projection="polar")
             factor = _SHOWN * radius / deepest if deepest > 0 else 1.0
             ax.plot(theta, np.full_like(theta, radius * 1e3), "k--", lw=0.6, label="original")
             colours = np.linspace(0.25, 1.0, len(steps))
-            for shade, step in zip(colours, steps, strict=True):
-                depth = np.append(step[index], step[index][:1])
-                ax.plot(theta, (radius + sign * factor * depth) * 1e3, color=(shade * 0.8, 0.2, 1 - shade), lw=0.7)
+            for shade, (_, bearing, journal) in zip(colours, steps, strict=True):
+                worn = bearing if index == 1 else journal
+                depth = np.append(worn, worn[:1])
+                ax.plot(
+                    theta,
+                    (radius + sign * factor * depth) * 1e3,
+                    color=(shade * 0.8, 0.2, 1 - shade),
+                    lw=0.7,
+                )
             ax.set_title(f"{joint}: {part} [mm], wear x {factor:.3g}", fontsize=9)
-            ax.set_rlim(0, radius * 1e3 * (1 + 2 * _SHOWN))
+            ax.set_ylim(0, radius * 1e3 * (1 + 2 * _SHOWN))
             ax.set_yticklabels([])
         fig.suptitle(
             f"worn profiles after {steps[-1][0]:.4g} cycles (deepest {deepest * 1e6:.3g} um; "
@@ -61,15 +70,23 @@ def history_figure(p: WearPrediction) -> Figure:
     watched channel's peak."""
     h = p.history
     panels = [
-        ("deepest wear [um]", [("max_bearing_depth", "bearing", 1e6), ("max_journal_depth", "journal", 1e6)]),
-        ("worn volume [mm^3]", [("bearing_volume", "bearing", 1e9), ("journal_volume", "journal", 1e9)]),
+        (
+            "deepest wear [um]",
+            [("max_bearing_depth", "bearing", 1e6), ("max_journal_depth", "journal", 1e6)],
+        ),
+        (
+            "worn volume [mm^3]",
+            [("bearing_volume", "bearing", 1e9), ("journal_volume", "journal", 1e9)],
+        ),
         ("largest clearance [mm]", [("clearance", "", 1e3)]),
         ("peak contact force [N]", [("peak_contact_force", "", 1.0)]),
     ]
     if p.watch is not None:
         panels.append((f"peak |{p.watch}|", [("peak_watch", "", 1.0)]))
     with _style():
-        fig = Figure(figsize=(_SIZE[0], 1.6 * math.ceil(len(panels) / 2) + 0.6), layout="constrained")
+        fig = Figure(
+            figsize=(_SIZE[0], 1.6 * math.ceil(len(panels) / 2) + 0.6), layout="constrained"
+        )
         axes = fig.subplots(math.ceil(len(panels) / 2), 2, squeeze=False).ravel()
         for ax, (label, series) in zip(axes, panels, strict=False):
             for joint, rows in h.groupby("joint", sort=False):

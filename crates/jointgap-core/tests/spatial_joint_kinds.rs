@@ -259,7 +259,9 @@ fn bad_spatial_joint_data_is_named() {
         edit(&mut m["joints"][0]);
         match SpatialModel::from_json(&m.to_string()) {
             Err(e) => e.to_string(),
-            Ok(model) => simulate_spatial(&model, &SimOptions::new(1e-3), &mut Silent).unwrap_err().to_string(),
+            Ok(model) => {
+                simulate_spatial(&model, &SimOptions::new(1e-3), &mut Silent).unwrap_err().to_string()
+            }
         }
     };
     let block = || block_in_channel([0.0; 3], [0.0; 3]);
@@ -268,9 +270,17 @@ fn bad_spatial_joint_data_is_named() {
         (&(|j: &mut Value| j["height_axis"] = Value::Null) as &dyn Fn(&mut Value), block(), "height_axis"),
         (&|j: &mut Value| j["height_axis"] = json!([0.1, 1.0, 0.0]), block(), "not perpendicular"),
         (&|j: &mut Value| j["clearance"]["guide_depth"] = Value::Null, block(), "block_depth, guide_depth"),
-        (&|j: &mut Value| j["clearance"]["block_depth"] = json!(0.03), block(), "block_depth = 0.03 m does not fit"),
+        (
+            &|j: &mut Value| j["clearance"]["block_depth"] = json!(0.03),
+            block(),
+            "block_depth = 0.03 m does not fit",
+        ),
         (&|j: &mut Value| j["clearance"]["block_height"] = json!(0.011), block(), "block_height"),
-        (&|j: &mut Value| j["type"] = json!("clearance_cylindrical"), journal(), "'lubrication' belongs to lubricated_cylindrical"),
+        (
+            &|j: &mut Value| j["type"] = json!("clearance_cylindrical"),
+            journal(),
+            "'lubrication' belongs to lubricated_cylindrical",
+        ),
         (&|j: &mut Value| j["lubrication"]["viscosity"] = json!(0.0), journal(), "viscosity = 0"),
         (&|j: &mut Value| j["lubrication"] = Value::Null, journal(), "lubrication"),
     ] {

@@ -143,7 +143,7 @@ fn pressed_journal_against_closed_form() {
     let cells = 3600;
     let opts = SimOptions {
         rate: Some(100.0),
-        wear: Some(jointgap_core::WearOptions { cells }),
+        wear: Some(jointgap_core::WearOptions { cells, start: 0.0 }),
         ..SimOptions::new(t_end)
     };
     let res = run(&pressed_journal(load, omega), &opts);
@@ -190,7 +190,7 @@ fn founding_wear(cells: usize) -> SimResult {
         &model,
         &SimOptions {
             rate: Some(1000.0),
-            wear: Some(jointgap_core::WearOptions { cells }),
+            wear: Some(jointgap_core::WearOptions { cells, start: 0.0 }),
             ..SimOptions::new(0.1)
         },
     )
@@ -233,8 +233,10 @@ fn founding_case_conserves_the_worn_volume() {
 /// least 8 cells; a run that stops early returns the wear it accumulated.
 #[test]
 fn wear_options_and_a_stopped_run() {
-    let opts =
-        |cells| SimOptions { wear: Some(jointgap_core::WearOptions { cells }), ..SimOptions::new(0.1) };
+    let opts = |cells| SimOptions {
+        wear: Some(jointgap_core::WearOptions { cells, start: 0.0 }),
+        ..SimOptions::new(0.1)
+    };
     let e = simulate(&founding_with(json!({})), &opts(90)).expect_err("no length").to_string();
     assert!(e.contains("rod_slider") && e.contains("length"), "{e}");
     let e = simulate(&founding_with(json!({"length": 0.02})), &opts(7)).expect_err("7 cells").to_string();
@@ -265,4 +267,25 @@ fn an_oval_bearing_runs_with_every_method() {
         assert_ne!(res.impacts[0].impacts.len(), 0);
         assert_ne!(res.channel("rod_slider.fn"), round.channel("rod_slider.fn"));
     }
+}
+
+/// The option's start time: the wear before it counts nothing, so that a run from the
+/// start to `T` and one counting from `T/2` differ by the first half's share, here half
+/// the load's work (constant load and speed after the first touch).
+#[test]
+fn wear_counts_from_its_start_time() {
+    let (load, omega) = (200.0, 50.0);
+    let t_end = 4.0 * std::f64::consts::TAU / omega;
+    let wear = |start: f64| {
+        let opts = SimOptions {
+            rate: Some(100.0),
+            wear: Some(jointgap_core::WearOptions { cells: 360, start }),
+            ..SimOptions::new(t_end)
+        };
+        run(&pressed_journal(load, omega), &opts).wear[0].load_distance
+    };
+    let (whole, half) = (wear(0.0), wear(0.5 * t_end));
+    let expected = load * omega * 7.0e-3 * 0.5 * t_end;
+    assert!((half / expected - 1.0).abs() < 1e-3, "{half} vs {expected}");
+    assert!((whole / (2.0 * expected) - 1.0).abs() < 1e-3, "{whole}");
 }

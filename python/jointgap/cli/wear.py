@@ -21,7 +21,7 @@ joints (docs/wear.md). Writes to OUT: history.csv (deepest wear, worn volume,
 clearance, peak contact force and the watched peak after each update), profiles_<joint>
 .csv, summary.json, the figures (wear_history.png, wear_profile_<joint>.png) and
 report.html; state.json after every update, from which the same command resumes.
-Each joint needs its 'length' (the bearing's, along the axis).
+Each joint needs its 'length' (the bearing's, along the axis), or give --length.
 """
 
 
@@ -44,20 +44,51 @@ def add_commands(sub: Any) -> None:
         "e.g. '1e-4 mm^3/(N*m)' (default: the engine's pair, steel in brass, dry)",
     )
     parser.add_argument("--out", metavar="DIR", required=True, help="folder of the results")
-    parser.add_argument("--joint", action="append", metavar="NAME", help="a joint to wear (repeat; default all)")
-    parser.add_argument("--cells", type=int, default=180, metavar="N", help="cells of each grid (default %(default)s)")
-    parser.add_argument("--period", metavar="T", help="a cycle's duration (default: from the driver)")
-    parser.add_argument("--warmup", metavar="T", help="time before the first steady cycle (default: the ramp and a cycle)")
     parser.add_argument(
-        "--cycles-per-run", type=int, default=1, metavar="N", help="steady cycles each run averages (default 1)"
+        "--joint", action="append", metavar="NAME", help="a joint to wear (repeat; default all)"
     )
     parser.add_argument(
-        "--tolerance", type=float, default=0.05, metavar="F",
-        help="largest step-doubling difference as a fraction of a step's wear (default %(default)g)",
+        "--cells",
+        type=int,
+        default=180,
+        metavar="N",
+        help="cells of each grid (default %(default)s)",
     )
-    parser.add_argument("--limit", metavar="C", help="stop when a joint's clearance reaches C, e.g. '0.6 mm'")
-    parser.add_argument("--every-cycle", action="store_true", help="no extrapolation: wear each simulated cycle")
+    parser.add_argument(
+        "--period", metavar="T", help="a cycle's duration (default: from the driver)"
+    )
+    parser.add_argument(
+        "--warmup",
+        metavar="T",
+        help="time before the first steady cycle (default: the ramp and a cycle)",
+    )
+    parser.add_argument(
+        "--cycles-per-run",
+        type=int,
+        default=1,
+        metavar="N",
+        help="steady cycles each run averages (default 1)",
+    )
+    parser.add_argument(
+        "--tolerance",
+        type=float,
+        default=0.05,
+        metavar="F",
+        help="largest step-doubling difference as a fraction of the predicted depth "
+        "(default %(default)g)",
+    )
+    parser.add_argument(
+        "--limit", metavar="C", help="stop when a joint's clearance reaches C, e.g. '0.6 mm'"
+    )
+    parser.add_argument(
+        "--every-cycle", action="store_true", help="no extrapolation: wear each simulated cycle"
+    )
     parser.add_argument("--watch", metavar="CHANNEL", help="channel whose peak the history keeps")
+    parser.add_argument(
+        "--length",
+        metavar="L",
+        help="bearing length of the joints whose model gives none, e.g. '10 mm'",
+    )
 
 
 def _wear(args: argparse.Namespace) -> int:
@@ -87,14 +118,21 @@ def _wear(args: argparse.Namespace) -> int:
         clearance_limit=args.limit,
         every_cycle=args.every_cycle,
         watch=args.watch,
+        length=args.length,
         out=args.out,
         progress=show,
     )
     print(file=sys.stderr)
-    print(f"coefficient {p.coefficient:.4g} 1/Pa ({p.pair or 'given'}), {p.cycles:.6g} cycles, {p.runs} runs")
+    print(
+        f"coefficient {p.coefficient:.4g} 1/Pa ({p.pair or 'given'}), {p.cycles:.6g} cycles, "
+        f"{p.runs} runs"
+    )
     for joint, steps in p.profiles.items():
         _, b, w = steps[-1]
-        print(f"  {joint}: deepest wear bearing {b.max() * 1e6:.4g} um, journal {w.max() * 1e6:.4g} um")
+        print(
+            f"  {joint}: deepest wear bearing {b.max() * 1e6:.4g} um, "
+            f"journal {w.max() * 1e6:.4g} um"
+        )
     if p.cycles_to_limit is not None:
         print(f"  the clearance limit is reached after {p.cycles_to_limit:.6g} cycles")
     print(f"written    {args.out}/ (history.csv, profiles, figures, report.html)")

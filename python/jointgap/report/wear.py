@@ -17,6 +17,22 @@ if TYPE_CHECKING:
 
 __all__ = ["write_wear_report"]
 
+_JOINT_COLUMNS = (
+    "joint",
+    "clearance [mm]",
+    "bearing wear [um]",
+    "journal wear [um]",
+    "largest clearance [mm]",
+)
+_HISTORY_COLUMNS = (
+    "cycles",
+    "joint",
+    "bearing wear [um]",
+    "journal wear [um]",
+    "clearance [mm]",
+    "peak contact force [N]",
+)
+
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[object]]) -> str:
     head = "".join(f"<th>{html.escape(h)}</th>" for h in header)
@@ -35,7 +51,10 @@ def write_wear_report(
         ("pair", p.pair or "given"),
         ("cycles worn", f"{p.cycles:.6g}"),
         ("status", f"{p.status} {p.message}".strip()),
-        ("cycles to the clearance limit", "-" if p.cycles_to_limit is None else f"{p.cycles_to_limit:.6g}"),
+        (
+            "cycles to the clearance limit",
+            "-" if p.cycles_to_limit is None else f"{p.cycles_to_limit:.6g}",
+        ),
         ("simulations", str(p.runs)),
     ]
     finals = []
@@ -52,8 +71,15 @@ def write_wear_report(
             )
         )
     history = [
-        [f"{r.cycles:.6g}", r.joint, f"{r.max_bearing_depth * 1e6:.4g}", f"{r.max_journal_depth * 1e6:.4g}",
-         f"{r.clearance * 1e3:.5g}", f"{r.peak_contact_force:.4g}", f"{r.peak_watch:.4g}"]
+        [
+            f"{r.cycles:.6g}",
+            r.joint,
+            f"{r.max_bearing_depth * 1e6:.4g}",
+            f"{r.max_journal_depth * 1e6:.4g}",
+            f"{r.clearance * 1e3:.5g}",
+            f"{r.peak_contact_force:.4g}",
+            f"{r.peak_watch:.4g}",
+        ]
         for r in p.history.itertuples()
     ]
     images = "".join(
@@ -73,11 +99,11 @@ steady cycles by a number of cycles chosen by step doubling (docs/wear.md).</p>
 <h2>Inputs and outcome</h2>
 {_table(("", ""), inputs)}
 <h2>Joints</h2>
-{_table(("joint", "clearance [mm]", "bearing wear [um]", "journal wear [um]", "largest clearance [mm]"), finals)}
+{_table(_JOINT_COLUMNS, finals)}
 <h2>Figures</h2>
 {images}
 <h2>History</h2>
-{_table(("cycles", "joint", "bearing wear [um]", "journal wear [um]", "clearance [mm]", "peak contact force [N]", f"peak |{p.watch or '-'}|"), history)}
+{_table((*_HISTORY_COLUMNS, f"peak |{p.watch or '-'}|"), history)}
 </main></body></html>
 """
     out = Path(path)

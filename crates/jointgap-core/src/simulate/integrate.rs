@@ -179,7 +179,7 @@ pub fn integrate<K: Kind>(
                         }
                         log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
                         if let Some(wear) = wear.as_deref_mut() {
-                            wear.step(sys, &ode.ws.contacts, h_taken, &y[..n], &y[n..]);
+                            wear.step(sys, &ode.ws.contacts, (t, h_taken), &y[..n], &y[n..]);
                         }
                         if let Err(status) = record_step_end(ode, rec, &grid, t, y) {
                             break 'run status;

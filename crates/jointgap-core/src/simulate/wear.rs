@@ -22,12 +22,16 @@ use crate::system::System;
 pub const MIN_CELLS: usize = crate::mechanics::contact::geometry::worn::MIN_POINTS;
 
 /// The wear option of a run.
-#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct WearOptions {
     /// Cells of each part's angular grid, at least [`MIN_CELLS`]: cell `c` is centred
     /// on the angle `2 pi c / cells` of its body's frame.
     pub cells: usize,
+    /// Time [s] from which the wear counts (0 by default): a mechanism's wear per cycle
+    /// is that of its steady cycles, after its start-up.
+    #[serde(default)]
+    pub start: f64,
 }
 
 impl WearOptions {
@@ -40,6 +44,12 @@ impl WearOptions {
                     "option wear.cells = {}: a wear grid has at least {MIN_CELLS} cells",
                     self.cells
                 ),
+            });
+        }
+        if !(self.start.is_finite() && self.start >= 0.0) {
+            return Err(Error::Options {
+                key: "wear",
+                problem: format!("option wear.start = {} s: must be zero or positive", self.start),
             });
         }
         Ok(())
@@ -106,6 +116,7 @@ struct Accumulating {
 pub struct Wear {
     joints: Vec<Accumulating>,
     cells: usize,
+    start: f64,
 }
 
 impl Wear {
@@ -137,7 +148,7 @@ impl Wear {
                 last: None,
             });
         }
-        Ok(Wear { joints, cells: n })
+        Ok(Wear { joints, cells: n, start: opts.start })
     }
 
     /// At the start of a run, the state `(q, v)` with contact states `states`: the
@@ -153,12 +164,23 @@ impl Wear {
     /// step's two ends (second order in the step; a contact's onset or separation ends
     /// a step, where the force is zero, and an end apart counts as that). A journal can
     /// turn through many cells in one step: the step's share is laid along the contact's
-    /// path, on sub-steps that move it by at most half a cell on either part, each part's
+    /// path, on sub-steps that move it by at most half a cell on either part (and a quarter
+    /// of the contact's half width), each part's
     /// contact angle, the normal force (for the contact's width) and the integrand `F_n
     /// |v_t|` interpolated linearly between the ends, with composite trapezoid weights.
     /// Being linear, the integrand's composite sum is the plain trapezoid's, so the
     /// totals do not depend on the grid.
-    pub fn step<K: Kind>(&mut self, sys: &System<K>, states: &[ContactState], dt: f64, q: &[f64], v: &[f64]) {
+    ///
+    /// The step ends at time `t`; the time before the option's start counts nothing (a
+    /// step across the start counts the part of each sub-step's weight after it).
+    pub fn step<K: Kind>(
+        &mut self,
+        sys: &System<K>,
+        states: &[ContactState],
+        (t, dt): (f64, f64),
+        q: &[f64],
+        v: &[f64],
+    ) {
         let half_cell = std::f64::consts::PI / self.cells as f64;
         for j in &mut self.joints {
             let now = K::wear_integrand(sys, j.clearance, &states[j.slot], q, v);
@@ -178,12 +200,29 @@ impl Wear {
                     turn(a.bearing_angle, b.bearing_angle, spun((a.spins.0, b.spins.0))),
                     turn(a.journal_angle, b.journal_angle, spun((a.spins.1, b.spins.1))),
                 );
+                // Sub-steps at most half a cell apart, and a quarter of the contact's
+                // half width on the bearing (the narrower angle): the deposits then
+                // sample the pressure's path finely enough that a cell wider than the
+                // contact gets its share whatever the step (never closer than 1/64 of
+                // half a cell, for a contact at its first touch).
+                let narrowest = j.contact.half_width(a.f_n.max(b.f_n)) / j.radii.0;
+                let spacing = half_cell.min(0.25 * narrowest).max(half_cell / 64.0);
                 let swept = turn.0.abs().max(turn.1.abs());
-                let m = ((swept / half_cell).ceil() as usize).max(1);
+                let m = ((swept / spacing).ceil() as usize).max(1);
                 let (load_a, load_b) = (a.f_n * a.speed, b.f_n * b.speed);
+                let h = dt / m as f64;
                 for i in 0..=m {
                     let s = i as f64 / m as f64;
-                    let weight = if i == 0 || i == m { 0.5 } else { 1.0 } * dt / m as f64;
+                    // The composite trapezoid's weight is the time the point stands
+                    // for, `[at - h/2, at + h/2]` within the step; only its part after
+                    // the start counts.
+                    let at = t - (1.0 - s) * dt;
+                    let from = if i == 0 { at } else { at - 0.5 * h }.max(self.start);
+                    let to = if i == m { at } else { at + 0.5 * h };
+                    let weight = to - from;
+                    if weight <= 0.0 {
+                        continue;
+                    }
                     let f_n = a.f_n + s * (b.f_n - a.f_n);
                     let load = (load_a + s * (load_b - load_a)) * weight;
                     if f_n > 0.0 && load > 0.0 {
