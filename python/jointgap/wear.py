@@ -40,6 +40,10 @@ from .results import Result
 WEAR_COEFFICIENT = u.PRESSURE**-1
 """The dimension of a dimensional wear coefficient k: m^2/N, e.g. ``"1e-4 mm^3/(N*m)"``."""
 
+STEP_BUDGET = 20.0
+"""A run with worn profiles may take this many times the steps of the first (unworn)
+run; beyond it the prediction stops (:class:`OutOfRange`)."""
+
 HISTORY_COLUMNS = (
     "cycles",
     "joint",
@@ -80,7 +84,9 @@ class WearPrediction:
             for a value given).
         cycles: cycles worn.
         status: ``"finished"`` (the cycles asked), ``"limit"`` (a joint reached the
-            clearance limit), ``"interrupted"`` or ``"failed"``; ``message`` says more.
+            clearance limit), ``"out_of_range"`` (the next update would wear profiles
+            the contact model does not follow: :func:`sharpness`), ``"interrupted"`` or
+            ``"failed"``; ``message`` says more.
         cycles_to_limit: the cycles at which the clearance limit was reached (by linear
             interpolation within the last update), or ``None``.
         history: one row per joint per evaluated profile (:data:`HISTORY_COLUMNS`).
@@ -164,6 +170,7 @@ class _Setup:
     sim: dict[str, Any]
     watch: str | None
     nominal: dict[str, dict[str, float]]
+    budget: int | None = None
 
 
 def _setup(
@@ -295,15 +302,53 @@ def _with_profiles(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarra
     return Model.from_dict(data)
 
 
+class OutOfRange(Exception):
+    """Worn profiles beyond what the contact model follows."""
+
+
+def sharpness(nominal: Mapping[str, float], bearing: np.ndarray, journal: np.ndarray) -> float:
+    """How sharply a joint's worn profiles curve against its clearance: the largest
+    second difference of the bearing's wear over the angle plus the journal's, over the
+    nominal clearance. At 1 or more a journal can touch a worn pocket at two points,
+    which the joint's one contact point does not follow (docs/wear.md, "Worn profiles")."""
+
+    def curvature(w: np.ndarray) -> float:
+        step = 2 * math.pi / len(w)
+        return float(np.max(np.abs(np.roll(w, 1) - 2 * w + np.roll(w, -1)))) / step**2
+
+    return (curvature(bearing) + curvature(journal)) / nominal["clearance"]
+
+
 def _evaluate(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> _Rate:
+    for joint, (b, w) in profiles.items():
+        if sharpness(s.nominal[joint], b, w) >= 1:
+            raise OutOfRange(
+                f"joint '{joint}''s worn profiles would curve more sharply than its clearance "
+                "(a journal touching a worn pocket at two points, which the contact model "
+                "does not follow): a coarser grid (cells) smooths the profiles"
+            )
     model = _with_profiles(s, profiles)
     t_end = s.warmup + s.cycles_per_run * s.period
     channels = [f"{j}.fn" for j in s.joints] + ([s.watch] if s.watch else [])
     result: Result = model.simulate(
-        t_end, channels=channels, wear_cells=s.cells, wear_start=s.warmup, **s.sim
+        t_end,
+        channels=channels,
+        wear_cells=s.cells,
+        wear_start=s.warmup,
+        max_steps=s.budget,
+        **s.sim,
     )
     if result.status != "finished":
+        steps = result.stats.get("accepted_steps", 0) + result.stats.get("rejected_steps", 0)
+        if s.budget is not None and steps >= s.budget:
+            raise OutOfRange(
+                f"a run with the worn profiles took more than {s.budget} steps, "
+                f"{STEP_BUDGET:g} times the unworn run's: its contact chatters on the worn "
+                "profiles, which the contact model does not resolve"
+            )
         raise RuntimeError(f"a wear run stopped: {result.message}")
+    if s.budget is None:
+        s.budget = int(STEP_BUDGET * max(result.stats.get("accepted_steps", 0), 1000))
     steady = result.time >= s.warmup
     scale = s.coefficient / s.cycles_per_run
     return _Rate(
@@ -403,7 +448,7 @@ def predict_wear(
     *,
     coefficient: Quantity | str | None = None,
     joints: Sequence[str] | None = None,
-    cells: int = 180,
+    cells: int = 36,
     period: Quantity | None = None,
     warmup: Quantity | None = None,
     cycles_per_run: int = 1,
@@ -428,7 +473,8 @@ def predict_wear(
             (:func:`wear_pairs`), a value with units (``"1e-4 mm^3/(N*m)"``) or in 1/Pa;
             by default the engine's pair (steel in brass, dry).
         joints: the joints to wear; by default every clearance_revolute joint.
-        cells: cells of each part's angular grid.
+        cells: cells of each part's angular grid (10 deg by default: the profiles are
+            smooth at that scale, see :func:`sharpness`).
         period, warmup: the cycle's duration and the time before the first steady cycle
             [s]; by default from the model's one driver: the warm-up its ramp plus one
             cycle, the period one turn at the speed it reaches.
@@ -541,6 +587,8 @@ def predict_wear(
                 progress(WearStep(done, n, largest, runs))
             if status == "limit":
                 break
+    except OutOfRange as exc:
+        status, message = "out_of_range", f"stopped after {done:.6g} cycles: {exc}"
     except KeyboardInterrupt:
         status, message = "interrupted", f"interrupted after {done:.6g} cycles"
     except (RuntimeError, ModelError, ValueError) as exc:

@@ -136,6 +136,8 @@ def _wear(args: argparse.Namespace) -> int:
     if p.cycles_to_limit is not None:
         print(f"  the clearance limit is reached after {p.cycles_to_limit:.6g} cycles")
     print(f"written    {args.out}/ (history.csv, profiles, figures, report.html)")
+    if p.status == "out_of_range":
+        print(f"  {p.message}")
     if p.status == "interrupted":
         return _interrupted(f"{p.message}: resume with the same command")
     if p.status == "failed":
