@@ -72,6 +72,7 @@ bench: install valgrind
 	$(PY) benchmarks/scaling.py
 	$(PY) benchmarks/run.py
 	$(PY) benchmarks/spatial.py
+	$(PY) benchmarks/wear_convergence.py
 
 # Exudyn goes into its own venv, never into .venv or the package's dependencies.
 PEER_VENV := benchmarks/peers/.venv

@@ -55,7 +55,8 @@ def main(cycles: float = 300.0) -> str:
             f"Founding case, steel in brass dry (k = 6.44e-13 1/Pa), bearing length 10 mm, "
             f"{cycles:g} cycles:",
             "",
-            "| cells | tolerance | cycles | bearing [um] | journal [um] | runs | wall [s] | status |",
+            "| cells | tolerance | cycles | bearing [um] | journal [um] | runs | wall [s] "
+            "| status |",
             "|---:|---:|---:|---:|---:|---:|---:|---|",
             *rows,
         ]
