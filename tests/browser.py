@@ -25,7 +25,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Browser", "BrowserError", "Page", "find_chromium"]
+__all__ = ["Browser", "BrowserError", "Page", "find_chromium", "pages_draw_without_errors"]
 
 _CANDIDATES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 
@@ -310,3 +310,27 @@ class Page:
 
     def close(self) -> None:
         self.browser.send("Target.closeTarget", {"targetId": self.target})
+
+
+def pages_draw_without_errors(pages: dict[str, Path]) -> None:
+    """Opens each report page (label -> file), waits until it has drawn itself, moves its
+    animation to frame 50 and asserts that no script logged an error. Skips the test
+    without Chromium, unless ``JOINTGAP_REQUIRE_BROWSER=1`` makes that a failure."""
+    import pytest
+
+    if find_chromium() is None:
+        message = "no Chromium: apt-get install chromium (make test does)"
+        if os.environ.get("JOINTGAP_REQUIRE_BROWSER") == "1":
+            pytest.fail(message)
+        pytest.skip(message)
+    slide = (
+        "(() => { const s = document.getElementById('time-slider'); s.value = '50';"
+        " s.dispatchEvent(new Event('input')); return s.value; })()"
+    )
+    with Browser() as browser:
+        for label, path in pages.items():
+            page = browser.open(path.as_uri())
+            page.wait_for("document.body.dataset.ready === 'true'")
+            assert page.evaluate(slide) == "50", label
+            assert page.console_errors == [], label
+            page.close()

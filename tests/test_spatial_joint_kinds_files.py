@@ -6,8 +6,6 @@ crates/jointgap-core/tests/spatial_joint_kinds.rs)."""
 
 from __future__ import annotations
 
-import os
-
 import jointgap
 import pytest
 from jointgap import ModelError
@@ -193,21 +191,6 @@ def test_reports_of_both_open_in_a_browser(write_model, tmp_path) -> None:
     }
     assert orbits == {"block": [], "journal": ["bearing"]}
     pages = {kind: write_run_report(r, tmp_path / f"{kind}.html") for kind, r in results.items()}
-    from browser import Browser, find_chromium
+    from browser import pages_draw_without_errors
 
-    if find_chromium() is None:
-        message = "no Chromium: apt-get install chromium (make test does)"
-        if os.environ.get("JOINTGAP_REQUIRE_BROWSER") == "1":
-            pytest.fail(message)
-        pytest.skip(message)
-    slide = (
-        "(() => { const s = document.getElementById('time-slider'); s.value = '50';"
-        " s.dispatchEvent(new Event('input')); return s.value; })()"
-    )
-    with Browser() as browser:
-        for kind, path in pages.items():
-            page = browser.open(path.as_uri())
-            page.wait_for("document.body.dataset.ready === 'true'")
-            assert page.evaluate(slide) == "50"
-            assert page.console_errors == [], kind
-            page.close()
+    pages_draw_without_errors(pages)
