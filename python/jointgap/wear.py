@@ -24,7 +24,7 @@ import json
 import math
 import os
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,9 +33,26 @@ import pandas as pd  # type: ignore[import-untyped]
 
 from . import units as u
 from ._schema import ENGINE_DEFAULTS
+from ._wear_prediction import HISTORY_COLUMNS, WearPrediction, WearStep
 from .errors import ModelError
 from .model import Model, Quantity
 from .results import Result
+
+__all__ = [
+    "HISTORY_COLUMNS",
+    "STEP_BUDGET",
+    "WEAR_COEFFICIENT",
+    "OutOfRange",
+    "WearPrediction",
+    "WearStep",
+    "effective_clearance",
+    "predict_wear",
+    "resolve_coefficient",
+    "sharpness",
+    "wear_pairs",
+    "worn_volume",
+    "write_prediction",
+]
 
 WEAR_COEFFICIENT = u.PRESSURE**-1
 """The dimension of a dimensional wear coefficient k: m^2/N, e.g. ``"1e-4 mm^3/(N*m)"``."""
@@ -44,70 +61,8 @@ STEP_BUDGET = 20.0
 """A run with worn profiles may take this many times the steps of the first (unworn)
 run; beyond it the prediction stops (:class:`OutOfRange`)."""
 
-HISTORY_COLUMNS = (
-    "cycles",
-    "joint",
-    "max_bearing_depth",
-    "max_journal_depth",
-    "bearing_volume",
-    "journal_volume",
-    "clearance",
-    "peak_contact_force",
-    "peak_watch",
-)
-"""The columns of :attr:`WearPrediction.history` (SI: m, m^3, N; ``peak_watch`` in the
-watched channel's unit)."""
 
-Progress = Callable[["WearStep"], object]
-
-
-@dataclass(frozen=True)
-class WearStep:
-    """One accepted update, as ``progress`` sees it."""
-
-    cycles: float
-    """Cycles worn so far."""
-    step: float
-    """Cycles of the update just accepted."""
-    clearance: float
-    """The largest effective clearance of the joints [m]."""
-    runs: int
-    """Simulations run so far."""
-
-
-@dataclass
-class WearPrediction:
-    """What :func:`predict_wear` found.
-
-    Attributes:
-        coefficient: the wear coefficient k [1/Pa] and the pair it came from (``None``
-            for a value given).
-        cycles: cycles worn.
-        status: ``"finished"`` (the cycles asked), ``"limit"`` (a joint reached the
-            clearance limit), ``"out_of_range"`` (the next update would wear profiles
-            the contact model does not follow: :func:`sharpness`), ``"interrupted"`` or
-            ``"failed"``; ``message`` says more.
-        cycles_to_limit: the cycles at which the clearance limit was reached (by linear
-            interpolation within the last update), or ``None``.
-        history: one row per joint per evaluated profile (:data:`HISTORY_COLUMNS`).
-        profiles: per joint, the profiles after each accepted update: a list of
-            ``(cycles, bearing_wear, journal_wear)``, the depths [m] on the grid.
-        angles: the grid's angles [rad] (cell centres, each part's body frame).
-        runs: simulations run.
-    """
-
-    coefficient: float
-    pair: str | None
-    cycles: float
-    status: str
-    message: str
-    cycles_to_limit: float | None
-    history: pd.DataFrame
-    profiles: dict[str, list[tuple[float, np.ndarray, np.ndarray]]]
-    angles: np.ndarray
-    runs: int
-    watch: str | None = None
-    nominal: dict[str, dict[str, float]] = field(default_factory=dict)
+Progress = Callable[[WearStep], object]
 
 
 def wear_pairs() -> dict[str, dict[str, Any]]:

@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 from .plots import _style, save_figures
 
 if TYPE_CHECKING:
-    from .wear import WearPrediction
+    from ._wear_prediction import WearPrediction
 
 __all__ = ["profile_figure", "history_figure", "wear_figures"]
 

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from .page import _asset
 
 if TYPE_CHECKING:
-    from ..wear import WearPrediction
+    from .._wear_prediction import WearPrediction
 
 __all__ = ["write_wear_report"]
 
