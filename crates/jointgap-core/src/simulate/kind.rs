@@ -78,7 +78,7 @@ pub trait Kind: Contacts {
         _state: &ContactState,
         _q: &[f64],
         _v: &[f64],
-    ) -> Option<super::wear::Integrand> {
+    ) -> Option<Integrand> {
         None
     }
 
@@ -114,4 +114,21 @@ pub(super) fn clearance_channels(
 /// How many channels [`clearance_channels`] names, without naming them.
 pub(super) fn clearance_channel_count(quantities: &[(&'static str, bool)], points: usize) -> usize {
     quantities.iter().map(|&(_, p)| if p { points } else { 1 }).sum()
+}
+
+/// The wear integrand of a revolute clearance joint at one state: where its parts touch
+/// and how hard and fast they slide there.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Integrand {
+    /// Normal force [N].
+    pub f_n: f64,
+    /// Sliding speed `|v_t|` of the contact [m/s].
+    pub speed: f64,
+    /// The contact normal's angle in the bearing body's frame [rad].
+    pub bearing_angle: f64,
+    /// The contact normal's angle in the journal body's frame [rad].
+    pub journal_angle: f64,
+    /// The bearing body's and the journal body's angular velocities [rad/s]: each
+    /// part turns under the contact backwards at its own rate.
+    pub spins: (f64, f64),
 }

@@ -302,7 +302,7 @@ impl Kind for Planar {
         state: &ContactState,
         q: &[f64],
         v: &[f64],
-    ) -> Option<super::wear::Integrand> {
+    ) -> Option<super::kind::Integrand> {
         let c = Self::wears(&sys.clearances[k])?;
         let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
         super::wear::integrand(c, &bearing, &journal, state)

@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::kind::Kind;
+use super::kind::{Integrand, Kind};
 use crate::error::Error;
 use crate::mechanics::contact::{self, ClearanceJoint, ClearanceRevolute, ContactState, WearContact};
 use crate::mechanics::planar::BodyState;
@@ -54,23 +54,6 @@ impl WearOptions {
         }
         Ok(())
     }
-}
-
-/// The wear integrand of a revolute clearance joint at one state: where its parts touch
-/// and how hard and fast they slide there.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Integrand {
-    /// Normal force [N].
-    pub f_n: f64,
-    /// Sliding speed `|v_t|` of the contact [m/s].
-    pub speed: f64,
-    /// The contact normal's angle in the bearing body's frame [rad].
-    pub bearing_angle: f64,
-    /// The contact normal's angle in the journal body's frame [rad].
-    pub journal_angle: f64,
-    /// The bearing body's and the journal body's angular velocities [rad/s]: each
-    /// part turns under the contact backwards at its own rate.
-    pub spins: (f64, f64),
 }
 
 /// The wear integrand of joint `c` at the bodies' states `(bearing, journal)`, its point
