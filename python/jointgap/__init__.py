@@ -49,6 +49,7 @@ if TYPE_CHECKING:  # loaded on first use (below); type checkers see the real sig
     from .comparison import compare
     from .measured import read_measured, synthetic_record
     from .study import load_results, load_study, run_study
+    from .wear import predict_wear, wear_pairs
 
 __all__ = [
     # model building
@@ -90,6 +91,9 @@ __all__ = [
     "load_results",
     "load_study",
     "run_study",
+    # wear over life
+    "predict_wear",
+    "wear_pairs",
     # errors and warnings (also in jointgap.errors)
     "BatchInterrupted",
     "CalibrationError",
@@ -114,6 +118,8 @@ _LAZY = {
     "load_results": "study",
     "load_study": "study",
     "run_study": "study",
+    "predict_wear": "wear",
+    "wear_pairs": "wear",
 }
 
 

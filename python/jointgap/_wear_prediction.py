@@ -49,8 +49,9 @@ class WearPrediction:
             for a value given).
         cycles: cycles worn.
         status: ``"finished"`` (the cycles asked), ``"limit"`` (a joint reached the
-            clearance limit), ``"out_of_range"`` (the next update would wear profiles
-            the contact model does not follow: :func:`sharpness`), ``"interrupted"`` or
+            clearance limit), ``"out_of_range"`` (a run on the worn profiles, even
+            after the shortest update, took more than ``STEP_BUDGET`` times the unworn
+            run's steps), ``"interrupted"`` or
             ``"failed"``; ``message`` says more.
         cycles_to_limit: the cycles at which the clearance limit was reached (by linear
             interpolation within the last update), or ``None``.

@@ -48,7 +48,6 @@ __all__ = [
     "effective_clearance",
     "predict_wear",
     "resolve_coefficient",
-    "sharpness",
     "wear_pairs",
     "worn_volume",
     "write_prediction",
@@ -261,27 +260,7 @@ class OutOfRange(Exception):
     """Worn profiles beyond what the contact model follows."""
 
 
-def sharpness(nominal: Mapping[str, float], bearing: np.ndarray, journal: np.ndarray) -> float:
-    """How sharply a joint's worn profiles curve against its clearance: the largest
-    second difference of the bearing's wear over the angle plus the journal's, over the
-    nominal clearance. At 1 or more a journal can touch a worn pocket at two points,
-    which the joint's one contact point does not follow (docs/wear.md, "Worn profiles")."""
-
-    def curvature(w: np.ndarray) -> float:
-        step = 2 * math.pi / len(w)
-        return float(np.max(np.abs(np.roll(w, 1) - 2 * w + np.roll(w, -1)))) / step**2
-
-    return (curvature(bearing) + curvature(journal)) / nominal["clearance"]
-
-
 def _evaluate(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> _Rate:
-    for joint, (b, w) in profiles.items():
-        if sharpness(s.nominal[joint], b, w) >= 1:
-            raise OutOfRange(
-                f"joint '{joint}''s worn profiles would curve more sharply than its clearance "
-                "(a journal touching a worn pocket at two points, which the contact model "
-                "does not follow): a coarser grid (cells) smooths the profiles"
-            )
     model = _with_profiles(s, profiles)
     t_end = s.warmup + s.cycles_per_run * s.period
     channels = [f"{j}.fn" for j in s.joints] + ([s.watch] if s.watch else [])
@@ -428,8 +407,7 @@ def predict_wear(
             (:func:`wear_pairs`), a value with units (``"1e-4 mm^3/(N*m)"``) or in 1/Pa;
             by default the engine's pair (steel in brass, dry).
         joints: the joints to wear; by default every clearance_revolute joint.
-        cells: cells of each part's angular grid (10 deg by default: the profiles are
-            smooth at that scale, see :func:`sharpness`).
+        cells: cells of each part's angular grid (10 deg by default).
         period, warmup: the cycle's duration and the time before the first steady cycle
             [s]; by default from the model's one driver: the warm-up its ramp plus one
             cycle, the period one turn at the speed it reaches.
@@ -517,17 +495,24 @@ def predict_wear(
                 while True:
                     full = _advance(profiles, rate, n)
                     half = _advance(profiles, rate, n / 2)
-                    mid_rate = evaluate(half)
-                    new = _advance(half, mid_rate, n / 2)
-                    error = _largest(_difference(new, full))
-                    ratio = error / max(tolerance * _largest(new), 1e-300)
-                    # Below the simulated cycles an update extrapolates nothing: the
-                    # difference left is the cycles' scatter, not the step's error.
-                    if ratio <= 1 or n <= s.cycles_per_run:
-                        break
+                    try:
+                        mid_rate = evaluate(half)
+                        new = _advance(half, mid_rate, n / 2)
+                        error = _largest(_difference(new, full))
+                        ratio = error / max(tolerance * _largest(new), 1e-300)
+                        # Below the simulated cycles an update extrapolates nothing: the
+                        # difference left is the cycles' scatter, not the step's error.
+                        if ratio <= 1 or n <= s.cycles_per_run:
+                            next_rate = evaluate(new)
+                            break
+                    except OutOfRange:
+                        # A step so long that its extrapolated profiles are ones the
+                        # wear itself would not reach: a shorter one.
+                        if n <= s.cycles_per_run:
+                            raise
+                        ratio = 25.0
                     n = max(s.cycles_per_run, n * max(0.2, 0.9 / math.sqrt(ratio)))
                 step = n * min(2.0, 0.9 / math.sqrt(max(ratio, 0.25**2)))
-                next_rate = evaluate(new)
             largest = max(effective_clearance(s.nominal[j], *new[j]) for j in s.joints)
             if limit is not None and largest >= limit:
                 before = max(effective_clearance(s.nominal[j], *profiles[j]) for j in s.joints)

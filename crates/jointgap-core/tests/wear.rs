@@ -131,9 +131,9 @@ fn pressed_journal(load: f64, omega: f64) -> Model {
 /// A journal pressed by a constant load `F` and turning at constant speed `omega` in a
 /// fixed bearing, for 4 revolutions: against Archard's closed form (Flores 2009,
 /// section 3). The sliding distance is `R_J` per radian, so `int F_n ds = F omega R_J
-/// t`; the bearing wears at the loaded spot (its bottom, at 270 deg) by the Hertz peak
-/// pressure `p0 = 2 F / (pi b L)` times `2 pi R_J` per revolution, `b = sqrt(4 F R* /
-/// (pi L E*))`; the journal's whole circumference passes through the contact, so its
+/// t`; the bearing wears at the loaded spot (its bottom, at 270 deg) by the peak
+/// pressure `p0 = 3 F / (4 b L)` of the elastic foundation's parabola of Hertz's half
+/// width `b = sqrt(4 F R* / (pi L E*))` times `2 pi R_J` per revolution; the journal's whole circumference passes through the contact, so its
 /// wear spreads uniformly, `F / L` per revolution; each part loses `F 2 pi R_J` per
 /// revolution (per unit k).
 #[test]
@@ -159,7 +159,7 @@ fn pressed_journal_against_closed_form() {
     let e_star = 1.0 / (0.91 / 97e9 + 0.91 / 207e9);
     let r_star = r_j * r_b / (r_b - r_j);
     let b = (4.0 * load * r_star / (std::f64::consts::PI * length * e_star)).sqrt();
-    let p0 = 2.0 * load / (std::f64::consts::PI * b * length);
+    let p0 = 3.0 * load / (4.0 * b * length);
     let spot = w.bearing_depth[3 * cells / 4];
     let closed = p0 * std::f64::consts::TAU * r_j * revolutions;
     assert!((spot / closed - 1.0).abs() < 2e-3, "bearing at its bottom {spot:e} vs {closed:e}");

@@ -131,4 +131,8 @@ pub struct Integrand {
     /// The bearing body's and the journal body's angular velocities [rad/s]: each
     /// part turns under the contact backwards at its own rate.
     pub spins: (f64, f64),
+    /// The eccentricity `|e|` [m].
+    pub eccentricity: f64,
+    /// The eccentricity's angle less the contact normal's [rad] (zero for round parts).
+    pub lead: f64,
 }

@@ -201,13 +201,25 @@ fn put_contact(out: &mut Cursor, sys: &System, ws: &Workspace, k: usize, (q, v):
     for (p, force) in points.iter().zip(&mut forces) {
         *force = c.force(p, states[p.index].onset_for(p.penetration_rate));
     }
-    let forces = &forces[..points.len()];
-    let resultant = points
+    let mut resultant = points
         .iter()
-        .zip(forces)
+        .zip(&forces)
         .map(|(p, (f_n, f_t))| p.force_on_j(*f_n, f_t))
         .reduce(|a, b| a + b)
         .unwrap_or_else(Vec2::zeros);
+    // A worn journal's other rims share the deepest point's slot: their forces count in
+    // the slot's and the joint's.
+    if let PlanarClearance::Revolute(r) = c {
+        if r.worn.is_some() {
+            for p in c.contacts(&bi, &bj, c.reach()).iter().skip(1) {
+                let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+                forces[p.index].0 += f_n;
+                forces[p.index].1 += f_t;
+                resultant += p.force_on_j(f_n, &f_t);
+            }
+        }
+    }
+    let forces = &forces[..points.len()];
     // The located state decides, not the sign of the penetration: right after an onset,
     // projection may leave the penetration a hair below zero.
     let mode = |p: &ContactPoint| {

@@ -11,6 +11,8 @@ use serde::{Deserialize, Serialize};
 
 use super::kind::{Integrand, Kind};
 use crate::error::Error;
+use crate::math::Vec2;
+use crate::mechanics::contact::geometry::Worn;
 use crate::mechanics::contact::{self, ClearanceJoint, ClearanceRevolute, ContactState, WearContact};
 use crate::mechanics::planar::BodyState;
 use crate::output::JointWear;
@@ -66,15 +68,24 @@ pub fn integrand(
 ) -> Option<Integrand> {
     let points = c.contacts(bearing, journal, c.reach());
     let p = points.first()?;
-    let (f_n, _) = c.force(p, state.onset_for(p.penetration_rate));
+    // A worn journal resting on several rims: their forces together, and their mean
+    // sliding speed weighted by force, at the deepest point.
+    let (f_n, load) = points.iter().fold((0.0, 0.0), |(f, l), q| {
+        let (f_n, _) = c.force(q, state.onset_for(q.penetration_rate));
+        let f_n = f_n.max(0.0);
+        (f + f_n, l + f_n * q.slip.norm())
+    });
     (f_n > 0.0).then(|| {
         let alpha = p.normal.y.atan2(p.normal.x);
+        let e = c.geometry.eccentricity(bearing, journal);
         Integrand {
             f_n,
-            speed: p.slip.norm(),
+            speed: load / f_n,
             bearing_angle: alpha - bearing.phi(),
             journal_angle: alpha - journal.phi(),
             spins: (bearing.omega, journal.omega),
+            eccentricity: e.norm(),
+            lead: wrap(e.y.atan2(e.x) - alpha),
         }
     })
 }
@@ -89,6 +100,10 @@ struct Accumulating {
     contact: WearContact,
     /// Bearing and journal radii [m].
     radii: (f64, f64),
+    /// Radial clearance [m].
+    clearance_gap: f64,
+    /// The parts' profiles in the run (round without wear tables).
+    profiles: Worn,
     /// What it has accumulated.
     out: JointWear,
     /// The integrand at the last accepted state.
@@ -119,6 +134,8 @@ impl Wear {
                 slot: range.start,
                 contact,
                 radii: (c.geometry.r_bearing, c.geometry.r_journal),
+                clearance_gap: c.geometry.clearance,
+                profiles: c.worn.as_deref().cloned().unwrap_or_else(Worn::round),
                 out: JointWear {
                     joint: c.name.clone(),
                     angles: (0..n).map(|i| step * i as f64).collect(),
@@ -209,7 +226,13 @@ impl Wear {
                     let f_n = a.f_n + s * (b.f_n - a.f_n);
                     let load = (load_a + s * (load_b - load_a)) * weight;
                     if f_n > 0.0 && load > 0.0 {
-                        deposit(j, f_n, load, (a.bearing_angle + s * turn.0, a.journal_angle + s * turn.1));
+                        let at = Placement {
+                            bearing: a.bearing_angle + s * turn.0,
+                            journal: a.journal_angle + s * turn.1,
+                            eccentricity: a.eccentricity + s * (b.eccentricity - a.eccentricity),
+                            lead: a.lead + s * wrap(b.lead - a.lead),
+                        };
+                        deposit(j, f_n, load, &at, half_cell);
                     }
                 }
             }
@@ -244,98 +267,204 @@ fn wrap(x: f64) -> f64 {
     }
 }
 
-/// Adds to joint `j`'s integrals a load `F_n ds` [N m] (the normal force `f_n` [N] over
-/// a sliding distance) at the contact angles `(bearing, journal)` [rad]: to `int F_n ds`,
-/// and to each part's cells the cell averages of the Hertz pressure times the distance.
-fn deposit(j: &mut Accumulating, f_n: f64, load: f64, (bearing, journal): (f64, f64)) {
-    j.out.load_distance += load;
-    let half_width = j.contact.half_width(f_n);
-    let per_length = load / j.contact.length;
-    spread(&mut j.out.bearing_depth, bearing, half_width / j.radii.0, per_length / j.radii.0);
-    spread(&mut j.out.journal_depth, journal, half_width / j.radii.1, per_length / j.radii.1);
+/// Where the parts touch at one instant of a step, in each part's frame.
+struct Placement {
+    /// The contact normal's angle in the bearing's frame [rad].
+    bearing: f64,
+    /// The same normal's angle in the journal's frame [rad].
+    journal: f64,
+    /// `|e|` [m].
+    eccentricity: f64,
+    /// The eccentricity's angle less the normal's [rad].
+    lead: f64,
 }
 
-/// Adds to the cells of `grid` (cell `c` centred on `2 pi c / N`, periodic) the cell
-/// averages of the elliptical pressure of a Hertz line contact (Johnson 1985, eq. 5.40),
-/// `p(s) = 2 F / (pi b L) sqrt(1 - s^2/b^2)`, centred on angle `centre` [rad] with
-/// half width `half_angle = b / R` [rad], whose integral over the angle is `load_per_rad`
-/// (`F / L` times the sliding distance, over the radius): each cell gets the exact
-/// integral of the pressure over its arc ([`elliptic_share`]) over its angle, so that the
-/// cells' sum times their angle is `load_per_rad`, whatever the grid. A contact wider than
-/// the whole circumference (no joint's) is cut to it.
-fn spread(grid: &mut [f64], centre: f64, half_angle: f64, load_per_rad: f64) {
-    let n = grid.len();
-    let step = std::f64::consts::TAU / n as f64;
-    let half_angle = half_angle.min(std::f64::consts::PI);
-    let edge = |x: f64| ((x / step) + 0.5).floor();
-    let (first, last) = (edge(centre - half_angle), edge(centre + half_angle));
-    let scale = load_per_rad / step;
-    let mut below = 0.0;
-    let mut c = first;
-    while c <= last {
-        let upper = (c + 0.5) * step;
-        let above = elliptic_share((upper - centre) / half_angle);
-        let cell = (c as i64).rem_euclid(n as i64) as usize;
-        grid[cell] += (above - below) * scale;
-        below = above;
-        c += 1.0;
+/// The most samples of the pressure at one instant.
+const MAX_SAMPLES: usize = 1024;
+
+/// Adds to joint `j`'s integrals a load `F_n ds` [N m] (the normal force `f_n` [N] over
+/// a sliding distance) at placement `at`: to `int F_n ds`, and to each part's cells the
+/// pressure times the distance (docs/wear.md, "Contact pressure").
+///
+/// The pressure is an elastic foundation's (Winkler; Johnson 1985, section 4.2) over the
+/// parts' overlap `delta(alpha)` ([`Worn::overlap`]): proportional to how far the
+/// overlap stands above `delta_max - d` in each direction `alpha`,
+/// `p(alpha) ~ max(0, delta(alpha) - delta_max + d)`, scaled to the force. The depth `d
+/// = |e| b^2 / (2 R_B^2)` gives round parts Hertz's half width `b` on the bearing
+/// ([`WearContact::half_width`]): a parabola of peak `3 F / (4 b L)`. On worn parts the
+/// pressure spreads over the arc where the worn surfaces conform, and reaches every rim
+/// of a pocket that stands within `d` of the deepest one, so that a pocket widens as it
+/// deepens instead of growing narrower than the journal that wears it.
+///
+/// The pressure is sampled about the contact normal at a sixteenth of `b / R_B` (and a
+/// quarter of `half_cell`), each sample standing for its interval; the samples' weights
+/// are normalised, so that the cells' sum is the load whatever the sampling.
+fn deposit(j: &mut Accumulating, f_n: f64, load: f64, at: &Placement, half_cell: f64) {
+    j.out.load_distance += load;
+    let (r_b, r_j) = j.radii;
+    let band = j.contact.half_width(f_n) / r_b;
+    let depth = 0.5 * at.eccentricity * band * band;
+    // The bearing's frame: the journal's turned by the difference of the normal's angles.
+    let beta = at.bearing + at.lead;
+    let e = Vec2::new(beta.cos(), beta.sin()) * at.eccentricity;
+    let phis = (0.0, at.bearing - at.journal);
+    let overlap = |alpha: f64| j.profiles.overlap(e, phis, j.clearance_gap, alpha).0;
+    let top = overlap(at.bearing);
+    let half = j.profiles.window(e, j.clearance_gap, top - depth);
+    let h = (band / 16.0).min(0.5 * half_cell).max(2.0 * half / MAX_SAMPLES as f64);
+    // Samples at `at.bearing + k h` over `beta +- half`, one of them at the normal.
+    let (first, last) = (((beta - half - at.bearing) / h).ceil(), ((beta + half - at.bearing) / h).floor());
+    let mut samples = [0.0; MAX_SAMPLES + 2];
+    let count = ((last - first) as usize + 1).min(samples.len());
+    let mut deepest = top;
+    for (i, x) in samples[..count].iter_mut().enumerate() {
+        *x = overlap(at.bearing + (first + i as f64) * h);
+        deepest = deepest.max(*x);
+    }
+    let floor = deepest - depth;
+    let total: f64 = samples[..count].iter().map(|x| (x - floor).max(0.0)).sum();
+    if total <= 0.0 {
+        return;
+    }
+    let per_length = load / j.contact.length;
+    for (i, x) in samples[..count].iter().enumerate() {
+        let share = (x - floor).max(0.0) / total;
+        if share > 0.0 {
+            let offset = (first + i as f64) * h;
+            spread(&mut j.out.bearing_depth, at.bearing + offset, h, share * per_length / r_b);
+            spread(&mut j.out.journal_depth, at.journal + offset, h, share * per_length / r_j);
+        }
     }
 }
 
-/// The share of an elliptical pressure `sqrt(1 - x^2)` on `[-1, 1]` that lies below
-/// `x`: `1/2 + (x sqrt(1 - x^2) + asin x) / pi`, clamped to `[0, 1]` outside.
-fn elliptic_share(x: f64) -> f64 {
-    let x = x.clamp(-1.0, 1.0);
-    0.5 + (x * (1.0 - x * x).sqrt() + x.asin()) / std::f64::consts::PI
+/// Adds `load_per_rad` (a wear per unit `k` times the angle it covers) spread evenly over the angles
+/// `centre +- width / 2` [rad] to the cells of `grid` (cell `c` centred on `2 pi c / N`,
+/// periodic) as cell averages: each cell gets its share of the interval over its angle,
+/// so that the cells' sum times their angle is `load_per_rad`.
+fn spread(grid: &mut [f64], centre: f64, width: f64, load_per_rad: f64) {
+    let n = grid.len();
+    let step = std::f64::consts::TAU / n as f64;
+    let (lo, hi) = ((centre - 0.5 * width) / step + 0.5, (centre + 0.5 * width) / step + 0.5);
+    let scale = load_per_rad / (step * (hi - lo));
+    let mut c = lo.floor();
+    while c < hi {
+        let covered = hi.min(c + 1.0) - lo.max(c);
+        grid[(c as i64).rem_euclid(n as i64) as usize] += covered * scale;
+        c += 1.0;
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::{PI, TAU};
 
-    /// The shares of the ellipse: half below the centre, all below its edge, and the
-    /// area under `sqrt(1 - x^2)` by a midpoint sum.
-    #[test]
-    fn elliptic_share_is_the_ellipse_area() {
-        assert_eq!(elliptic_share(-2.0), 0.0);
-        assert!((elliptic_share(0.0) - 0.5).abs() < 1e-16);
-        assert_eq!(elliptic_share(1.0), 1.0);
-        let x = 0.37;
-        let m = 100_000;
-        let sum: f64 = (0..m)
-            .map(|i| {
-                let s = -1.0 + (x + 1.0) * (i as f64 + 0.5) / m as f64;
-                (1.0 - s * s).sqrt() * (x + 1.0) / m as f64
-            })
-            .sum();
-        assert!((elliptic_share(x) - sum / (std::f64::consts::PI / 2.0)).abs() < 1e-7);
-    }
-
-    /// A spread keeps its load on any grid (across the grid's seam at 0 too), and puts it
-    /// in the cells the contact covers, symmetric about its centre.
+    /// A spread keeps its load on any grid (across the grid's seam at 0 too), puts it in
+    /// the cells the interval covers, and shares it by the covered angle.
     #[test]
     fn spread_keeps_the_load() {
-        for (n, centre, half) in [(36, 0.0, 0.05), (360, 3.0, 0.05), (8, -0.1, 0.3), (720, 6.27, 1e-4)] {
+        for (n, centre, width) in [(36, 0.0, 0.05), (360, 3.0, 0.001), (8, -0.1, 0.3), (720, 6.27, 1e-4)] {
             let mut grid = vec![0.0; n];
-            spread(&mut grid, centre, half, 2.5);
-            let step = std::f64::consts::TAU / n as f64;
+            spread(&mut grid, centre, width, 2.5);
+            let step = TAU / n as f64;
             let total: f64 = grid.iter().sum::<f64>() * step;
             assert!((total - 2.5).abs() < 1e-13, "{n}: {total}");
             for (c, g) in grid.iter().enumerate() {
-                let d = (c as f64 * step - centre + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
-                if d.abs() > half + step {
+                let d = wrap(c as f64 * step - centre);
+                if d.abs() > 0.5 * (width + step) {
                     assert_eq!(*g, 0.0, "{n}: cell {c}");
                 }
             }
         }
-        // Centred on a cell's centre: its neighbours take equal shares.
-        let mut grid = vec![0.0; 360];
-        let step = std::f64::consts::TAU / 360.0;
-        spread(&mut grid, 10.0 * step, 2.5 * step, 1.0);
-        assert!(
-            (grid[9] - grid[11]).abs() < 1e-12 * grid[10] && (grid[8] - grid[12]).abs() < 1e-12 * grid[10]
-        );
-        assert_eq!(grid[7], 0.0);
+        // An interval across two cells' border at a quarter of its width.
+        let mut grid = vec![0.0; 4];
+        spread(&mut grid, PI / 4.0 + 0.25 * 0.2 - 0.1 + 0.1, 0.2, 1.0);
+        let step = TAU / 4.0;
+        assert!((grid[0] * step - 0.25).abs() < 1e-12 && (grid[1] * step - 0.75).abs() < 1e-12, "{grid:?}");
+    }
+
+    /// A joint of radii 10 mm and 9.5 mm, 10 mm long, on grids of `cells`, worn as given.
+    fn joint(cells: usize, profiles: Worn) -> Accumulating {
+        Accumulating {
+            clearance: 0,
+            slot: 0,
+            contact: WearContact { length: 0.01, contact_modulus: 1e11, effective_radius: 0.19 },
+            radii: (0.01, 0.0095),
+            clearance_gap: 0.0005,
+            profiles,
+            out: JointWear {
+                joint: "c".into(),
+                angles: (0..cells).map(|i| TAU * i as f64 / cells as f64).collect(),
+                bearing_depth: vec![0.0; cells],
+                journal_depth: vec![0.0; cells],
+                load_distance: 0.0,
+                bearing_volume: 0.0,
+                journal_volume: 0.0,
+            },
+            last: None,
+        }
+    }
+
+    /// Round parts: the foundation's pressure on the bearing is a parabola of Hertz's
+    /// half width `b` and peak `3 F / (4 b L)`, `b = sqrt(4 F R* / (pi L E*))`, centred
+    /// on the normal; the journal takes the same load at its own angle; both sum to the
+    /// load.
+    #[test]
+    fn round_parts_wear_under_a_parabola_of_hertz_width() {
+        let cells = 7200;
+        let mut j = joint(cells, Worn::round());
+        let (f_n, slid) = (2000.0, 1e-3);
+        let b = j.contact.half_width(f_n);
+        let penetration = 1e-5;
+        let at = Placement { bearing: 1.0, journal: -2.0, eccentricity: 0.0005 + penetration, lead: 0.0 };
+        deposit(&mut j, f_n, f_n * slid, &at, PI / cells as f64);
+        let step = TAU / cells as f64;
+        let (r_b, length) = (0.01, 0.01);
+        let peak = 3.0 * f_n / (4.0 * b * length) * slid;
+        for (c, d) in j.out.bearing_depth.iter().enumerate() {
+            let s = wrap(c as f64 * step - 1.0) * r_b;
+            let parabola = if s.abs() < b { peak * (1.0 - (s / b).powi(2)) } else { 0.0 };
+            // Within the sampling's resolution (b / 16 against b's parabola).
+            assert!((d - parabola).abs() < 0.02 * peak, "cell {c}: {d:e} vs {parabola:e}");
+        }
+        let centre = (1.0 / step).round() as usize;
+        assert!((j.out.bearing_depth[centre] / peak - 1.0).abs() < 5e-3, "{:e}", j.out.bearing_depth[centre]);
+        let sum = |g: &[f64], r: f64| g.iter().sum::<f64>() * step * r * length;
+        assert!((sum(&j.out.bearing_depth, r_b) / (f_n * slid) - 1.0).abs() < 1e-12);
+        assert!((sum(&j.out.journal_depth, 0.0095) / (f_n * slid) - 1.0).abs() < 1e-12);
+        let journal_centre = ((TAU - 2.0) / step).round() as usize;
+        let max = j.out.journal_depth.iter().cloned().fold(0.0, f64::max);
+        assert_eq!(j.out.journal_depth[journal_centre], max);
+    }
+
+    /// A journal pressed across a pocket narrower than itself (a bearing worn 20 um deep
+    /// over 6 degrees at 90 degrees, 3 table points, the journal's centre above it) touches
+    /// the pocket's two rims, not its bottom: the wear goes to the rims, equally, and none
+    /// to the pocket's middle; the overlap's largest value is at a rim.
+    #[test]
+    fn a_pocket_narrower_than_the_journal_wears_at_its_rims() {
+        let n = 360;
+        let table: Vec<f64> = (0..n)
+            .map(|k| {
+                let d = (k as f64 - 90.0).abs();
+                if d <= 3.0 {
+                    2e-5 * (1.0 - (d / 3.0).powi(2))
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let worn =
+            Worn::new(crate::error::Named::joint("c"), (Some(&table[..]), None), 0.0095).unwrap().unwrap();
+        let mut j = joint(3600, worn);
+        let e = 0.0005 + 2e-6;
+        let at = Placement { bearing: PI / 2.0, journal: 0.0, eccentricity: e, lead: 0.0 };
+        deposit(&mut j, 500.0, 1.0, &at, PI / 3600.0);
+        let cell = |deg: f64| (deg * 10.0).round() as usize;
+        assert_eq!(j.out.bearing_depth[cell(90.0)], 0.0, "the pocket's bottom");
+        let (left, right) =
+            (&j.out.bearing_depth[cell(85.0)..cell(90.0)], &j.out.bearing_depth[cell(90.0)..cell(95.0)]);
+        let (l, r): (f64, f64) = (left.iter().sum(), right.iter().sum());
+        assert!(l > 0.0 && (l / r - 1.0).abs() < 1e-6, "rims {l:e} {r:e}");
     }
 }

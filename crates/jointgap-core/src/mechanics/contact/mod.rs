@@ -366,7 +366,7 @@ impl ClearanceJoint for ClearanceRevolute {
     }
 
     fn elastic_energy(&self, p: &ContactPoint) -> f64 {
-        self.normal.elastic_energy(p.penetration)
+        p.share * self.normal.elastic_energy(p.penetration)
     }
 
     /// Rejects an initial state (`bearing`, `journal`: the body states after assembly)
@@ -507,7 +507,7 @@ pub(crate) fn dry_force(
     p: &ContactPoint,
     onset_speed: f64,
 ) -> (f64, Tangential) {
-    let f_n = normal.force(p.penetration, p.penetration_rate, onset_speed);
+    let f_n = p.share * normal.force(p.penetration, p.penetration_rate, onset_speed);
     let f_t = if f_n > 0.0 { friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
     (f_n, f_t)
 }
@@ -527,7 +527,10 @@ where
 {
     sum_losses(c.contacts(i, j, c.reach()).iter(), |p| {
         let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
-        ((f_n - normal.elastic_force(p.penetration)) * p.penetration_rate, -point::dot(&f_t, &p.slip))
+        (
+            (f_n - p.share * normal.elastic_force(p.penetration)) * p.penetration_rate,
+            -point::dot(&f_t, &p.slip),
+        )
     })
 }
 

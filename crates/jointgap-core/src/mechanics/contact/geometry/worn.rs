@@ -13,7 +13,10 @@
 //! past the bearing's wall by `delta(alpha) = e . u + h_J(alpha) - h_B(alpha)`, `e` the
 //! eccentricity: for convex parts the penetration is the largest `delta(alpha)` (the
 //! separating-axis theorem), at the angle where `delta'(alpha) = 0`, whose `u` is the
-//! contact normal.
+//! contact normal. A journal in a worn pocket may see several local maxima (the pocket's
+//! rims): the largest is found by a scan of the angles where it can lie, then Newton's
+//! method, so that the penetration stays continuous when the deepest point passes from
+//! one rim to the other.
 
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
@@ -81,6 +84,14 @@ impl PeriodicSpline {
     fn curvature_range(&self) -> (f64, f64) {
         self.curvatures.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &m| (lo.min(m), hi.max(m)))
     }
+
+    /// A value the spline never goes below: the smallest table value less the most a
+    /// cubic piece can sag below its chord, `h^2 max|s''| / 8`.
+    fn floor(&self) -> f64 {
+        let (lo, hi) = self.curvature_range();
+        let lowest = self.values.iter().fold(f64::INFINITY, |a, &v| a.min(v));
+        lowest - self.spacing * self.spacing * lo.abs().max(hi.abs()) / 8.0
+    }
 }
 
 /// Solves the cyclic system `x_{k-1} + 4 x_k + x_{k+1} = r_k` by the Thomas algorithm
@@ -125,12 +136,19 @@ pub struct Worn {
     pub bearing: Option<PeriodicSpline>,
     /// Journal wear `w_J(theta)` [m].
     pub journal: Option<PeriodicSpline>,
+    /// A lower bound of `w_B + w_J` at any angles [m]: where the deepest point can lie.
+    floor: f64,
+    /// The angle between the scan's samples [rad]: a quarter of the finer table's step.
+    scan_step: f64,
 }
 
-/// Newton iterations on the contact angle at most: from the eccentricity's direction,
-/// which is the answer for round parts, a smooth profile converges quadratically in two
-/// or three.
-const NEWTON_ITERATIONS: usize = 8;
+/// Iterations of the refinement of one maximum at most: Newton's converge in two or
+/// three from the middle of a bracket; bisections halve it each (2^-45 of it).
+const REFINE_ITERATIONS: usize = 45;
+
+/// Pieces of the two scan steps about a sample in which [`Worn::refine`] looks for a
+/// maximum.
+const BRACKETS: usize = 4;
 
 impl Worn {
     /// Checks the wear tables `bearing_wear` and `journal_wear` [m] of joint `who`, whose
@@ -138,8 +156,8 @@ impl Worn {
     /// at least [`MIN_POINTS`] finite depths, none negative, and a journal that stays
     /// convex (a wear deeper than the journal is no journal). `None` without tables.
     /// A profile curved more sharply than the clearance (`|w_B''| + |w_J''|` above it,
-    /// a pocket narrower than the journal's path) may touch at two points: the deepest
-    /// one near the eccentricity's direction is taken alone (docs/wear.md).
+    /// a pocket narrower than the journal's path) may touch at several points, each a
+    /// contact point ([`contact_worn`]).
     pub fn new(
         who: Named,
         (bearing_wear, journal_wear): (Option<&[f64]>, Option<&[f64]>),
@@ -163,13 +181,18 @@ impl Worn {
             }
             Ok(Some(PeriodicSpline::new(values)))
         };
-        let worn = Worn {
-            bearing: table("bearing_wear", bearing_wear)?,
-            journal: table("journal_wear", journal_wear)?,
-        };
-        if worn.bearing.is_none() && worn.journal.is_none() {
+        let (bearing, journal) = (table("bearing_wear", bearing_wear)?, table("journal_wear", journal_wear)?);
+        if bearing.is_none() && journal.is_none() {
             return Ok(None);
         }
+        let floor = |s: &Option<PeriodicSpline>| s.as_ref().map_or(0.0, PeriodicSpline::floor);
+        let step = |s: &Option<PeriodicSpline>| s.as_ref().map_or(f64::INFINITY, |s| s.spacing);
+        let worn = Worn {
+            floor: floor(&bearing) + floor(&journal),
+            scan_step: 0.25 * step(&bearing).min(step(&journal)),
+            bearing,
+            journal,
+        };
         let range =
             |s: &Option<PeriodicSpline>| s.as_ref().map_or((0.0, 0.0), PeriodicSpline::curvature_range);
         let (journal_depth, journal_bend) = match &worn.journal {
@@ -202,16 +225,245 @@ impl Worn {
     }
 }
 
+impl Worn {
+    /// Round parts: no wear on either.
+    pub fn round() -> Self {
+        Worn { bearing: None, journal: None, floor: 0.0, scan_step: f64::INFINITY }
+    }
+
+    /// The overlap `delta(alpha) = e . u(alpha) - c - w_B(alpha - phi_B) - w_J(alpha -
+    /// phi_J)` of a journal at eccentricity `e` in a bearing of clearance `c`, the
+    /// bodies turned by `(phi_B, phi_J)`, and its first two derivatives in `alpha`.
+    #[inline]
+    pub fn overlap(
+        &self,
+        e: Vec2,
+        (phi_b, phi_j): (f64, f64),
+        clearance: f64,
+        alpha: f64,
+    ) -> (f64, f64, f64) {
+        let u = Vec2::new(alpha.cos(), alpha.sin());
+        let (wb, db, ddb) = self.bearing_at(alpha - phi_b);
+        let (wj, dj, ddj) = self.journal_at(alpha - phi_j);
+        (e.dot(&u) - clearance - wb - wj, e.dot(&perp(u)) - db - dj, -e.dot(&u) - ddb - ddj)
+    }
+
+    /// The angles about `e`'s direction `beta` where the overlap can reach `at_least` [m]:
+    /// `|alpha - beta| <= acos((at_least + c + floor) / |e|)` (pi: anywhere).
+    pub fn window(&self, e: Vec2, clearance: f64, at_least: f64) -> f64 {
+        let norm = e.norm();
+        if norm < 1e-15 {
+            return std::f64::consts::PI;
+        }
+        ((at_least + clearance + self.floor) / norm).clamp(-1.0, 1.0).acos()
+    }
+
+    /// The local maxima of the overlap ([`Worn::overlap`]) as `(alpha, delta, share)`,
+    /// the largest first, at most [`RIMS`]: a scan, at a quarter of the finer table's
+    /// step, of the angles about the eccentricity's direction where the overlap can
+    /// exceed its value there, or `floor` [m] if lower ([`Worn::window`]); each local
+    /// maximum of the samples refined by Newton's method on `delta' = 0` within a scan
+    /// step of it, and so each lowest sample between two (a dip). Refining each,
+    /// not the best sample alone, since the samples' own error can exceed the difference
+    /// between a worn pocket's rims: Newton from the eccentricity's direction alone would
+    /// take the rim on its side, and the penetration would jump when the journal crossed
+    /// the pocket's middle.
+    ///
+    /// Each maximum takes a share of its law's force ([`merging`]): a rim whose contact
+    /// is apart from the deepest one's (the overlap between them below zero) takes all
+    /// of it; one whose contact merges into the deepest's gives up the merged part,
+    /// shared with the deepest by their heights, so that the force stays continuous when
+    /// a maximum appears or vanishes and when two maxima trade places as the deepest.
+    fn maxima(&self, e: Vec2, phis: (f64, f64), clearance: f64, floor: f64) -> Maxima {
+        let beta = if e.norm() > 1e-15 { e.y.atan2(e.x) } else { 0.0 };
+        let at = |alpha: f64| self.overlap(e, phis, clearance, alpha).0;
+        let h = self.scan_step;
+        let samples = (self.window(e, clearance, at(beta).min(floor)) / h).ceil() as i64;
+        // In the scan's order: each maximum with the lowest overlap between it and the
+        // one before (minus infinity for the first).
+        let mut peaks = [(0.0, 0.0, f64::NEG_INFINITY); PEAKS];
+        let mut count = 0;
+        let mut best = (beta, at(beta));
+        let mut dip = (beta, f64::INFINITY);
+        let (mut before, mut here) = (f64::NEG_INFINITY, at(beta - samples as f64 * h));
+        for k in -samples..=samples {
+            let alpha = beta + k as f64 * h;
+            let after = if k < samples { at(alpha + h) } else { f64::NEG_INFINITY };
+            if here < dip.1 {
+                dip = (alpha, here);
+            }
+            if here >= before && here >= after {
+                if here > best.1 {
+                    best = (alpha, here);
+                }
+                if let (Some((a, d)), true) = (self.refine(e, phis, clearance, alpha, 1.0), count < PEAKS) {
+                    let same = count > 0 && (a - peaks[count - 1].0).abs() < 0.5 * h;
+                    if same {
+                        peaks[count - 1] = if d > peaks[count - 1].1 {
+                            (a, d, peaks[count - 1].2)
+                        } else {
+                            peaks[count - 1]
+                        };
+                    } else {
+                        let saddle = if count == 0 {
+                            f64::NEG_INFINITY
+                        } else {
+                            self.refine(e, phis, clearance, dip.0, -1.0).map_or(dip.1, |(_, s)| s)
+                        };
+                        peaks[count] = (a, d, saddle);
+                        count += 1;
+                    }
+                    dip = (alpha, f64::INFINITY);
+                }
+            }
+            (before, here) = (here, after);
+        }
+        let mut found = Maxima::default();
+        // Nothing converged (a flat overlap): the best sample.
+        if count == 0 {
+            found.add((best.0, best.1, 1.0));
+            return found;
+        }
+        let peaks = &peaks[..count];
+        let deepest = (0..count).fold(0, |m, k| if peaks[k].1 > peaks[m].1 { k } else { m });
+        let top = peaks[deepest].1;
+        let mut top_share = 1.0;
+        for (k, &(alpha, delta, _)) in peaks.iter().enumerate() {
+            if k == deepest {
+                continue;
+            }
+            // The pass between k and the deepest, the lowest of the dips on the way (those
+            // of the peaks after the first of the two): above it their contacts are one.
+            let between = if k < deepest { &peaks[k + 1..=deepest] } else { &peaks[deepest + 1..=k] };
+            let saddle = between.iter().fold(f64::INFINITY, |m, p| m.min(p.2)).max(0.0);
+            let (merged, lower) = merging(delta, saddle, top);
+            found.add((alpha, delta, 1.0 - merged * lower));
+            top_share -= merged * (1.0 - lower);
+        }
+        found.add((peaks[deepest].0, top, f64::max(top_share, 0.0)));
+        found
+    }
+
+    /// The maximum (`sign` 1) or minimum (-1) of the overlap within a scan step of the
+    /// sample `start` that stands at least as high (low) as its two neighbours: its
+    /// angle and overlap. The step on either side is cut in [`BRACKETS`] pieces; in each
+    /// whose ends' slopes bracket a maximum, Newton's method on `delta' = 0` kept inside
+    /// the bracket, bisecting where a Newton step would leave it or the overlap curves
+    /// the wrong way (Press et al., Numerical Recipes, `rtsafe`); the highest of those.
+    /// Every piece, so that two extrema within one step are told apart and the same one
+    /// is found whichever side the sample lies. `None` where no piece brackets one.
+    fn refine(&self, e: Vec2, phis: (f64, f64), clearance: f64, start: f64, sign: f64) -> Option<(f64, f64)> {
+        let h = self.scan_step.min(0.5);
+        let piece = 2.0 * h / BRACKETS as f64;
+        let slope = |alpha: f64| {
+            let (_, d1, d2) = self.overlap(e, phis, clearance, alpha);
+            (sign * d1, sign * d2)
+        };
+        let mut best: Option<(f64, f64)> = None;
+        let mut left = slope(start - h).0;
+        for b in 0..BRACKETS {
+            let (mut lo, mut hi) = (start - h + b as f64 * piece, start - h + (b + 1) as f64 * piece);
+            let right = slope(hi).0;
+            if !(left >= 0.0 && right <= 0.0) || (left == 0.0 && b > 0) {
+                left = right;
+                continue;
+            }
+            left = right;
+            let mut alpha = 0.5 * (lo + hi);
+            for _ in 0..REFINE_ITERATIONS {
+                let (d1, d2) = slope(alpha);
+                if d1 == 0.0 {
+                    break;
+                }
+                let newton = alpha - d1 / d2;
+                if d2 < 0.0 && (d1 / d2).abs() < 1e-14 {
+                    alpha = newton;
+                    break;
+                }
+                if d1 > 0.0 {
+                    lo = alpha;
+                } else {
+                    hi = alpha;
+                }
+                alpha = if d2 < 0.0 && newton >= lo && newton <= hi { newton } else { 0.5 * (lo + hi) };
+                if hi - lo < 1e-13 {
+                    break;
+                }
+            }
+            let value = sign * self.overlap(e, phis, clearance, alpha).0;
+            if best.is_none_or(|(_, v)| value > v) {
+                best = Some((alpha, value));
+            }
+        }
+        best.map(|(alpha, value)| (alpha, sign * value))
+    }
+}
+
+/// The most local maxima of the overlap a worn joint takes as contact points: its rims.
+pub const RIMS: usize = 4;
+
+/// The largest local maxima of an overlap, `(alpha, delta)`, in decreasing `delta`.
+/// How a maximum of overlap `delta` merges with the deepest, of overlap `top`, across
+/// the pass `saddle` >= 0 between them (the lowest overlap on the way): `(merged, lower)`. `merged = saddle /
+/// delta` is the part of its contact that lies in one region with the deepest's (0 for
+/// contacts apart, 1 where the maximum meets the saddle and vanishes); of that part the
+/// maximum gives up the fraction `lower` and the deepest the rest, `lower` rising from
+/// 1/2 for equal maxima to 1 once the deepest stands higher by the maximum's own height
+/// above the saddle. The maximum's share of its force is `1 - merged lower`, the
+/// deepest's `1 - merged (1 - lower)`: for two equal maxima each takes `1 - merged / 2`,
+/// whichever is called the deepest, and a maximum that vanishes into the saddle takes
+/// nothing while the deepest takes all its own.
+fn merging(delta: f64, saddle: f64, top: f64) -> (f64, f64) {
+    if delta <= 0.0 {
+        return (0.0, 1.0);
+    }
+    let merged = (saddle / delta).clamp(0.0, 1.0);
+    let height = delta - saddle;
+    let lower = if height > 0.0 { (0.5 + 0.5 * (top - delta) / height).clamp(0.5, 1.0) } else { 0.5 };
+    (merged, lower)
+}
+
+/// The most local maxima of one scan that are followed (a profile that rings more
+/// often within the window is not a worn part).
+const PEAKS: usize = 16;
+
+/// The largest local maxima of an overlap, `(alpha, delta, share)`, in decreasing
+/// `delta`.
+#[derive(Default)]
+struct Maxima {
+    found: [(f64, f64, f64); RIMS],
+    count: usize,
+}
+
+impl Maxima {
+    /// Adds a maximum unless it is smaller than the [`RIMS`] largest.
+    fn add(&mut self, maximum: (f64, f64, f64)) {
+        let at = self.found[..self.count].iter().position(|m| maximum.1 > m.1).unwrap_or(self.count);
+        if at == RIMS {
+            return;
+        }
+        self.count = (self.count + 1).min(RIMS);
+        self.found.copy_within(at..self.count - 1, at + 1);
+        self.found[at] = maximum;
+    }
+
+    fn iter(&self) -> impl Iterator<Item = &(f64, f64, f64)> {
+        self.found[..self.count].iter()
+    }
+}
+
 /// Velocity of a global point `p` of a body.
 #[inline]
 fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
     b.v + perp(p - b.r) * b.omega
 }
 
-/// The contact point of a worn journal in its worn bearing, pushed onto `out` unless the
-/// gap is `reach` [m] or more: the normal angle `alpha` where the overlap `delta(alpha)
-/// = e . u + R_J - w_J(alpha - phi_J) - R_B - w_B(alpha - phi_B)` is largest (Newton's
-/// method on `delta' = 0` from the eccentricity's direction), the penetration
+/// The contact points of a worn journal in its worn bearing, pushed onto `out` unless
+/// the gap is `reach` [m] or more. The first is the deepest: the normal angle `alpha`
+/// where the overlap `delta(alpha) = e . u + R_J - w_J(alpha - phi_J) - R_B - w_B(alpha -
+/// phi_B)` is largest; for a finite reach the other local maxima follow, the rims of a
+/// worn pocket on which the journal rests at once ([`Worn::maxima`]). All share the
+/// joint's one contact state (index 0). Each has the penetration
 /// `delta(alpha)`, the material points `c + h u + h' u_perp` of each part, and the
 /// relative velocity of the journal's point to the bearing's along `n` and the tangent.
 /// Since `delta' = 0` there, the penetration's time derivative is its partial one at
@@ -227,43 +479,38 @@ pub fn contact_worn(
     let (centre_b, centre_j) = g.centres(bearing, journal);
     let e = centre_j - centre_b;
     let (phi_b, phi_j) = (bearing.phi(), journal.phi());
-    let mut alpha = if e.norm() > 1e-15 { e.y.atan2(e.x) } else { 0.0 };
-    for _ in 0..NEWTON_ITERATIONS {
-        let u = Vec2::new(alpha.cos(), alpha.sin());
-        let (_, db, ddb) = worn.bearing_at(alpha - phi_b);
-        let (_, dj, ddj) = worn.journal_at(alpha - phi_j);
-        let slope = e.dot(&perp(u)) - dj - db;
-        let bend = -e.dot(&u) - ddj - ddb;
-        // Past a maximum only: where the overlap curves upwards (a worn pocket's edge,
-        // or a journal near the centre) Newton would head for a minimum.
-        let step = if bend < 0.0 { -slope / bend } else { slope.signum() * 0.1 };
-        let step = step.clamp(-0.5, 0.5);
-        alpha += step;
-        if step.abs() < 1e-13 {
-            break;
-        }
-    }
-    let u = Vec2::new(alpha.cos(), alpha.sin());
-    let (wb, db, _) = worn.bearing_at(alpha - phi_b);
-    let (wj, dj, _) = worn.journal_at(alpha - phi_j);
-    let penetration = e.dot(&u) + (g.r_journal - wj) - (g.r_bearing + wb);
-    if penetration <= -reach {
+    // No angle overlaps by more than |e| - c - (w_B + w_J)'s floor.
+    if e.norm() - g.clearance - worn.floor <= -reach {
         return;
     }
-    let t = tangents(u);
-    let point_journal = centre_j + u * (g.r_journal - wj) - t[0] * dj;
-    let point_bearing = centre_b + u * (g.r_bearing + wb) + t[0] * db;
-    let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
-    out.push(ContactPoint {
-        index: 0,
-        normal: u,
-        penetration,
-        penetration_rate: v.dot(&u),
-        slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
-        share: 1.0,
-        on_i: MaterialPoint { body: g.bearing, at: point_bearing },
-        on_j: MaterialPoint { body: g.journal, at: point_journal },
-    });
+    // The rims beyond the deepest only for the forces (a finite reach): the contact
+    // state, its events and channels follow the deepest point.
+    let rims = if reach.is_finite() { RIMS } else { 1 };
+    let floor = if reach.is_finite() { -reach } else { f64::INFINITY };
+    let maxima = worn.maxima(e, (phi_b, phi_j), g.clearance, floor);
+    for &(alpha, _, share) in maxima.iter().take(rims) {
+        let u = Vec2::new(alpha.cos(), alpha.sin());
+        let (wb, db, _) = worn.bearing_at(alpha - phi_b);
+        let (wj, dj, _) = worn.journal_at(alpha - phi_j);
+        let penetration = e.dot(&u) + (g.r_journal - wj) - (g.r_bearing + wb);
+        if penetration <= -reach {
+            return;
+        }
+        let t = tangents(u);
+        let point_journal = centre_j + u * (g.r_journal - wj) - t[0] * dj;
+        let point_bearing = centre_b + u * (g.r_bearing + wb) + t[0] * db;
+        let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
+        out.push(ContactPoint {
+            index: 0,
+            normal: u,
+            penetration,
+            penetration_rate: v.dot(&u),
+            slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
+            share,
+            on_i: MaterialPoint { body: g.bearing, at: point_bearing },
+            on_j: MaterialPoint { body: g.journal, at: point_journal },
+        });
+    }
 }
 
 #[cfg(test)]
@@ -459,10 +706,114 @@ mod tests {
             let q = out[0];
             // To a few ulps of the radii (1.7e-18 m at 10 mm).
             assert!((p.penetration - q.penetration).abs() < 1e-17, "{} vs {}", p.penetration, q.penetration);
-            assert!((p.normal - q.normal).norm() < 1e-14);
+            assert!((p.normal - q.normal).norm() < 1e-14, "{:?} {:?}", p.normal, q.normal);
             assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-13);
             assert!((p.slip - q.slip).norm() < 1e-13);
             assert!((p.on_i.at - q.on_i.at).norm() < 1e-17 && (p.on_j.at - q.on_j.at).norm() < 1e-17);
+        }
+    }
+
+    /// A journal swept across a pocket narrower than itself (20 um deep over 8 degrees,
+    /// uneven: one rim 2 um lower): at every direction the penetration is the largest
+    /// overlap of a fine search, also where the deepest point passes from one rim to the
+    /// other, so that it never jumps.
+    #[test]
+    fn penetration_is_the_global_largest_overlap_across_a_pocket() {
+        let g = joint();
+        let pocket = |t: f64| {
+            let d = (t - PI / 2.0) / (4.0 * PI / 180.0);
+            if d.abs() < 1.0 {
+                2e-5 * (1.0 - d * d) + if d > 0.0 { 2e-6 * d } else { 0.0 }
+            } else {
+                0.0
+            }
+        };
+        let w = worn(Some(table(360, pocket)), None);
+        let bearing = BodyState::new(Vec2::zeros(), 0.0, Vec2::zeros(), 0.0);
+        let spline = w.bearing.as_ref().unwrap();
+        let mut last = f64::NAN;
+        for k in 0..=200 {
+            let beta = PI / 2.0 + (k as f64 - 100.0) * 1e-4 * 8.0;
+            let ecc = 0.000503;
+            let e = Vec2::new(beta.cos(), beta.sin()) * ecc;
+            let journal = journal_at(&g, &bearing, e, 0.0, Vec2::zeros(), 0.0);
+            let p = point(&g, &w, &bearing, &journal);
+            let overlap = |alpha: f64| ecc * (alpha - beta).cos() - g.clearance - spline.eval(alpha).0;
+            let best = (0..40_000)
+                .map(|i| beta - 0.3 + 0.6 * i as f64 / 40_000.0)
+                .map(overlap)
+                .fold(f64::MIN, f64::max);
+            assert!(
+                p.penetration >= best - 1e-13 && p.penetration < best + 1e-10,
+                "{beta}: {} vs {best}",
+                p.penetration
+            );
+            // Turning e by d_beta changes any direction's overlap by |e| sin(alpha - beta)
+            // d_beta, below 4e-8 m within 0.1 rad; the rims' heights differ by 2 um.
+            if k > 0 {
+                assert!(
+                    (p.penetration - last).abs() < 4e-8,
+                    "{beta}: jumps from {last} to {}",
+                    p.penetration
+                );
+            }
+            last = p.penetration;
+        }
+    }
+
+    /// A journal pressed into a pocket narrower than itself (20 um deep over 8 degrees)
+    /// rests on both rims: two contact points, mirror images about the pocket's axis,
+    /// each taking its whole force (the pocket's bottom is apart). Swept across the
+    /// pocket and across a shallow double top, the resultant of `share delta^1.5 n` over
+    /// the points never jumps, where the deepest point alone would leap from rim to rim.
+    #[test]
+    fn a_journal_rests_on_both_rims_of_a_narrow_pocket() {
+        let g = joint();
+        let pocket = |centre: f64, depth: f64, half: f64| {
+            move |t: f64| {
+                let d = (t - centre) / half;
+                if d.abs() < 1.0 {
+                    depth * (1.0 - d * d)
+                } else {
+                    0.0
+                }
+            }
+        };
+        let bearing = BodyState::new(Vec2::zeros(), 0.0, Vec2::zeros(), 0.0);
+        let narrow = worn(Some(table(360, pocket(PI / 2.0, 2e-5, 4.0 * PI / 180.0))), None);
+        let points = |w: &Worn, beta: f64, ecc: f64| {
+            let e = Vec2::new(beta.cos(), beta.sin()) * ecc;
+            let journal = journal_at(&g, &bearing, e, 0.0, Vec2::zeros(), 0.0);
+            let mut out = ContactPoints::new();
+            contact_worn(&g, w, &bearing, &journal, 0.0, &mut out);
+            out
+        };
+        let p = points(&narrow, PI / 2.0, 0.000503);
+        assert_eq!(p.len(), 2);
+        assert!((p[0].penetration - p[1].penetration).abs() < 1e-12);
+        assert!((p[0].share, p[1].share) == (1.0, 1.0));
+        let sum = p[0].normal + p[1].normal;
+        assert!(sum.x.abs() < 1e-9 && sum.y > 1.9, "{sum:?}");
+        assert!(p.iter().all(|q| (q.normal.y.atan2(q.normal.x) - PI / 2.0).abs() > 2.0 * PI / 180.0));
+        // A double top: two shallow bumps 1 nm apart in height, on a wide worn pocket.
+        let double = worn(
+            Some(table(360, |t| pocket(PI / 2.0, 1e-5, 0.5)(t) - pocket(PI / 2.0, 2e-8, 0.03)(t))),
+            None,
+        );
+        for (w, ecc) in [(&narrow, 0.000503), (&double, 0.000512)] {
+            let resultant = |beta: f64| {
+                points(w, beta, ecc)
+                    .iter()
+                    .map(|q| q.normal * q.share * q.penetration.max(0.0).powf(1.5))
+                    .fold(Vec2::zeros(), |a, b| a + b)
+            };
+            let (dbeta, mut last) = (2e-5, resultant(PI / 2.0 - 0.02));
+            let scale = last.norm();
+            for k in 1..=2000 {
+                let now = resultant(PI / 2.0 - 0.02 + k as f64 * dbeta);
+                assert!((now - last).norm() < 0.01 * scale, "step {k}: {last:?} -> {now:?}");
+                last = now;
+            }
         }
     }
 
