@@ -151,6 +151,22 @@ pub struct JointWear {
     pub journal_volume: f64,
 }
 
+impl JointWear {
+    /// Nothing accumulated yet for joint `joint` on grids of `cells` cells.
+    pub fn none(joint: &str, cells: usize) -> Self {
+        let step = std::f64::consts::TAU / cells as f64;
+        JointWear {
+            joint: joint.to_owned(),
+            angles: (0..cells).map(|i| step * i as f64).collect(),
+            bearing_depth: vec![0.0; cells],
+            journal_depth: vec![0.0; cells],
+            load_distance: 0.0,
+            bearing_volume: 0.0,
+            journal_volume: 0.0,
+        }
+    }
+}
+
 impl SimResult {
     /// The samples of one channel, if present.
     pub fn channel(&self, name: &str) -> Option<&[f64]> {

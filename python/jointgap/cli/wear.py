@@ -5,6 +5,7 @@ folder, resumed from that folder when run again with the same inputs."""
 from __future__ import annotations
 
 import argparse
+import inspect
 import sys
 from collections.abc import Callable
 from typing import Any
@@ -35,6 +36,7 @@ def add_commands(sub: Any) -> None:
         description=_DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    default = {k: v.default for k, v in inspect.signature(wear.predict_wear).parameters.items()}
     parser.add_argument("model", metavar="MODEL.toml", help="model file")
     parser.add_argument("--cycles", type=float, required=True, metavar="N", help="cycles to wear")
     parser.add_argument(
@@ -50,7 +52,7 @@ def add_commands(sub: Any) -> None:
     parser.add_argument(
         "--cells",
         type=int,
-        default=180,
+        default=default["cells"],
         metavar="N",
         help="cells of each grid (default %(default)s)",
     )
@@ -65,14 +67,14 @@ def add_commands(sub: Any) -> None:
     parser.add_argument(
         "--cycles-per-run",
         type=int,
-        default=1,
+        default=default["cycles_per_run"],
         metavar="N",
-        help="steady cycles each run averages (default 1)",
+        help="steady cycles each run averages (default %(default)s)",
     )
     parser.add_argument(
         "--tolerance",
         type=float,
-        default=0.05,
+        default=default["tolerance"],
         metavar="F",
         help="largest step-doubling difference as a fraction of the predicted depth "
         "(default %(default)g)",

@@ -128,7 +128,6 @@ impl Wear {
             let Some(c) = K::wears(c) else { continue };
             let contact =
                 c.wear_contact.clone().map_err(|problem| Error::Options { key: "wear", problem })?;
-            let step = std::f64::consts::TAU / n as f64;
             joints.push(Accumulating {
                 clearance: k,
                 slot: range.start,
@@ -136,15 +135,7 @@ impl Wear {
                 radii: (c.geometry.r_bearing, c.geometry.r_journal),
                 clearance_gap: c.geometry.clearance,
                 profiles: c.worn.as_deref().cloned().unwrap_or_else(Worn::round),
-                out: JointWear {
-                    joint: c.name.clone(),
-                    angles: (0..n).map(|i| step * i as f64).collect(),
-                    bearing_depth: vec![0.0; n],
-                    journal_depth: vec![0.0; n],
-                    load_distance: 0.0,
-                    bearing_volume: 0.0,
-                    journal_volume: 0.0,
-                },
+                out: JointWear::none(&c.name, n),
                 last: None,
             });
         }
@@ -392,15 +383,7 @@ mod tests {
             radii: (0.01, 0.0095),
             clearance_gap: 0.0005,
             profiles,
-            out: JointWear {
-                joint: "c".into(),
-                angles: (0..cells).map(|i| TAU * i as f64 / cells as f64).collect(),
-                bearing_depth: vec![0.0; cells],
-                journal_depth: vec![0.0; cells],
-                load_distance: 0.0,
-                bearing_volume: 0.0,
-                journal_volume: 0.0,
-            },
+            out: JointWear::none("c", cells),
             last: None,
         }
     }

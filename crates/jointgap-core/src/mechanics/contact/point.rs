@@ -69,6 +69,31 @@ pub struct ContactPoint {
 }
 
 impl ContactPoint {
+    /// A journal's point in its bearing, whose parts' material points are `on_i` and
+    /// `on_j`: along `normal`, at `penetration`, with the journal's point moving at `v`
+    /// relative to the bearing's; its rate and slip are `v`'s parts along the normal and
+    /// the tangents.
+    #[inline]
+    pub fn in_bearing(
+        normal: Vec2,
+        penetration: f64,
+        v: Vec2,
+        share: f64,
+        (on_i, on_j): (MaterialPoint, MaterialPoint),
+    ) -> Self {
+        let t = tangents(normal);
+        ContactPoint {
+            index: 0,
+            normal,
+            penetration,
+            penetration_rate: v.dot(&normal),
+            slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
+            share,
+            on_i,
+            on_j,
+        }
+    }
+
     /// The contact force on body j at [`ContactPoint::on_j`], global [N], from a normal
     /// force `f_n` (compressive positive) and a friction force `f_t` along the tangents:
     /// `-F_N n + sum_k F_T,k t_k`. Body i takes its opposite at [`ContactPoint::on_i`].

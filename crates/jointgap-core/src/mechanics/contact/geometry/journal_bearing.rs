@@ -2,7 +2,7 @@
 //! point, on the line through the two centres (docs/physics.md section 2).
 
 use crate::math::{perp, Vec2};
-use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint, Tangential};
+use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar::BodyState;
 
 /// Where a journal and its bearing are, and their sizes.
@@ -72,17 +72,16 @@ pub fn contact_journal_bearing(
     let point_journal = centre_j + n * g.r_journal;
     let point_bearing = centre_b + n * g.r_bearing;
     let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
-    let t = tangents(n);
-    out.push(ContactPoint {
-        index: 0,
-        normal: n,
+    out.push(ContactPoint::in_bearing(
+        n,
         penetration,
-        penetration_rate: v.dot(&n),
-        slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
-        share: 1.0,
-        on_i: MaterialPoint { body: g.bearing, at: point_bearing },
-        on_j: MaterialPoint { body: g.journal, at: point_journal },
-    });
+        v,
+        1.0,
+        (
+            MaterialPoint { body: g.bearing, at: point_bearing },
+            MaterialPoint { body: g.journal, at: point_journal },
+        ),
+    ));
 }
 
 #[cfg(test)]

@@ -20,7 +20,7 @@
 
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
-use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint, Tangential};
+use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar::BodyState;
 
 use super::JournalBearing;
@@ -500,16 +500,16 @@ pub fn contact_worn(
         let point_journal = centre_j + u * (g.r_journal - wj) - t[0] * dj;
         let point_bearing = centre_b + u * (g.r_bearing + wb) + t[0] * db;
         let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
-        out.push(ContactPoint {
-            index: 0,
-            normal: u,
+        out.push(ContactPoint::in_bearing(
+            u,
             penetration,
-            penetration_rate: v.dot(&u),
-            slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
+            v,
             share,
-            on_i: MaterialPoint { body: g.bearing, at: point_bearing },
-            on_j: MaterialPoint { body: g.journal, at: point_journal },
-        });
+            (
+                MaterialPoint { body: g.bearing, at: point_bearing },
+                MaterialPoint { body: g.journal, at: point_journal },
+            ),
+        ));
     }
 }
 
