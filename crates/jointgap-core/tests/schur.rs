@@ -5,7 +5,7 @@
 use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur, DENSE_LIMIT};
 use jointgap_core::dynamics::{accelerations, Workspace};
 use jointgap_core::mechanics::layout::Layout;
-use jointgap_core::mechanics::planar::PLANAR_BODY;
+use jointgap_core::mechanics::planar_body::PLANAR_BODY;
 use jointgap_core::{Model, SimOptions};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;

@@ -7,7 +7,7 @@
 use jointgap_core::dynamics::schur::{Factorisation, RowJacobian, Schur};
 use jointgap_core::dynamics::{accelerations, Workspace};
 use jointgap_core::mechanics::layout::Layout;
-use jointgap_core::mechanics::planar::PLANAR_BODY;
+use jointgap_core::mechanics::planar_body::PLANAR_BODY;
 use jointgap_core::{Model, SimOptions, Status};
 use nalgebra::{DMatrix, DVector};
 use serde_json::json;

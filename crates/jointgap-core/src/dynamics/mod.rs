@@ -19,7 +19,8 @@ use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::{self, Planar};
+use crate::mechanics::planar::Planar;
+use crate::mechanics::planar_body;
 use crate::mechanics::spatial::{self, kind::Spatial};
 use crate::profile::{self, Profile};
 use crate::system::System;
@@ -582,7 +583,7 @@ impl Contacts for Planar {
     #[inline]
     fn add_contact_loads<'a>(
         sys: &System,
-        state: impl Fn(Option<usize>) -> &'a planar::BodyState,
+        state: impl Fn(Option<usize>) -> &'a planar_body::BodyState,
         contacts: &[ContactState],
         loads: &mut Loads,
     ) {
@@ -620,7 +621,7 @@ impl Contacts for Planar {
                     (kin.on_i.body, &bearing, kin.on_i.at, -1.0),
                 ] {
                     if let Some(g) = along.body(body) {
-                        planar::add_force(g, point - state.r, t * sign);
+                        planar_body::add_force(g, point - state.r, t * sign);
                     }
                 }
                 rate = rate.max(damping * ws.inverse_mass_along(&g));

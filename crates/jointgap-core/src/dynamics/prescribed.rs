@@ -10,7 +10,7 @@
 
 use super::schur::{RowJacobian, Singular};
 use crate::mechanics::kind::{Block, BodyKind};
-use crate::mechanics::planar::{BodyRow, NV, PLANAR_BODY};
+use crate::mechanics::planar_body::{BodyRow, NV, PLANAR_BODY};
 use crate::system::System;
 
 /// A square block over one body's velocities: `B` of its own rows, and its inverse.

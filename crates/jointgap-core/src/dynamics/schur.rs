@@ -30,7 +30,7 @@ use faer::{Conj, Par};
 
 use crate::mechanics::kind::Block;
 use crate::mechanics::layout::Layout;
-use crate::mechanics::planar::BodyRow;
+use crate::mechanics::planar_body::BodyRow;
 
 /// The augmented system is singular: the mechanism locks up or passes a singular
 /// configuration (e.g. a four-bar at a change point). Kept with the Schur complement,

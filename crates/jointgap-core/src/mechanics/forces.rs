@@ -5,7 +5,7 @@ use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::{self, BodyState};
+use crate::mechanics::planar_body::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Force, Signal};
 
@@ -162,14 +162,14 @@ fn line(bi: &BodyState, s_i: Vec2, bj: &BodyState, s_j: Vec2) -> Option<(Vec2, f
 #[inline]
 pub fn add_point_force(loads: &mut Loads, b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
     if let Some(qe) = loads.body(b) {
-        planar::add_force(qe, state.rotate(s), f);
+        planar_body::add_force(qe, state.rotate(s), f);
     }
 }
 
 #[inline]
 fn add_torque(loads: &mut Loads, b: Option<usize>, tau: f64) {
     if let Some(qe) = loads.body(b) {
-        planar::add_torque(qe, tau);
+        planar_body::add_torque(qe, tau);
     }
 }
 

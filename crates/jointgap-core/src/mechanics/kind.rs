@@ -127,7 +127,7 @@ pub trait BodyKind: Copy + Debug + Default + Send + Sync + 'static {
     /// Whether velocity coordinate `d` of a body is a rotation.
     fn is_rotation(d: usize) -> bool;
     /// How far the rounding of a body's orientation moves the point of a row whose block
-    /// on the body is `entries`, and its velocity (see `planar::rotation_reach`).
+    /// on the body is `entries`, and its velocity (see `planar_body::rotation_reach`).
     fn rotation_reach(entries: &Self::Row, q: &[f64], v: &[f64]) -> Option<(f64, f64)>;
     /// `q' = G(q) v` for one body.
     fn position_rate(q: &[f64], v: &[f64], out: &mut [f64]);

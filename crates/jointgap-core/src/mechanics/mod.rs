@@ -9,5 +9,6 @@ pub mod forces;
 pub mod kind;
 pub mod layout;
 pub mod planar;
+pub mod planar_body;
 pub(crate) mod resolve;
 pub mod spatial;

@@ -4,7 +4,7 @@
 //! ([outputs](../../../docs/outputs.md)).
 
 use crate::math::{perp, Vec2};
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::system::{JointInfo, MarkerInfo};
 
 /// A body's position, velocity and acceleration (the ground: all zero).

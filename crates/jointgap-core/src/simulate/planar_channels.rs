@@ -14,7 +14,8 @@ use crate::mechanics::contact::{
     self, ClearanceJoint, ClearanceRevolute, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS,
 };
 use crate::mechanics::kind::RowEval;
-use crate::mechanics::planar::{self, BodyRow, BodyState, Planar};
+use crate::mechanics::planar::Planar;
+use crate::mechanics::planar_body::{self, BodyRow, BodyState};
 use crate::model::{JointKind, Model};
 use crate::system::{JointInfo, MarkerInfo, System};
 
@@ -374,7 +375,7 @@ impl Kind for Planar {
         let motion = |b: Option<usize>| match b {
             None => BodyMotion::default(),
             Some(k) => {
-                let (acceleration, alpha) = planar::read_acceleration(&ws.qdd[sys.layout.slot(k).v()]);
+                let (acceleration, alpha) = planar_body::read_acceleration(&ws.qdd[sys.layout.slot(k).v()]);
                 BodyMotion { state: sys.body_state(b, q, v), acceleration, alpha }
             }
         };

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::math::Vec2;
 use crate::mechanics::contact::geometry::Worn;
 use crate::mechanics::contact::{self, ClearanceJoint, ClearanceRevolute, ContactState, WearContact};
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::output::JointWear;
 use crate::system::System;
 

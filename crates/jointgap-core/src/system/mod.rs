@@ -20,7 +20,8 @@ use crate::mechanics::drivers::MotionProfile;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
-use crate::mechanics::planar::{self, BodyState, Planar, RowKind, PLANAR_BODY};
+use crate::mechanics::planar::{Planar, RowKind};
+use crate::mechanics::planar_body::{self, BodyState, PLANAR_BODY};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{JointKind, Model, GROUND};
 
@@ -700,7 +701,7 @@ pub(crate) fn step_corners(mut corners: Vec<f64>) -> Vec<f64> {
 fn placement_guess(model: &Model, layout: &Layout) -> (Vec<f64>, Vec<f64>) {
     let (mut q_guess, mut v_guess) = (vec![0.0; layout.nq()], vec![0.0; layout.nv()]);
     for (b, slot) in model.bodies.iter().zip(layout.slots()) {
-        let (q, v) = planar::placement_coordinates(b);
+        let (q, v) = planar_body::placement_coordinates(b);
         q_guess[slot.q()].copy_from_slice(&q);
         v_guess[slot.v()].copy_from_slice(&v);
     }

@@ -9,7 +9,7 @@ use super::{add_force_at, ClearanceJoint, ContactState};
 use crate::error::{Error, Named};
 use crate::math::{cross, perp, Vec2};
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::model::{Gear, Joint, MeshStiffness};
 use crate::output::ClearanceData;
 

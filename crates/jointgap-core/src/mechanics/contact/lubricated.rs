@@ -8,7 +8,7 @@ use super::{add_force_at, add_point_forces, ClearanceJoint, ClearanceRevolute, C
 use crate::error::{Error, Named};
 use crate::math::{cross, perp, Vec2};
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, Joint, Lubrication};
 use crate::output::ClearanceData;

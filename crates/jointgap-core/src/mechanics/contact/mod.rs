@@ -29,7 +29,7 @@ use std::ops::{Deref, Range};
 use crate::error::{Error, Named};
 use crate::math::Vec2;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::{self, BodyState};
+use crate::mechanics::planar_body::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint, JointKind};
 use crate::output::ClearanceData;
@@ -569,7 +569,7 @@ pub(crate) fn add_point_forces<C>(
 #[inline]
 pub(crate) fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
     if let Some(qe) = loads.body(b) {
-        planar::add_force(qe, p - state.r, f);
+        planar_body::add_force(qe, p - state.r, f);
     }
 }
 

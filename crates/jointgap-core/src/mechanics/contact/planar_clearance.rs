@@ -12,7 +12,7 @@ use super::translational::ClearanceTranslational;
 use super::{ClearanceJoint, ClearanceRevolute, ContactState};
 use crate::error::Error;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::model::FrictionSpec;
 use crate::output::ClearanceData;
 

@@ -9,7 +9,7 @@ use super::{add_force_at, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORC
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::model::{Joint, Play};
 use crate::output::ClearanceData;
 

@@ -8,7 +8,7 @@ use super::{friction, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORCE};
 use crate::error::{Error, Named};
 use crate::math::{rotate, Vec2};
 use crate::mechanics::layout::Loads;
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
 

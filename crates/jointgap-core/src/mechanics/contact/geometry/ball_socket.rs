@@ -204,7 +204,7 @@ mod tests {
         use crate::math::{perp, rotate, Vec2};
         use crate::mechanics::contact::geometry::{contact_journal_bearing, JournalBearing};
         use crate::mechanics::contact::ContactPoints;
-        use crate::mechanics::planar;
+        use crate::mechanics::planar_body;
         let g = BallSocket {
             s_socket: Vec3::new(0.02, -0.005, 0.0),
             s_ball: Vec3::new(-0.03, 0.0, 0.0),
@@ -219,7 +219,7 @@ mod tests {
             r_journal: g.r_ball,
             clearance: g.clearance,
         };
-        let lift = |b: &planar::BodyState| {
+        let lift = |b: &planar_body::BodyState| {
             BodyState::new(
                 Vec3::new(b.r.x, b.r.y, 0.0),
                 Orientation::from_scaled_axis(Vec3::z() * b.phi()),
@@ -227,11 +227,11 @@ mod tests {
                 Vec3::z() * b.omega,
             )
         };
-        let socket = planar::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
+        let socket = planar_body::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
         let centre_s = socket.r + rotate(socket.phi(), flat.s_bearing);
         for (e, phi) in [(Vec2::new(0.00015, -0.0001), 1.1), (Vec2::new(-0.0002, 0.00007), -2.0)] {
             let centre = centre_s + e - rotate(phi, flat.s_journal);
-            let ball = planar::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
+            let ball = planar_body::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
             let mut planar_points = ContactPoints::new();
             contact_journal_bearing(&flat, &socket, &ball, f64::INFINITY, &mut planar_points);
             let q = planar_points[0];

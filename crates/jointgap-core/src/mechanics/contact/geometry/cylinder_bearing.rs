@@ -369,7 +369,7 @@ mod tests {
         use crate::math::{rotate, Vec2};
         use crate::mechanics::contact::geometry::{contact_journal_bearing, JournalBearing};
         use crate::mechanics::contact::ContactPoints;
-        use crate::mechanics::planar;
+        use crate::mechanics::planar_body;
         let z = Vec3::z();
         let g = CylinderBearing {
             s_bearing: Vec3::new(0.02, -0.005, 0.0),
@@ -388,7 +388,7 @@ mod tests {
             r_journal: R_J,
             clearance: C,
         };
-        let lift = |b: &planar::BodyState| {
+        let lift = |b: &planar_body::BodyState| {
             BodyState::new(
                 Vec3::new(b.r.x, b.r.y, 0.0),
                 Orientation::from_scaled_axis(z * b.phi()),
@@ -396,11 +396,11 @@ mod tests {
                 z * b.omega,
             )
         };
-        let bearing = planar::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
+        let bearing = planar_body::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
         let centre_b = bearing.r + rotate(bearing.phi(), flat.s_bearing);
         for (e, phi) in [(Vec2::new(0.00015, -0.0001), 1.1), (Vec2::new(-0.0002, 0.00007), -2.0)] {
             let centre = centre_b + e - rotate(phi, flat.s_journal);
-            let journal = planar::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
+            let journal = planar_body::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
             let mut planar_points = ContactPoints::new();
             contact_journal_bearing(&flat, &bearing, &journal, f64::INFINITY, &mut planar_points);
             let q = planar_points[0];

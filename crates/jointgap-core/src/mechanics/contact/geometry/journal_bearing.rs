@@ -3,7 +3,7 @@
 
 use crate::math::{perp, Vec2};
 use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 
 /// Where a journal and its bearing are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]

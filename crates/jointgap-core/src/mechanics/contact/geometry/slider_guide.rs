@@ -5,7 +5,7 @@
 
 use crate::math::{perp, Vec2};
 use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint, Tangential};
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 
 /// Where a block and its guide are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]

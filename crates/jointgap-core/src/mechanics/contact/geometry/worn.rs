@@ -21,7 +21,7 @@
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
 use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint};
-use crate::mechanics::planar::BodyState;
+use crate::mechanics::planar_body::BodyState;
 
 use super::JournalBearing;
 
