@@ -85,13 +85,13 @@ pub fn contact_journal_bearing(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::math::rotate;
 
     /// A bearing of radius 10 mm with 0.5 mm clearance, its centre at (20, -5) mm on a body
     /// at (0.1, 0.2) m turned by 0.3 rad; the journal's centre at (-30, 0) mm on its own.
-    fn joint() -> JournalBearing {
+    pub(crate) fn joint() -> JournalBearing {
         JournalBearing {
             bearing: Some(0),
             s_bearing: Vec2::new(0.02, -0.005),
@@ -105,7 +105,7 @@ mod tests {
 
     /// The journal body placed so that its centre is at eccentricity `e` from the bearing
     /// centre, turned by `phi`, with centre velocity `v_centre` and spin `omega`.
-    fn journal_at(
+    pub(crate) fn journal_at(
         g: &JournalBearing,
         bearing: &BodyState,
         e: Vec2,

@@ -515,42 +515,13 @@ pub fn contact_worn(
 
 #[cfg(test)]
 mod tests {
+    use super::super::journal_bearing::tests::{joint, journal_at};
     use super::*;
-    use crate::math::rotate;
     use std::f64::consts::{PI, TAU};
 
     /// Depths `f(theta)` at `n` equally spaced angles.
     fn table(n: usize, f: impl Fn(f64) -> f64) -> Vec<f64> {
         (0..n).map(|k| f(TAU * k as f64 / n as f64)).collect()
-    }
-
-    /// A bearing of radius 10 mm with 0.5 mm clearance, its centre at (20, -5) mm on its
-    /// body, the journal's centre at (-30, 0) mm on its own, worn as given.
-    fn joint() -> JournalBearing {
-        JournalBearing {
-            bearing: Some(0),
-            s_bearing: Vec2::new(0.02, -0.005),
-            journal: Some(1),
-            s_journal: Vec2::new(-0.03, 0.0),
-            r_bearing: 0.01,
-            r_journal: 0.0095,
-            clearance: 0.0005,
-        }
-    }
-
-    /// The journal body placed so that its centre is at eccentricity `e` from the bearing
-    /// centre, turned by `phi`, with centre velocity `v_centre` and spin `omega`.
-    fn journal_at(
-        g: &JournalBearing,
-        bearing: &BodyState,
-        e: Vec2,
-        phi: f64,
-        v_centre: Vec2,
-        omega: f64,
-    ) -> BodyState {
-        let centre = bearing.r + rotate(bearing.phi(), g.s_bearing) + e;
-        let arm = rotate(phi, g.s_journal);
-        BodyState::new(centre - arm, phi, v_centre - perp(arm) * omega, omega)
     }
 
     fn point(g: &JournalBearing, w: &Worn, b: &BodyState, j: &BodyState) -> ContactPoint {
