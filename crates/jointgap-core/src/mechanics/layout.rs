@@ -6,6 +6,19 @@
 
 use std::ops::Range;
 
+/// The `N` entries of `x` from `at`, as an array: one body's block of a vector over all
+/// coordinates, sized by its kind.
+#[inline]
+pub fn block<const N: usize>(x: &[f64], at: usize) -> &[f64; N] {
+    x[at..at + N].try_into().expect("a block of N entries")
+}
+
+/// [`block`], to write.
+#[inline]
+pub fn block_mut<const N: usize>(x: &mut [f64], at: usize) -> &mut [f64; N] {
+    (&mut x[at..at + N]).try_into().expect("a block of N entries")
+}
+
 /// The coordinate counts of one body kind.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BodyShape {

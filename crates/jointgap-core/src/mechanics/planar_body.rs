@@ -5,7 +5,7 @@
 //! them).
 
 use crate::math::{cross, Vec2};
-use crate::mechanics::layout::BodyShape;
+use crate::mechanics::layout::{self, BodyShape};
 use crate::model::Body;
 
 /// The planar body kind: positions `(x, y, phi)`, velocities `(vx, vy, omega)`, and a
@@ -28,13 +28,13 @@ pub type BodyRow = [f64; NV];
 /// One planar body's block of a vector over all coordinates, from its address `at`.
 #[inline]
 pub fn block(x: &[f64], at: usize) -> &BodyRow {
-    x[at..at + NV].try_into().expect("a block of NV entries")
+    layout::block(x, at)
 }
 
 /// [`block`], to write.
 #[inline]
 pub fn block_mut(x: &mut [f64], at: usize) -> &mut BodyRow {
-    (&mut x[at..at + NV]).try_into().expect("a block of NV entries")
+    layout::block_mut(x, at)
 }
 
 /// A planar body's mass matrix, diagonal: `(m, m, J)`.

@@ -8,7 +8,7 @@
 
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
-use crate::mechanics::layout::BodyShape;
+use crate::mechanics::layout::{self, BodyShape};
 
 /// A 3-vector [m, m/s, N, rad/s, ...].
 pub type Vec3 = Vector3<f64>;
@@ -53,26 +53,26 @@ const QUATERNION_ROUNDING: f64 = 2.0;
 /// `qdd`), from its address `at`.
 #[inline]
 pub fn block(x: &[f64], at: usize) -> &BodyRow {
-    x[at..at + NV].try_into().expect("a block of NV entries")
+    layout::block(x, at)
 }
 
 /// [`block`], to write.
 #[inline]
 pub fn block_mut(x: &mut [f64], at: usize) -> &mut BodyRow {
-    (&mut x[at..at + NV]).try_into().expect("a block of NV entries")
+    layout::block_mut(x, at)
 }
 
 /// One spatial body's positions in `q`, from its address `at`: they are 7, one more
 /// than its velocities.
 #[inline]
 pub fn position_block(q: &[f64], at: usize) -> &BodyPositions {
-    q[at..at + NQ].try_into().expect("a block of NQ entries")
+    layout::block(q, at)
 }
 
 /// [`position_block`], to write.
 #[inline]
 pub fn position_block_mut(q: &mut [f64], at: usize) -> &mut BodyPositions {
-    (&mut q[at..at + NQ]).try_into().expect("a block of NQ entries")
+    layout::block_mut(q, at)
 }
 
 /// A spatial body's mass matrix, diagonal because the body frame is its principal
