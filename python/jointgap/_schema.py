@@ -168,9 +168,10 @@ _CLEARANCE = [
     Param("friction", "friction", doc="friction law, a table with a type; none by default"),
 ]
 
-WEAR_KEYS = ("length", "bearing_wear", "journal_wear")
-"""A planar clearance_revolute joint's own keys of its ``clearance`` table for wear
-(docs/wear.md)."""
+WEAR_TABLES = ("bearing_wear", "journal_wear")
+"""A worn joint's profiles, keys of its ``clearance`` table (docs/wear.md)."""
+WEAR_KEYS = ("length", *WEAR_TABLES)
+"""A planar clearance_revolute joint's own keys of its ``clearance`` table for wear."""
 
 _WEAR = [
     Param(
@@ -791,6 +792,21 @@ _CYLINDER_CLEARANCE = [
     *_CLEARANCE,
     Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
     Param(
+        "bearing_wear",
+        "list",
+        u.LENGTH,
+        doc="wear depth of the bearing, uniform along it, at N >= 8 equally spaced angles "
+        "2 pi k / N about its axis (from body_i's x axis made normal to the axis, its y axis "
+        "for an axis near x; docs/wear.md); dry joints only",
+    ),
+    Param(
+        "journal_wear",
+        "list",
+        u.LENGTH,
+        doc="wear depth of the journal at N >= 8 equally spaced angles about its axis in "
+        "body_j's frame, counted as bearing_wear's",
+    ),
+    Param(
         "axial_clearance",
         "scalar",
         u.LENGTH,
@@ -1082,9 +1098,10 @@ def convert_element(
 PLANAR_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS, *WEAR_KEYS)
 """The keys of a planar joint's ``clearance`` table: a revolute clearance joint's (with
 its wear data) and a translational one's."""
-SPATIAL_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS, *DEPTH_KEYS)
-"""The keys of a spatial joint's ``clearance`` table: the planar joints' contact keys
-and a block's depth (a spatial joint's ``length`` is its own, not the clearance's)."""
+SPATIAL_CLEARANCE_KEYS = (*CLEARANCE_KEYS, *BLOCK_KEYS, *DEPTH_KEYS, *WEAR_TABLES)
+"""The keys of a spatial joint's ``clearance`` table: the planar joints' contact keys,
+a block's depth and a cylindrical joint's wear tables (a spatial joint's ``length`` is
+its own, not the clearance's)."""
 
 _DATA_TABLES = {
     "clearance": ("clearance_revolute", "clearance_translational"),

@@ -1271,8 +1271,9 @@ class Model:
                 dissipated, which stays at its initial value. Costs about three more
                 evaluations of the equations of motion per step and per sample.
             wear_cells: accumulate the Archard wear of the clearance_revolute joints
-                (each needs its ``length``) on angular grids of this many cells (at
-                least 8) into :attr:`Result.wear` (docs/wear.md).
+                (each needs its ``length``) and dry clearance_cylindrical joints on
+                angular grids of this many cells (at least 8) into :attr:`Result.wear`
+                (docs/wear.md).
             wear_start: the time from which the wear counts [s] (by default from the
                 start): the steady cycles after a start-up.
 

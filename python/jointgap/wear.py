@@ -110,6 +110,11 @@ def _driver(model: Model) -> tuple[str, dict[str, Any]] | None:
     return str(d["joint"]), d
 
 
+WEARING_TYPES = ("clearance_revolute", "clearance_cylindrical")
+"""The joints that wear: a planar model's and a spatial model's dry journal in its
+bearing (docs/wear.md)."""
+
+
 @dataclass
 class _Setup:
     """What every evaluation shares."""
@@ -139,25 +144,24 @@ def _setup(
     watch: str | None,
     length: Quantity | None,
 ) -> _Setup:
-    if model.spatial:
-        raise ModelError("wear over life is modelled for planar clearance_revolute joints")
+    wearing = WEARING_TYPES[1 if model.spatial else 0]
     entries = model.joints
-    names = [n for n, j in entries.items() if j["type"] == "clearance_revolute"]
+    names = [n for n, j in entries.items() if j["type"] == wearing]
     if joints is not None:
         for name in joints:
             if name not in entries:
                 raise ModelError(f"no joint '{name}'", kind="joint", name=name)
-            if entries[name]["type"] != "clearance_revolute":
+            if entries[name]["type"] != wearing:
                 raise ModelError(
                     f"joint '{name}' is {entries[name]['type']}: wear is modelled for "
-                    "clearance_revolute joints",
+                    f"{' and '.join(WEARING_TYPES)} joints",
                     kind="joint",
                     name=name,
                 )
         names = list(joints)
     if not names:
-        raise ModelError("the model has no clearance_revolute joint to wear")
-    if length is not None:
+        raise ModelError(f"the model has no {wearing} joint to wear")
+    if length is not None and not model.spatial:
         data = model.to_dict()
         for joint in data["joints"]:
             if joint["name"] in names and joint["clearance"].get("length") is None:
@@ -165,7 +169,7 @@ def _setup(
         model = Model.from_dict(data)
         entries = model.joints
     for name in names:
-        if entries[name].get("clearance", {}).get("length") is None:
+        if _length(model, name) is None:
             raise ModelError(
                 "wear needs the bearing's length along its axis (the line contact's): "
                 "give the joint's 'length' (or the prediction's length)",
@@ -207,7 +211,7 @@ def _setup(
             for k, v in model.clearance_data()[name].items()
             if k in ("bearing_radius", "journal_radius", "clearance")
         }
-        | {"length": float(entries[name]["clearance"]["length"])}
+        | {"length": float(_length(model, name) or 0.0)}
         for name in names
     }
     if watch is None:
@@ -226,13 +230,22 @@ def _setup(
     )
 
 
+def _length(model: Model, name: str) -> float | None:
+    """Joint ``name``'s length along its axis [m]: a planar joint's clearance ``length``,
+    a spatial journal's own."""
+    joint = model.joints[name]
+    value = joint.get("length") if model.spatial else joint.get("clearance", {}).get("length")
+    return None if value is None else float(value)
+
+
 def _default_watch(model: Model) -> str | None:
     """The acceleration along its guide of the first body on a prismatic joint (the
-    slider of a slider-crank): ``<body>.ax`` when its axis is x, else ``ay``."""
+    slider of a slider-crank): ``<body>.ax``, ``ay`` or ``az`` by its axis's largest
+    component."""
     for joint in model.joints.values():
         if joint["type"] == "prismatic" and joint["body_j"] != "ground":
-            axis = joint.get("axis", [1.0, 0.0])
-            return f"{joint['body_j']}.{'ax' if abs(axis[0]) >= abs(axis[1]) else 'ay'}"
+            axis = [abs(float(x)) for x in joint.get("axis", [1.0, 0.0])]
+            return f"{joint['body_j']}.a{'xyz'[axis.index(max(axis))]}"
     return None
 
 
@@ -256,6 +269,14 @@ def _with_profiles(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarra
     return Model.from_dict(data)
 
 
+def _force_channels(s: _Setup, joint: str) -> list[str]:
+    """The channels of joint ``joint``'s normal force: a spatial journal's two ends'
+    (docs/outputs.md), whose sum is the joint's."""
+    if s.model.get("dimension") == 3:
+        return [f"{joint}.p1.fn", f"{joint}.p2.fn"]
+    return [f"{joint}.fn"]
+
+
 class OutOfRange(Exception):
     """Worn profiles beyond what the contact model follows."""
 
@@ -263,7 +284,8 @@ class OutOfRange(Exception):
 def _evaluate(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]]) -> _Rate:
     model = _with_profiles(s, profiles)
     t_end = s.warmup + s.cycles_per_run * s.period
-    channels = [f"{j}.fn" for j in s.joints] + ([s.watch] if s.watch else [])
+    forces = {j: _force_channels(s, j) for j in s.joints}
+    channels = [c for j in s.joints for c in forces[j]] + ([s.watch] if s.watch else [])
     result: Result = model.simulate(
         t_end,
         channels=channels,
@@ -288,7 +310,7 @@ def _evaluate(s: _Setup, profiles: Mapping[str, tuple[np.ndarray, np.ndarray]]) 
     return _Rate(
         bearing={j: scale * np.asarray(result.wear[j]["bearing_depth"]) for j in s.joints},
         journal={j: scale * np.asarray(result.wear[j]["journal_depth"]) for j in s.joints},
-        peak_force={j: float(np.max(result[f"{j}.fn"][steady])) for j in s.joints},
+        peak_force={j: float(np.max(sum(result[c][steady] for c in forces[j]))) for j in s.joints},
         peak_watch=float(np.max(np.abs(result[s.watch][steady]))) if s.watch else math.nan,
     )
 
@@ -398,15 +420,16 @@ def predict_wear(
     atol: float | None = None,
     method: str | None = None,
 ) -> WearPrediction:
-    """Predicts the wear of the model's revolute clearance joints over ``cycles`` cycles.
+    """Predicts the wear of the model's journals in their bearings over ``cycles`` cycles.
 
     Args:
-        model: a planar model whose ``clearance_revolute`` joints give their ``length``.
+        model: a planar model whose ``clearance_revolute`` joints give their ``length``,
+            or a spatial model with dry ``clearance_cylindrical`` joints.
         cycles: cycles to wear through (a cycle is ``period``).
         coefficient: Archard's dimensional wear coefficient k: a pair's name
             (:func:`wear_pairs`), a value with units (``"1e-4 mm^3/(N*m)"``) or in 1/Pa;
             by default the engine's pair (steel in brass, dry).
-        joints: the joints to wear; by default every clearance_revolute joint.
+        joints: the joints to wear; by default every one of those.
         cells: cells of each part's angular grid (10 deg by default).
         period, warmup: the cycle's duration and the time before the first steady cycle
             [s]; by default from the model's one driver: the warm-up its ramp plus one
@@ -419,7 +442,7 @@ def predict_wear(
         clearance_limit: stop when a joint's largest clearance reaches it [m].
         every_cycle: no extrapolation: each evaluation's cycles wear the profiles as they
             were simulated (slow; to check the extrapolation).
-        length: the bearing length [m] of the joints whose model gives none (the
+        length: the bearing length [m] of the planar joints whose model gives none (the
             founding case's paper does not give one).
         watch: a channel whose largest magnitude over the steady cycles the history keeps
             (by default the slider's acceleration along its guide).

@@ -81,7 +81,7 @@ fn bad_wear_data_names_the_joint_and_key() {
                 serde_json::from_value(raw).unwrap()
             },
             "bearing_wear",
-            "planar clearance_revolute joint only",
+            "dry spatial clearance_cylindrical joint only",
         ),
     ];
     for (model, key, says) in cases {

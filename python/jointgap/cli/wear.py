@@ -32,7 +32,7 @@ def add_commands(sub: Any) -> None:
 
     parser = sub.add_parser(
         "wear",
-        help="predict the wear of the revolute clearance joints over many cycles",
+        help="predict the wear of the journals in their bearings over many cycles",
         description=_DESCRIPTION,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )

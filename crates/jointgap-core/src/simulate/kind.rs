@@ -5,7 +5,8 @@
 use super::record::Cursor;
 use crate::dynamics::{Contacts, Workspace};
 use crate::error::Error;
-use crate::mechanics::contact::{ClearanceRevolute, ContactState};
+use crate::mechanics::contact::geometry::Worn;
+use crate::mechanics::contact::{ContactState, WearContact};
 use crate::mechanics::kind::RowEval;
 use crate::system::{BodyInfo, JointInfo, MarkerInfo, System};
 
@@ -63,18 +64,19 @@ pub trait Kind: Contacts {
     /// A marker's channels.
     const MARKER_QUANTITIES: &'static [&'static str];
 
-    /// The clearance joint `c` as a joint that wears, a dry revolute clearance joint
+    /// The clearance joint `c` as a joint that wears, a dry journal in its bearing
     /// (docs/wear.md); a kind without wear has none.
-    fn wears(_c: &Self::Clearance) -> Option<&ClearanceRevolute> {
+    fn wears(_c: &Self::Clearance) -> Option<Wearing<'_>> {
         None
     }
 
-    /// The wear integrand of clearance joint `k` at `(q, v)`, its contact point in
-    /// `state` ([`super::wear::integrand`]): `None` where it does not wear or carries no
-    /// load.
+    /// The wear integrand of contact point `point` of clearance joint `k` at `(q, v)`,
+    /// in contact state `state` ([`super::wear`]): `None` where it does not wear or
+    /// carries no load.
     fn wear_integrand(
         _sys: &System<Self>,
         _k: usize,
+        _point: usize,
         _state: &ContactState,
         _q: &[f64],
         _v: &[f64],
@@ -116,11 +118,33 @@ pub(super) fn clearance_channel_count(quantities: &[(&'static str, bool)], point
     quantities.iter().map(|&(_, p)| if p { points } else { 1 }).sum()
 }
 
-/// The wear integrand of a revolute clearance joint at one state: where its parts touch
+/// A clearance joint that wears, as a run's wear sees it: a journal in its bearing.
+#[derive(Debug, Clone, Copy)]
+pub struct Wearing<'a> {
+    /// Its name.
+    pub name: &'a str,
+    /// Bearing and journal radii [m].
+    pub radii: (f64, f64),
+    /// Radial clearance [m].
+    pub clearance: f64,
+    /// The parts' profiles (`None`: round).
+    pub worn: Option<&'a Worn>,
+    /// Its line contact, or why it has none.
+    pub contact: &'a Result<WearContact, String>,
+    /// Its contact points that wear, the first of its points: each a section of the
+    /// journal that stands for `share` of its length (one for a planar journal, a
+    /// spatial journal's two ends a half each).
+    pub points: usize,
+    /// The part of the length each point stands for.
+    pub share: f64,
+}
+
+/// The wear integrand of a journal in its bearing at one state: where its parts touch
 /// and how hard and fast they slide there.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Integrand {
-    /// Normal force [N].
+    /// Normal force [N] of the whole length: a section's force over its share of the
+    /// length ([`Wearing::share`]).
     pub f_n: f64,
     /// Sliding speed `|v_t|` of the contact [m/s].
     pub speed: f64,

@@ -111,7 +111,8 @@ pub struct SimOptions {
     /// events, projection) into `RunStats::profile`.
     #[serde(default)]
     pub profile: bool,
-    /// Accumulate the Archard wear of the revolute clearance joints on angular grids
+    /// Accumulate the Archard wear of the dry journals in their bearings (revolute and
+    /// cylindrical clearance joints) on angular grids
     /// into `SimResult::wear` (docs/wear.md); none by default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wear: Option<super::wear::WearOptions>,

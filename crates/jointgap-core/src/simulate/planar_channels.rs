@@ -2,7 +2,7 @@
 //! couple of a prismatic or fixed joint), a clearance joint's contact quantities, the
 //! joint coordinates, the drivers' efforts and the markers' motion (docs/outputs.md).
 
-use super::kind::{clearance_channel_count, clearance_channels, Kind};
+use super::kind::{clearance_channel_count, clearance_channels, Kind, Wearing};
 use super::measures::{joint_coordinate, marker_motion, BodyMotion};
 use super::record::Cursor;
 use crate::dynamics::Workspace;
@@ -11,7 +11,7 @@ use crate::math::{cross, rotate, Vec2};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::contact::play::PlayCoordinate;
 use crate::mechanics::contact::{
-    self, ClearanceJoint, ClearanceRevolute, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS,
+    self, ClearanceJoint, ContactPoint, ContactState, Mode, Tangential, MAX_POINTS,
 };
 use crate::mechanics::kind::RowEval;
 use crate::mechanics::planar::Planar;
@@ -302,9 +302,17 @@ fn put_contact(out: &mut Cursor, sys: &System, ws: &Workspace, k: usize, (q, v):
 impl Kind for Planar {
     type Model = Model;
 
-    fn wears(c: &PlanarClearance) -> Option<&ClearanceRevolute> {
+    fn wears(c: &PlanarClearance) -> Option<Wearing<'_>> {
         match c {
-            PlanarClearance::Revolute(c) => Some(c),
+            PlanarClearance::Revolute(c) => Some(Wearing {
+                name: &c.name,
+                radii: (c.geometry.r_bearing, c.geometry.r_journal),
+                clearance: c.geometry.clearance,
+                worn: c.worn.as_deref(),
+                contact: &c.wear_contact,
+                points: 1,
+                share: 1.0,
+            }),
             _ => None,
         }
     }
@@ -312,11 +320,12 @@ impl Kind for Planar {
     fn wear_integrand(
         sys: &System,
         k: usize,
+        _point: usize,
         state: &ContactState,
         q: &[f64],
         v: &[f64],
     ) -> Option<super::kind::Integrand> {
-        let c = Self::wears(&sys.clearances[k])?;
+        let PlanarClearance::Revolute(c) = &sys.clearances[k] else { return None };
         let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
         super::wear::integrand(c, &bearing, &journal, state)
     }

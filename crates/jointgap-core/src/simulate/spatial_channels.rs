@@ -4,13 +4,14 @@
 //! penetration, slip and mode, the joint coordinates, the drivers' efforts and the
 //! markers' motion (docs/outputs.md).
 
-use super::kind::{clearance_channels, Kind};
+use super::kind::{clearance_channels, Integrand, Kind, Wearing};
 use super::record::Cursor;
 use crate::dynamics::Workspace;
 use crate::error::Error;
+use crate::mechanics::contact::geometry::CylinderBearing;
 use crate::mechanics::contact::point3::ContactPoint3;
 use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
-use crate::mechanics::contact::{self, ClearanceJoint, Mode};
+use crate::mechanics::contact::{self, ClearanceJoint, ContactState, Mode};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::{BodyKind, RowEval};
 use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
@@ -166,10 +167,24 @@ fn put_clearance(
     let points = c.contacts(&bi, &bj, f64::INFINITY);
     let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
     let states = &ws.contacts[first..first + c.points()];
-    let forces: Vec<(f64, Vec3)> =
+    let mut forces: Vec<(f64, Vec3)> =
         points.iter().map(|p| c.force(p, states[p.index].onset_for(p.penetration_rate))).collect();
-    let f =
-        points.iter().zip(&forces).fold(Vec3::zeros(), |sum, (p, (f_n, f_t))| sum + p.force_on_j(*f_n, f_t));
+    let mut normal_forces: Vec<Vec3> =
+        points.iter().zip(&forces).map(|(p, (f_n, _))| -p.normal * *f_n).collect();
+    // A worn journal end's other rims share the end's deepest point and its channels:
+    // their forces count in the end's and the joint's.
+    if let SpatialGeometry::Cylinder(CylinderBearing { worn: Some(_), .. }) = &c.geometry {
+        let mut seen = [false; 2];
+        for p in c.contacts(&bi, &bj, c.reach()).iter().filter(|p| p.index < 2) {
+            if std::mem::replace(&mut seen[p.index], true) {
+                let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+                forces[p.index].0 += f_n;
+                forces[p.index].1 += f_t;
+                normal_forces[p.index] -= p.normal * f_n;
+            }
+        }
+    }
+    let f = normal_forces.iter().zip(&forces).fold(Vec3::zeros(), |sum, (n, (_, f_t))| sum + (n + f_t));
     let e = match &c.geometry {
         SpatialGeometry::BallSocket(g) => g.eccentricity(&bi, &bj),
         SpatialGeometry::Cylinder(g) => g.eccentricity(&bi, &bj),
@@ -206,7 +221,7 @@ fn put_clearance(
         return;
     }
     for d in 0..3 {
-        points.iter().zip(&forces).for_each(|(p, (f_n, _))| out.put(-p.normal[d] * f_n));
+        normal_forces.iter().for_each(|n| out.put(n[d]));
     }
     for d in 0..3 {
         forces.iter().for_each(|(_, f_t)| out.put(f_t[d]));
@@ -238,6 +253,35 @@ fn contact_channels(c: &SpatialClearance) -> Vec<(&'static str, Option<usize>)> 
 
 impl Kind for Spatial {
     type Model = SpatialModel;
+
+    fn wears(c: &SpatialClearance) -> Option<Wearing<'_>> {
+        match &c.geometry {
+            SpatialGeometry::Cylinder(g) => Some(Wearing {
+                name: &c.name,
+                radii: (g.r_bearing, g.r_journal),
+                clearance: g.clearance,
+                worn: g.worn.as_deref(),
+                contact: &c.wear_contact,
+                points: 2,
+                share: CylinderBearing::END_SHARE,
+            }),
+            _ => None,
+        }
+    }
+
+    fn wear_integrand(
+        sys: &System<Spatial>,
+        k: usize,
+        point: usize,
+        state: &ContactState,
+        q: &[f64],
+        v: &[f64],
+    ) -> Option<Integrand> {
+        let c = &sys.clearances[k];
+        let SpatialGeometry::Cylinder(g) = &c.geometry else { return None };
+        let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
+        super::wear::cylinder_integrand(c, g, (&bearing, &journal), point, state)
+    }
 
     fn compile(model: &SpatialModel) -> Result<System<Spatial>, Error> {
         System::spatial(model)

@@ -1,7 +1,8 @@
-//! Archard wear accumulated in a run (docs/wear.md): for each dry revolute clearance
-//! joint, the integral `int p ds` of the contact pressure over the sliding distance on an
-//! angular grid of the bearing (in its body's frame) and of the journal (in its own, which
-//! turns under the contact), and the integral `int F_n ds` of the normal force.
+//! Archard wear accumulated in a run (docs/wear.md): for each dry journal in its bearing
+//! (a planar revolute clearance joint, a spatial cylindrical one's two ends), the
+//! integral `int p ds` of the contact pressure over the sliding distance on an angular
+//! grid of the bearing (in its body's frame) and of the journal (in its own, which turns
+//! under the contact), and the integral `int F_n ds` of the normal force.
 //!
 //! Archard's law (Archard 1953) makes the worn depth `h = k int p ds`, linear in the
 //! dimensional wear coefficient `k` [1/Pa]: the run accumulates the integrals per unit
@@ -12,9 +13,11 @@ use serde::{Deserialize, Serialize};
 use super::kind::{Integrand, Kind};
 use crate::error::Error;
 use crate::math::Vec2;
-use crate::mechanics::contact::geometry::Worn;
+use crate::mechanics::contact::geometry::{CylinderBearing, Worn};
+use crate::mechanics::contact::spatial::SpatialClearance;
 use crate::mechanics::contact::{self, ClearanceJoint, ClearanceRevolute, ContactState, WearContact};
 use crate::mechanics::planar_body::BodyState;
+use crate::mechanics::spatial::body::BodyState as SpatialState;
 use crate::output::JointWear;
 use crate::system::System;
 
@@ -90,11 +93,48 @@ pub fn integrand(
     })
 }
 
+/// The wear integrand of journal end `end` of the dry cylindrical joint `c` (geometry
+/// `g`) at the bodies' states `(bearing, journal)`, the end's point in contact state
+/// `state`: `None` apart or unloaded. Angles and the eccentricity are the section's
+/// through the end ([`CylinderBearing::section`]); the spins are each body's about the
+/// bearing's axis; the force is the end's over its share of the length.
+pub fn cylinder_integrand(
+    c: &SpatialClearance,
+    g: &CylinderBearing,
+    (bearing, journal): (&SpatialState, &SpatialState),
+    end: usize,
+    state: &ContactState,
+) -> Option<Integrand> {
+    let points = c.contacts(bearing, journal, c.reach());
+    let mut rims = points.iter().filter(|p| p.index == end).peekable();
+    let p = **rims.peek()?;
+    let (f_n, load) = rims.fold((0.0, 0.0), |(f, l), q| {
+        let (f_n, _) = c.force(q, state.onset_for(q.penetration_rate));
+        let f_n = f_n.max(0.0);
+        (f + f_n, l + f_n * q.slip.norm())
+    });
+    (f_n > 0.0).then(|| {
+        let section = g.section(bearing, journal);
+        let alpha = section.angle(&p.normal);
+        let e = section.of(&g.end_offsets(bearing, journal)[end]);
+        let axis = bearing.rotate(&g.u_bearing);
+        Integrand {
+            f_n: f_n / CylinderBearing::END_SHARE,
+            speed: load / f_n,
+            bearing_angle: alpha,
+            journal_angle: alpha - section.journal_turn,
+            spins: (bearing.omega_global().dot(&axis), journal.omega_global().dot(&axis)),
+            eccentricity: e.norm(),
+            lead: wrap(e.y.atan2(e.x) - alpha),
+        }
+    })
+}
+
 /// One joint's accumulation.
 struct Accumulating {
     /// The joint's index among the run's clearance joints.
     clearance: usize,
-    /// Its contact point's slot among the run's contact states.
+    /// Its first contact point's slot among the run's contact states.
     slot: usize,
     /// Its line contact.
     contact: WearContact,
@@ -104,13 +144,15 @@ struct Accumulating {
     clearance_gap: f64,
     /// The parts' profiles in the run (round without wear tables).
     profiles: Worn,
+    /// The part of the length each point stands for ([`super::kind::Wearing::share`]).
+    share: f64,
     /// What it has accumulated.
     out: JointWear,
-    /// The integrand at the last accepted state.
-    last: Option<Integrand>,
+    /// Each wearing point's integrand at the last accepted state.
+    last: Vec<Option<Integrand>>,
 }
 
-/// The wear a run accumulates: one grid pair per dry revolute clearance joint.
+/// The wear a run accumulates: one grid pair per dry journal in its bearing.
 pub struct Wear {
     joints: Vec<Accumulating>,
     cells: usize,
@@ -118,25 +160,25 @@ pub struct Wear {
 }
 
 impl Wear {
-    /// The accumulators of `sys`'s revolute clearance joints on grids of `opts.cells`;
+    /// The accumulators of `sys`'s journals in their bearings on grids of `opts.cells`;
     /// an error names a joint that lacks what wear needs (its length).
     pub fn new<K: Kind>(sys: &System<K>, opts: &WearOptions) -> Result<Self, Error> {
         opts.check()?;
         let n = opts.cells;
         let mut joints = Vec::new();
         for (k, c, range) in contact::slots(&sys.clearances) {
-            let Some(c) = K::wears(c) else { continue };
-            let contact =
-                c.wear_contact.clone().map_err(|problem| Error::Options { key: "wear", problem })?;
+            let Some(w) = K::wears(c) else { continue };
+            let contact = w.contact.clone().map_err(|problem| Error::Options { key: "wear", problem })?;
             joints.push(Accumulating {
                 clearance: k,
                 slot: range.start,
                 contact,
-                radii: (c.geometry.r_bearing, c.geometry.r_journal),
-                clearance_gap: c.geometry.clearance,
-                profiles: c.worn.as_deref().cloned().unwrap_or_else(Worn::round),
-                out: JointWear::none(&c.name, n),
-                last: None,
+                radii: w.radii,
+                clearance_gap: w.clearance,
+                profiles: w.worn.cloned().unwrap_or_else(Worn::round),
+                share: w.share,
+                out: JointWear::none(w.name, n),
+                last: vec![None; w.points],
             });
         }
         Ok(Wear { joints, cells: n, start: opts.start })
@@ -146,7 +188,9 @@ impl Wear {
     /// integrands the first step starts from.
     pub fn start<K: Kind>(&mut self, sys: &System<K>, states: &[ContactState], q: &[f64], v: &[f64]) {
         for j in &mut self.joints {
-            j.last = K::wear_integrand(sys, j.clearance, &states[j.slot], q, v);
+            for (point, last) in j.last.iter_mut().enumerate() {
+                *last = K::wear_integrand(sys, j.clearance, point, &states[j.slot + point], q, v);
+            }
         }
     }
 
@@ -174,60 +218,11 @@ impl Wear {
     ) {
         let half_cell = std::f64::consts::PI / self.cells as f64;
         for j in &mut self.joints {
-            let now = K::wear_integrand(sys, j.clearance, &states[j.slot], q, v);
-            let ends = match (j.last, now) {
-                (None, None) => None,
-                (Some(a), None) => Some((a, Integrand { f_n: 0.0, speed: 0.0, ..a })),
-                (None, Some(b)) => Some((Integrand { f_n: 0.0, speed: 0.0, ..b }, b)),
-                (Some(a), Some(b)) => Some((a, b)),
-            };
-            if let Some((a, b)) = ends {
-                // Each part's turn under the contact, told apart from its turn less
-                // whole revolutions by the part's spin (the contact's own direction
-                // turns by less than half a revolution in a step).
-                let spun = |ends: (f64, f64)| -0.5 * (ends.0 + ends.1) * dt;
-                let turn = |from: f64, to: f64, spin: f64| spin + wrap(to - from - spin);
-                let turn = (
-                    turn(a.bearing_angle, b.bearing_angle, spun((a.spins.0, b.spins.0))),
-                    turn(a.journal_angle, b.journal_angle, spun((a.spins.1, b.spins.1))),
-                );
-                // Sub-steps at most half a cell apart, and a quarter of the contact's
-                // half width on the bearing (the narrower angle): the deposits then
-                // sample the pressure's path finely enough that a cell wider than the
-                // contact gets its share whatever the step (never closer than 1/64 of
-                // half a cell, for a contact at its first touch).
-                let narrowest = j.contact.half_width(a.f_n.max(b.f_n)) / j.radii.0;
-                let spacing = half_cell.min(0.25 * narrowest).max(half_cell / 64.0);
-                let swept = turn.0.abs().max(turn.1.abs());
-                let m = ((swept / spacing).ceil() as usize).max(1);
-                let (load_a, load_b) = (a.f_n * a.speed, b.f_n * b.speed);
-                let h = dt / m as f64;
-                for i in 0..=m {
-                    let s = i as f64 / m as f64;
-                    // The composite trapezoid's weight is the time the point stands
-                    // for, `[at - h/2, at + h/2]` within the step; only its part after
-                    // the start counts.
-                    let at = t - (1.0 - s) * dt;
-                    let from = if i == 0 { at } else { at - 0.5 * h }.max(self.start);
-                    let to = if i == m { at } else { at + 0.5 * h };
-                    let weight = to - from;
-                    if weight <= 0.0 {
-                        continue;
-                    }
-                    let f_n = a.f_n + s * (b.f_n - a.f_n);
-                    let load = (load_a + s * (load_b - load_a)) * weight;
-                    if f_n > 0.0 && load > 0.0 {
-                        let at = Placement {
-                            bearing: a.bearing_angle + s * turn.0,
-                            journal: a.journal_angle + s * turn.1,
-                            eccentricity: a.eccentricity + s * (b.eccentricity - a.eccentricity),
-                            lead: a.lead + s * wrap(b.lead - a.lead),
-                        };
-                        deposit(j, f_n, load, &at, half_cell);
-                    }
-                }
+            for point in 0..j.last.len() {
+                let now = K::wear_integrand(sys, j.clearance, point, &states[j.slot + point], q, v);
+                let last = std::mem::replace(&mut j.last[point], now);
+                step_point(j, (last, now), (t, dt), self.start, half_cell);
             }
-            j.last = now;
         }
     }
 
@@ -245,6 +240,66 @@ impl Wear {
                 }
             })
             .collect()
+    }
+}
+
+/// One wearing point's share of a step of `dt` [s] ending at `t`, its integrands at the
+/// step's ends `(last, now)` ([`Wear::step`]); nothing counts before `start`.
+fn step_point(
+    j: &mut Accumulating,
+    (last, now): (Option<Integrand>, Option<Integrand>),
+    (t, dt): (f64, f64),
+    start: f64,
+    half_cell: f64,
+) {
+    let (a, b) = match (last, now) {
+        (None, None) => return,
+        (Some(a), None) => (a, Integrand { f_n: 0.0, speed: 0.0, ..a }),
+        (None, Some(b)) => (Integrand { f_n: 0.0, speed: 0.0, ..b }, b),
+        (Some(a), Some(b)) => (a, b),
+    };
+    // Each part's turn under the contact, told apart from its turn less whole
+    // revolutions by the part's spin (the contact's own direction turns by less than
+    // half a revolution in a step).
+    let spun = |ends: (f64, f64)| -0.5 * (ends.0 + ends.1) * dt;
+    let turn = |from: f64, to: f64, spin: f64| spin + wrap(to - from - spin);
+    let turn = (
+        turn(a.bearing_angle, b.bearing_angle, spun((a.spins.0, b.spins.0))),
+        turn(a.journal_angle, b.journal_angle, spun((a.spins.1, b.spins.1))),
+    );
+    // Sub-steps at most half a cell apart, and a quarter of the contact's half width on
+    // the bearing (the narrower angle): the deposits then sample the pressure's path
+    // finely enough that a cell wider than the contact gets its share whatever the step
+    // (never closer than 1/64 of half a cell, for a contact at its first touch).
+    let narrowest = j.contact.half_width(a.f_n.max(b.f_n)) / j.radii.0;
+    let spacing = half_cell.min(0.25 * narrowest).max(half_cell / 64.0);
+    let swept = turn.0.abs().max(turn.1.abs());
+    let m = ((swept / spacing).ceil() as usize).max(1);
+    // The point's own load, its part of the length's.
+    let (load_a, load_b) = (j.share * a.f_n * a.speed, j.share * b.f_n * b.speed);
+    let h = dt / m as f64;
+    for i in 0..=m {
+        let s = i as f64 / m as f64;
+        // The composite trapezoid's weight is the time the point stands for, `[at - h/2,
+        // at + h/2]` within the step; only its part after the start counts.
+        let at = t - (1.0 - s) * dt;
+        let from = if i == 0 { at } else { at - 0.5 * h }.max(start);
+        let to = if i == m { at } else { at + 0.5 * h };
+        let weight = to - from;
+        if weight <= 0.0 {
+            continue;
+        }
+        let f_n = a.f_n + s * (b.f_n - a.f_n);
+        let load = (load_a + s * (load_b - load_a)) * weight;
+        if f_n > 0.0 && load > 0.0 {
+            let at = Placement {
+                bearing: a.bearing_angle + s * turn.0,
+                journal: a.journal_angle + s * turn.1,
+                eccentricity: a.eccentricity + s * (b.eccentricity - a.eccentricity),
+                lead: a.lead + s * wrap(b.lead - a.lead),
+            };
+            deposit(j, f_n, load, &at, half_cell);
+        }
     }
 }
 
@@ -383,8 +438,9 @@ mod tests {
             radii: (0.01, 0.0095),
             clearance_gap: 0.0005,
             profiles,
+            share: 1.0,
             out: JointWear::none("c", cells),
-            last: None,
+            last: vec![None],
         }
     }
 

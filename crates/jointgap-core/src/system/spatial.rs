@@ -10,13 +10,14 @@ use super::{
     MarkerInfo, Names, Owner, Row, System, COMPILATIONS,
 };
 use crate::error::{Error, Named};
-use crate::mechanics::contact::geometry::{BallSocket, BlockChannel, CylinderBearing};
+use crate::mechanics::contact::geometry::{BallSocket, BlockChannel, CylinderBearing, Worn};
 use crate::mechanics::contact::lubricated::checked_film;
 use crate::mechanics::contact::lubricated_cylinder::LubricatedCylinder;
 use crate::mechanics::contact::play::check_play;
+use crate::mechanics::contact::spatial::not_worn;
 use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry, SpatialPlay};
 use crate::mechanics::contact::translational::BlockData;
-use crate::mechanics::contact::Laws;
+use crate::mechanics::contact::{line_contact, Laws};
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Layout;
 use crate::mechanics::resolve::Resolver;
@@ -188,6 +189,7 @@ fn cylinder_bearing(
         clearance: laws.r_bearing - laws.r_journal,
         length,
         axial_clearance,
+        worn: None,
     })
 }
 
@@ -334,12 +336,14 @@ fn compile_joints<'m>(
                         }),
                         normal,
                         friction: FrictionSpec::None,
+                        wear_contact: Err(not_worn(who)),
                     });
                     clearance = Some(clearances.len() - 1);
                 }
             }
             None => {
                 let data = j.clearance.as_ref().expect("checked above");
+                let mut wear_contact = Err(not_worn(who));
                 let (geometry, normal, friction) = match j.kind {
                     JointKind::ClearanceTranslational => {
                         let height = axis_of(who, "height_axis", j.height_axis)?.expect("checked above");
@@ -366,7 +370,11 @@ fn compile_joints<'m>(
                         (geometry, laws.normal, laws.friction)
                     }
                     _ => {
-                        let laws = Laws::new(&j.name, data)?;
+                        // Only the dry journal wears (docs/wear.md).
+                        let laws = match &j.lubrication {
+                            Some(_) => Laws::new(&j.name, data)?,
+                            None => Laws::with_tables(&j.name, data)?,
+                        };
                         let mut dry = cylinder_bearing(who, j, &laws, (bi, s_i, a_i), (bj, s_j, a_j))?;
                         let geometry = match &j.lubrication {
                             Some(l) => {
@@ -375,12 +383,27 @@ fn compile_joints<'m>(
                                 dry.clearance -= threshold;
                                 SpatialGeometry::Lubricated(LubricatedCylinder { dry, film, threshold })
                             }
-                            None => SpatialGeometry::Cylinder(dry),
+                            None => {
+                                wear_contact = line_contact(who, dry.length, &laws);
+                                dry.worn = Worn::new(
+                                    who,
+                                    (data.bearing_wear.as_deref(), data.journal_wear.as_deref()),
+                                    laws.r_journal,
+                                )?
+                                .map(Box::new);
+                                SpatialGeometry::Cylinder(dry)
+                            }
                         };
                         (geometry, laws.normal, laws.friction)
                     }
                 };
-                clearances.push(SpatialClearance { name: j.name.clone(), geometry, normal, friction });
+                clearances.push(SpatialClearance {
+                    name: j.name.clone(),
+                    geometry,
+                    normal,
+                    friction,
+                    wear_contact,
+                });
                 clearance = Some(clearances.len() - 1);
             }
         }

@@ -125,20 +125,43 @@ impl Laws {
     /// planar `clearance_revolute` alone, [`ClearanceRevolute::new`]); errors name the
     /// joint.
     pub fn new(name: &str, c: &Clearance) -> Result<Self, Error> {
-        let who = Named::joint(name);
-        for (key, given) in [
-            ("length", c.length.is_some()),
-            ("bearing_wear", c.bearing_wear.is_some()),
-            ("journal_wear", c.journal_wear.is_some()),
-        ] {
+        Self::without_tables(name, c)?;
+        Self::without_length(name, c)
+    }
+
+    /// [`Laws::new`] for a spatial cylindrical clearance joint, which takes wear tables
+    /// (its length is its own, not the clearance's).
+    pub fn with_tables(name: &str, c: &Clearance) -> Result<Self, Error> {
+        Self::without_length(name, c)
+    }
+
+    /// [`Laws::checked`], rejecting a clearance `length`.
+    fn without_length(name: &str, c: &Clearance) -> Result<Self, Error> {
+        if c.length.is_some() {
+            return Err(Named::joint(name).error(
+                "length",
+                "'length' (wear data) belongs to a planar clearance_revolute joint only".into(),
+            ));
+        }
+        Self::checked(name, c)
+    }
+
+    /// Rejects wear tables.
+    fn without_tables(name: &str, c: &Clearance) -> Result<(), Error> {
+        for (key, given) in
+            [("bearing_wear", c.bearing_wear.is_some()), ("journal_wear", c.journal_wear.is_some())]
+        {
             if given {
-                return Err(who.error(
+                return Err(Named::joint(name).error(
                     key,
-                    format!("'{key}' (wear data) belongs to a planar clearance_revolute joint only"),
+                    format!(
+                        "'{key}' (wear data) belongs to a planar clearance_revolute joint and a dry \
+                         spatial clearance_cylindrical joint only"
+                    ),
                 ));
             }
         }
-        Self::checked(name, c)
+        Ok(())
     }
 
     /// [`Laws::new`] without the check that `c` has no wear data.
@@ -466,35 +489,39 @@ fn worn_contacts(
 }
 
 /// The line contact of joint `who` (`c` its data, `laws` its checked laws) for a run
-/// that accumulates wear: its `length`, checked, and the contact modulus from the
-/// materials or, with a stiffness alone of exponent 1.5, the `E* = 3 K / (4 sqrt(R*))`
-/// whose journal-bearing stiffness ([`materials::journal_bearing_stiffness`]) is `K`.
-/// `Ok(Err(why))` where the joint lacks them (only a run with wear needs them).
+/// that accumulates wear: its `length`, checked, and [`line_contact`]. `Ok(Err(why))`
+/// where the joint lacks them (only a run with wear needs them).
 fn wear_contact(who: Named, c: &Clearance, laws: &Laws) -> Result<Result<WearContact, String>, Error> {
-    let effective_radius = laws.r_journal * laws.r_bearing / (laws.r_bearing - laws.r_journal);
-    let length = match c.length {
+    match c.length {
         Some(l) if !(l.is_finite() && l > 0.0) => {
-            return Err(who.error("length", format!("length = {l} m must be positive")));
+            Err(who.error("length", format!("length = {l} m must be positive")))
         }
-        Some(l) => l,
-        None => {
-            return Ok(Err(format!(
-                "{who}: wear needs the bearing's length along its axis (clearance.length), the \
-                 length of the line contact that carries the load"
-            )));
-        }
-    };
+        Some(l) => Ok(line_contact(who, l, laws)),
+        None => Ok(Err(format!(
+            "{who}: wear needs the bearing's length along its axis (clearance.length), the \
+             length of the line contact that carries the load"
+        ))),
+    }
+}
+
+/// The line contact of length `length` [m] of joint `who` (`laws` its checked laws) for
+/// a run that accumulates wear: the contact modulus from the materials or, with a
+/// stiffness alone of exponent 1.5, the `E* = 3 K / (4 sqrt(R*))` whose journal-bearing
+/// stiffness ([`materials::journal_bearing_stiffness`]) is `K`. `Err(why)` where the
+/// joint lacks them.
+pub(crate) fn line_contact(who: Named, length: f64, laws: &Laws) -> Result<WearContact, String> {
+    let effective_radius = laws.r_journal * laws.r_bearing / (laws.r_bearing - laws.r_journal);
     let contact_modulus = match laws.contact_modulus {
         Some(e) => e,
         None if laws.normal.exponent == 1.5 => 0.75 * laws.normal.stiffness / effective_radius.sqrt(),
         None => {
-            return Ok(Err(format!(
+            return Err(format!(
                 "{who}: wear needs the contact's width, from bearing_material and journal_material \
                  (a stiffness alone gives it for a Hertz exponent of 1.5 only)"
-            )));
+            ));
         }
     };
-    Ok(Ok(WearContact { length, contact_modulus, effective_radius }))
+    Ok(WearContact { length, contact_modulus, effective_radius })
 }
 
 /// Normal force [N] and friction force along the tangents [N] of the dry laws `normal`

@@ -12,7 +12,7 @@ use super::geometry::{
 use super::lubricated_cylinder::LubricatedCylinder;
 use super::normal::NormalForce;
 use super::point3::{ContactPoint3, ContactPoints3, MaterialPoint3};
-use super::{ClearanceJoint, ContactMeasure, ContactState, MAX_INITIAL_CONTACT_FORCE};
+use super::{ClearanceJoint, ContactMeasure, ContactState, WearContact, MAX_INITIAL_CONTACT_FORCE};
 use crate::error::{Error, Named};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::RowEval;
@@ -93,6 +93,14 @@ pub struct SpatialClearance {
     pub normal: NormalForce,
     /// Friction law (checked).
     pub friction: FrictionSpec,
+    /// What a run that accumulates wear needs of a dry cylindrical joint, its line
+    /// contact ([`super::line_contact`]); `Err` says why the joint cannot wear.
+    pub wear_contact: Result<WearContact, String>,
+}
+
+/// Why joint `who` takes no part in a run's wear: it is no dry journal in its bearing.
+pub fn not_worn(who: Named) -> String {
+    format!("{who}: wear is modelled for dry revolute and cylindrical clearance joints")
 }
 
 impl ContactMeasure for ContactPoint3 {

@@ -6,6 +6,8 @@
 //! Claro, Lankarani 2006 and Marques, Isaac, Dourado, Flores 2017 on spatial revolute
 //! joints with radial and axial clearance).
 
+use super::cylinder_section::worn_end;
+use super::worn::Worn;
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
 use crate::mechanics::spatial::body::{BodyState, Vec3};
 
@@ -38,6 +40,9 @@ pub struct CylinderBearing {
     /// the bearing centre (a bearing of length `L + 2 c_a`; the end play is `2 c_a`).
     /// `None`: no thrust faces; the bearing holds the journal radially wherever it slides.
     pub axial_clearance: Option<f64>,
+    /// The parts' wear, uniform along their length, against the angle about each part's
+    /// axis ([`super::cylinder_section::section_basis`]); `None`: both round.
+    pub worn: Option<Box<Worn>>,
 }
 
 /// A journal's and its bearing's centres and unit axes, global.
@@ -156,8 +161,15 @@ pub fn contact_cylinder_bearing(
     out: &mut ContactPoints3,
 ) {
     let x = g.axes(bearing, journal);
+    let worn = g.worn.as_deref().map(|w| (w, g.section(bearing, journal)));
     for (index, side) in [(0, -1.0), (1, 1.0)] {
         let (end, station, d) = g.end(&x, side);
+        if let Some((w, section)) = &worn {
+            let ends = (index, CylinderBearing::END_SHARE);
+            let at = (x.centre_b, x.axis_b, station);
+            worn_end(g, w, section, (bearing, journal), ends, at, d, reach, out);
+            continue;
+        }
         let len = d.norm();
         let penetration = len - g.clearance;
         if penetration <= -reach {
@@ -233,6 +245,7 @@ mod tests {
             clearance: C,
             length: L,
             axial_clearance: Some(C_A),
+            worn: None,
         }
     }
 
@@ -363,15 +376,18 @@ mod tests {
     /// In planar motion (both axes along z, the bodies turning about z) the journal's
     /// two ends are the planar journal in its bearing, each with half its law: the
     /// planar kernel's penetration, normal, rate, slip (along `t = perp(n)`) and
-    /// points, against the spatial kernel's.
+    /// points, against the spatial kernel's; round, and worn (a bearing worn into a
+    /// pocket narrower than the journal's path, whose rims both touch, and a journal worn
+    /// flat at one side) against the planar worn kernel's rims.
     #[test]
     fn aligned_planar_motion_is_the_planar_journal() {
+        use crate::error::Named;
         use crate::math::{rotate, Vec2};
-        use crate::mechanics::contact::geometry::{contact_journal_bearing, JournalBearing};
+        use crate::mechanics::contact::geometry::{contact_journal_bearing, contact_worn, JournalBearing};
         use crate::mechanics::contact::ContactPoints;
         use crate::mechanics::planar_body;
         let z = Vec3::z();
-        let g = CylinderBearing {
+        let round = CylinderBearing {
             s_bearing: Vec3::new(0.02, -0.005, 0.0),
             u_bearing: z,
             s_journal: Vec3::new(-0.03, 0.0, 0.0),
@@ -397,25 +413,60 @@ mod tests {
             )
         };
         let bearing = planar_body::BodyState::new(Vec2::new(0.1, 0.2), 0.3, Vec2::new(0.2, -0.1), 2.5);
+        // A pocket 30 um deep, 8 degrees either side of the first eccentricity's direction
+        // in the bearing's frame; the journal worn 5 um over a quarter of its round.
+        let pocket = (-1.0f64).atan2(1.5) - 0.3;
+        let bearing_wear: Vec<f64> = (0..360)
+            .map(|k| {
+                let d = (k as f64).to_radians() - pocket;
+                let d = (d + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
+                3e-5 * (1.0 - (d / 8f64.to_radians()).powi(2)).max(0.0)
+            })
+            .collect();
+        let journal_wear: Vec<f64> =
+            (0..72).map(|k| 5e-6 * (k as f64 * 5f64.to_radians()).cos().max(0.0).powi(2)).collect();
+        let worn = Worn::new(Named::joint("c"), (Some(&bearing_wear), Some(&journal_wear)), R_J).unwrap();
         let centre_b = bearing.r + rotate(bearing.phi(), flat.s_bearing);
+        let mut rims = 0;
         for (e, phi) in [(Vec2::new(0.00015, -0.0001), 1.1), (Vec2::new(-0.0002, 0.00007), -2.0)] {
             let centre = centre_b + e - rotate(phi, flat.s_journal);
             let journal = planar_body::BodyState::new(centre, phi, Vec2::new(0.7, -0.4), -30.0);
-            let mut planar_points = ContactPoints::new();
-            contact_journal_bearing(&flat, &bearing, &journal, f64::INFINITY, &mut planar_points);
-            let q = planar_points[0];
-            let t = crate::math::perp(q.normal);
-            for p in all(&g, &lift(&bearing), &lift(&journal)).iter() {
-                let k = p.index;
-                assert!((p.penetration - q.penetration).abs() < 1e-15, "end {k}");
-                assert!((p.normal - Vec3::new(q.normal.x, q.normal.y, 0.0)).norm() < 1e-12, "end {k}");
-                assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-12, "end {k}");
-                assert!((p.slip - Vec3::new(t.x, t.y, 0.0) * q.slip[0]).norm() < 1e-12, "end {k}");
-                let on_j = Vec2::new(p.on_j.at.x, p.on_j.at.y);
-                assert!((on_j - q.on_j.at).norm() < 1e-14 && p.share == 0.5, "end {k}");
-                assert!((p.on_j.at.z - (2.0 * k as f64 - 1.0) * L / 2.0).abs() < 1e-15, "end {k}");
+            for (g, reach) in [
+                (round.clone(), f64::INFINITY),
+                (CylinderBearing { worn: worn.clone().map(Box::new), ..round.clone() }, 1e-3),
+            ] {
+                let mut planar = ContactPoints::new();
+                match &g.worn {
+                    Some(w) => contact_worn(&flat, w, &bearing, &journal, reach, &mut planar),
+                    None => contact_journal_bearing(&flat, &bearing, &journal, reach, &mut planar),
+                }
+                let mut spatial = ContactPoints3::new();
+                contact_cylinder_bearing(&g, &lift(&bearing), &lift(&journal), reach, &mut spatial);
+                assert_eq!(spatial.len(), 2 * planar.len());
+                rims = rims.max(planar.len());
+                for k in 0..2 {
+                    for (p, q) in spatial.iter().filter(|p| p.index == k).zip(planar.iter()) {
+                        let t = crate::math::perp(q.normal);
+                        assert!((p.penetration - q.penetration).abs() < 1e-15, "end {k}");
+                        assert!(
+                            (p.normal - Vec3::new(q.normal.x, q.normal.y, 0.0)).norm() < 1e-12,
+                            "end {k}"
+                        );
+                        assert!((p.penetration_rate - q.penetration_rate).abs() < 1e-12, "end {k}");
+                        assert!((p.slip - Vec3::new(t.x, t.y, 0.0) * q.slip[0]).norm() < 1e-12, "end {k}");
+                        let on_j = Vec2::new(p.on_j.at.x, p.on_j.at.y);
+                        let on_i = Vec2::new(p.on_i.at.x, p.on_i.at.y);
+                        assert!(
+                            (on_j - q.on_j.at).norm() < 1e-14 && (on_i - q.on_i.at).norm() < 1e-14,
+                            "end {k}"
+                        );
+                        assert!(p.share == 0.5 * q.share, "end {k}");
+                        assert!((p.on_j.at.z - (2.0 * k as f64 - 1.0) * L / 2.0).abs() < 1e-15, "end {k}");
+                    }
+                }
             }
         }
+        assert!(rims >= 2, "the pocket's two rims");
     }
 
     /// A journal whose own axis points against the bearing's: the ends swap indices and
@@ -477,6 +528,27 @@ mod tests {
         let centre = centre_b + m * 6e-5 - a.cross(&m) * 9e-5 - a * 3e-4;
         let journal = journal_at(&g, centre, axis, -0.4, Vec3::zeros(), Vec3::zeros());
         check_arms_by_virtual_work(&b, &journal, &|i, j| all(&g, i, j), 4);
+    }
+
+    /// Worn parts (a bearing worn 20 um into an oval, a journal worn at two opposite
+    /// sides), the journal aligned (no thrust faces) and on the move about every axis: each end's rate and
+    /// slip against the motion, and its arms against virtual work, as the round joint's.
+    #[test]
+    fn worn_ends_pass_the_rate_slip_and_arm_checks() {
+        use crate::error::Named;
+        let table = |n: usize, f: &dyn Fn(f64) -> f64| -> Vec<f64> {
+            (0..n).map(|k| f(std::f64::consts::TAU * k as f64 / n as f64)).collect()
+        };
+        let (bearing_wear, journal_wear) =
+            (table(72, &|t| 1e-5 * (1.0 + (2.0 * t).cos())), table(36, &|t| 3e-6 * (1.0 + (2.0 * t).cos())));
+        let worn = Worn::new(Named::joint("c"), (Some(&bearing_wear), Some(&journal_wear)), R_J).unwrap();
+        let g = CylinderBearing { worn: worn.map(Box::new), axial_clearance: None, ..joint() };
+        let b = bearing_body();
+        let (centre_b, a, m) = frame(&g, &b);
+        let centre = centre_b + m * 1.5e-4 + a.cross(&m) * 8e-5 + a * 1e-4;
+        let journal = journal_at(&g, centre, a, 1.3, Vec3::new(-0.5, 0.9, 0.3), Vec3::new(6.0, -7.0, 20.0));
+        check_rate_and_slip_by_motion(&b, &journal, &|i, j| all(&g, i, j), 2);
+        check_arms_by_virtual_work(&b, &journal, &|i, j| all(&g, i, j), 2);
     }
 
     /// A centred, aligned journal: finite everything; the ends' gaps the radial

@@ -10,6 +10,7 @@
 mod ball_socket;
 mod block_channel;
 mod cylinder_bearing;
+mod cylinder_section;
 mod journal_bearing;
 mod slider_guide;
 #[cfg(test)]
@@ -19,6 +20,7 @@ pub mod worn;
 pub use ball_socket::{contact_ball_socket, BallSocket};
 pub use block_channel::{contact_block_channel, BlockChannel, Pose, CORNERS3};
 pub use cylinder_bearing::{contact_cylinder_bearing, radial_normal, CylinderBearing};
+pub use cylinder_section::{section_basis, Section};
 pub use journal_bearing::{contact_journal_bearing, JournalBearing};
 pub use slider_guide::{contact_slider_guide, SliderGuide, CORNERS};
 pub use worn::{contact_worn, Worn};

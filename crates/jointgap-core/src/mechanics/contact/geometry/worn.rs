@@ -20,7 +20,9 @@
 
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
-use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint};
+use smallvec::SmallVec;
+
+use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar_body::BodyState;
 
 use super::JournalBearing;
@@ -458,16 +460,83 @@ fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
     b.v + perp(p - b.r) * b.omega
 }
 
+/// One rim of a worn joint's section where the parts touch or come nearest: a local
+/// maximum of the overlap ([`Worn::rims`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rim {
+    /// The normal `u(alpha)` in the section's axes, pointing from the bearing's centre
+    /// outwards.
+    pub normal: Vec2,
+    /// The overlap `delta(alpha)` [m]: the penetration.
+    pub penetration: f64,
+    /// The part of the joint's law it carries ([`merging`]).
+    pub share: f64,
+    /// The bearing's wear and its slope at the normal, `(w_B, w_B')`.
+    pub bearing: (f64, f64),
+    /// The journal's, `(w_J, w_J')`.
+    pub journal: (f64, f64),
+}
+
+impl Rim {
+    /// The material points `(bearing, journal)` of a bearing of radius `r_bearing`
+    /// centred at `centre_b` and a journal of radius `r_journal` at `centre_j`, both in
+    /// the section's axes: `c + h u + h' u_perp` of each part's support function `h`.
+    /// Their difference is `delta u`, since `delta' = 0` at the rim.
+    #[inline]
+    pub fn points(
+        &self,
+        (centre_b, r_bearing): (Vec2, f64),
+        (centre_j, r_journal): (Vec2, f64),
+    ) -> (Vec2, Vec2) {
+        let t = perp(self.normal);
+        (
+            centre_b + self.normal * (r_bearing + self.bearing.0) + t * self.bearing.1,
+            centre_j + self.normal * (r_journal - self.journal.0) - t * self.journal.1,
+        )
+    }
+}
+
+/// The rims a section can have at once.
+pub type Rims = SmallVec<[Rim; RIMS]>;
+
+impl Worn {
+    /// The rims of a worn journal at eccentricity `e` in its worn bearing of clearance
+    /// `c`, the bodies turned by `phis`, whose overlap is above `-reach` [m]: the first
+    /// the deepest, the normal angle `alpha` where the overlap `delta(alpha) = e . u +
+    /// R_J - w_J(alpha - phi_J) - R_B - w_B(alpha - phi_B)` is largest; for a finite reach
+    /// the other local maxima follow, the rims of a worn pocket on which the journal
+    /// rests at once ([`Worn::maxima`]).
+    pub fn rims(&self, e: Vec2, phis: (f64, f64), clearance: f64, reach: f64) -> Rims {
+        let mut out = Rims::new();
+        // No angle overlaps by more than |e| - c - (w_B + w_J)'s floor.
+        if e.norm() - clearance - self.floor <= -reach {
+            return out;
+        }
+        // The rims beyond the deepest only for the forces (a finite reach): the contact
+        // state, its events and channels follow the deepest point.
+        let rims = if reach.is_finite() { RIMS } else { 1 };
+        let floor = if reach.is_finite() { -reach } else { f64::INFINITY };
+        for &(alpha, _, share) in self.maxima(e, phis, clearance, floor).iter().take(rims) {
+            let normal = Vec2::new(alpha.cos(), alpha.sin());
+            let (wb, db, _) = self.bearing_at(alpha - phis.0);
+            let (wj, dj, _) = self.journal_at(alpha - phis.1);
+            let penetration = e.dot(&normal) - clearance - wb - wj;
+            if penetration <= -reach {
+                break;
+            }
+            out.push(Rim { normal, penetration, share, bearing: (wb, db), journal: (wj, dj) });
+        }
+        out
+    }
+}
+
 /// The contact points of a worn journal in its worn bearing, pushed onto `out` unless
-/// the gap is `reach` [m] or more. The first is the deepest: the normal angle `alpha`
-/// where the overlap `delta(alpha) = e . u + R_J - w_J(alpha - phi_J) - R_B - w_B(alpha -
-/// phi_B)` is largest; for a finite reach the other local maxima follow, the rims of a
-/// worn pocket on which the journal rests at once ([`Worn::maxima`]). All share the
-/// joint's one contact state (index 0). Each has the penetration
-/// `delta(alpha)`, the material points `c + h u + h' u_perp` of each part, and the
-/// relative velocity of the journal's point to the bearing's along `n` and the tangent.
-/// Since `delta' = 0` there, the penetration's time derivative is its partial one at
-/// fixed `alpha`, which is the relative velocity of the two material points along `n`.
+/// the gap is `reach` [m] or more: its rims ([`Worn::rims`]) in the global plane, all
+/// sharing the joint's one contact state (index 0). Each has the penetration
+/// `delta(alpha)`, the material points of each part ([`Rim::points`]), and the relative
+/// velocity of the journal's point to the bearing's along `n` and the tangent. Since
+/// `delta' = 0` there, the penetration's time derivative is its partial one at fixed
+/// `alpha`, which is the relative velocity of the two material points along `n`.
 pub fn contact_worn(
     g: &JournalBearing,
     worn: &Worn,
@@ -477,34 +546,15 @@ pub fn contact_worn(
     out: &mut ContactPoints,
 ) {
     let (centre_b, centre_j) = g.centres(bearing, journal);
-    let e = centre_j - centre_b;
-    let (phi_b, phi_j) = (bearing.phi(), journal.phi());
-    // No angle overlaps by more than |e| - c - (w_B + w_J)'s floor.
-    if e.norm() - g.clearance - worn.floor <= -reach {
-        return;
-    }
-    // The rims beyond the deepest only for the forces (a finite reach): the contact
-    // state, its events and channels follow the deepest point.
-    let rims = if reach.is_finite() { RIMS } else { 1 };
-    let floor = if reach.is_finite() { -reach } else { f64::INFINITY };
-    let maxima = worn.maxima(e, (phi_b, phi_j), g.clearance, floor);
-    for &(alpha, _, share) in maxima.iter().take(rims) {
-        let u = Vec2::new(alpha.cos(), alpha.sin());
-        let (wb, db, _) = worn.bearing_at(alpha - phi_b);
-        let (wj, dj, _) = worn.journal_at(alpha - phi_j);
-        let penetration = e.dot(&u) + (g.r_journal - wj) - (g.r_bearing + wb);
-        if penetration <= -reach {
-            return;
-        }
-        let t = tangents(u);
-        let point_journal = centre_j + u * (g.r_journal - wj) - t[0] * dj;
-        let point_bearing = centre_b + u * (g.r_bearing + wb) + t[0] * db;
+    let phis = (bearing.phi(), journal.phi());
+    for rim in worn.rims(centre_j - centre_b, phis, g.clearance, reach) {
+        let (point_bearing, point_journal) = rim.points((centre_b, g.r_bearing), (centre_j, g.r_journal));
         let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
         out.push(ContactPoint::in_bearing(
-            u,
-            penetration,
+            rim.normal,
+            rim.penetration,
             v,
-            share,
+            rim.share,
             (
                 MaterialPoint { body: g.bearing, at: point_bearing },
                 MaterialPoint { body: g.journal, at: point_journal },
