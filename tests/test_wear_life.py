@@ -14,70 +14,7 @@ import numpy as np
 import pytest
 from jointgap.cli import main
 from jointgap.wear import WearStep, predict_wear, resolve_coefficient, wear_pairs
-
-LOAD, OMEGA = 200.0, 50.0
-R_B, R_J, LENGTH = 7.5e-3, 7.0e-3, 0.01
-PERIOD = 2 * math.pi / OMEGA
-
-
-def pressed_journal() -> jointgap.Model:
-    """A pin turned at constant speed by a motor on a carrier that slides freely up and
-    down, pressed by a constant load into a fixed bearing (the engine's closed-form wear
-    case, crates/jointgap-core/tests/wear.rs)."""
-    return jointgap.Model.from_dict(
-        {
-            "gravity": [0.0, 0.0],
-            "bodies": [
-                {"name": "carrier", "mass": 1.0, "inertia": 1e-3, "position": [0.0, -0.5e-3]},
-                {"name": "pin", "mass": 0.5, "inertia": 1e-5, "position": [0.0, -0.5e-3]},
-            ],
-            "joints": [
-                {
-                    "name": "slide",
-                    "type": "prismatic",
-                    "body_i": "ground",
-                    "point_i": [0.0, 0.0],
-                    "body_j": "carrier",
-                    "point_j": [0.0, 0.0],
-                    "axis": [0.0, 1.0],
-                },
-                {
-                    "name": "spin",
-                    "type": "revolute",
-                    "body_i": "carrier",
-                    "point_i": [0.0, 0.0],
-                    "body_j": "pin",
-                    "point_j": [0.0, 0.0],
-                },
-                {
-                    "name": "bearing",
-                    "type": "clearance_revolute",
-                    "body_i": "ground",
-                    "point_i": [0.0, 0.0],
-                    "body_j": "pin",
-                    "point_j": [0.0, 0.0],
-                    "clearance": {
-                        "bearing_radius": R_B,
-                        "clearance": 0.5e-3,
-                        "length": LENGTH,
-                        "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
-                        "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
-                        "normal_law": {"type": "kelvin_voigt", "exponent": 1.5, "damping": 1e4},
-                    },
-                },
-            ],
-            "drivers": [
-                {
-                    "name": "motor",
-                    "joint": "spin",
-                    "profile": {"type": "constant_speed", "speed": OMEGA},
-                }
-            ],
-            "forces": [
-                {"type": "applied_force", "name": "load", "body": "carrier", "force": [0.0, -LOAD]}
-            ],
-        }
-    )
+from pressed_journal import LENGTH, LOAD, PERIOD, R_B, R_J, pressed_journal
 
 
 def test_coefficients_by_name_and_with_units() -> None:
@@ -93,16 +30,18 @@ def test_coefficients_by_name_and_with_units() -> None:
         resolve_coefficient("5 N")
 
 
-def test_a_pressed_journal_wears_as_archards_closed_form() -> None:
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_a_pressed_journal_wears_as_archards_closed_form(dimension: int) -> None:
     """Constant load and speed: the wear rate does not change as the bearing wears (the
     pocket stays under the load, the pressure is the nominal Hertz one), so the loop's
     steps grow while its estimate stays exact. After N cycles, 36 cells of 10 deg, the
     loaded cell (270 deg) holds the pressure averaged over its arc times the sliding
     distance, `N k F / (L R_B dtheta) 2 pi R_J`; the journal wears uniformly `N k F / L`;
-    each part loses the volume `N k F 2 pi R_J`."""
+    each part loses the volume `N k F 2 pi R_J`. The same in 3D, a clearance_cylindrical
+    joint along z: its two ends' halves add up to the whole journal."""
     k, cycles, cells = 3.7e-15, 2000.0, 36
     p = predict_wear(
-        pressed_journal(), cycles, coefficient=k, cells=cells, period=PERIOD, warmup=PERIOD
+        pressed_journal(dimension), cycles, coefficient=k, cells=cells, period=PERIOD, warmup=PERIOD
     )
     assert p.status == "finished", p.message
     assert p.cycles == pytest.approx(cycles)

@@ -1,8 +1,8 @@
 """Wear of the spatial cylindrical clearance joint (docs/wear.md, "The spatial journal"):
 its wear tables in the model file, its worn contact against the planar joint's (the
 founding case in 3D, whose aligned journal is the planar one), the wear a run
-accumulates against the planar run's, and the prediction over life against Archard's
-closed form for a pressed journal."""
+accumulates against the planar run's, and the prediction over life against the planar
+one's (Archard's closed form for a pressed journal in 3D: tests/test_wear_life.py)."""
 
 from __future__ import annotations
 
@@ -19,8 +19,6 @@ from jointgap.wear import predict_wear
 
 ROOT = Path(__file__).resolve().parent.parent
 TIGHT = {"rate": 10_000, "rtol": 1e-11, "atol": 1e-14}
-LOAD, OMEGA = 200.0, 50.0
-R_B, R_J, LENGTH = 7.5e-3, 7.0e-3, 0.01
 
 
 def founding_pair(**tables: list[float]) -> tuple[jointgap.Model, jointgap.Model]:
@@ -118,104 +116,6 @@ def test_a_tilted_journal_wears_by_the_load_of_each_end() -> None:
     assert wear["load_distance"] == pytest.approx(sampled, rel=1e-3)
     for part in ("bearing", "journal"):
         assert wear[f"{part}_volume"] == pytest.approx(wear["load_distance"], rel=1e-12)
-
-
-def pressed_journal() -> jointgap.Model:
-    """The closed-form case of tests/test_wear_life.py in 3D: a pin turned at constant
-    speed about z on a carrier that slides freely along y, pressed by a constant load
-    into a fixed cylindrical bearing along z."""
-    z = [0.0, 0.0, 1.0]
-    inertia = {"principal": {"moments": [1e-5, 1e-5, 1e-5]}}
-    return jointgap.Model.from_dict(
-        {
-            "dimension": 3,
-            "gravity": [0.0, 0.0, 0.0],
-            "bodies": [
-                {
-                    "name": "carrier",
-                    "mass": 1.0,
-                    "inertia": inertia,
-                    "position": [0.0, -0.5e-3, 0.0],
-                },
-                {"name": "pin", "mass": 0.5, "inertia": inertia, "position": [0.0, -0.5e-3, 0.0]},
-            ],
-            "joints": [
-                {
-                    "name": "slide",
-                    "type": "prismatic",
-                    "body_i": "ground",
-                    "point_i": [0.0, 0.0, 0.0],
-                    "body_j": "carrier",
-                    "point_j": [0.0, 0.0, 0.0],
-                    "axis": [0.0, 1.0, 0.0],
-                },
-                {
-                    "name": "spin",
-                    "type": "revolute",
-                    "body_i": "carrier",
-                    "point_i": [0.0, 0.0, 0.0],
-                    "body_j": "pin",
-                    "point_j": [0.0, 0.0, 0.0],
-                    "axis": z,
-                },
-                {
-                    "name": "bearing",
-                    "type": "clearance_cylindrical",
-                    "body_i": "ground",
-                    "point_i": [0.0, 0.0, 0.0],
-                    "body_j": "pin",
-                    "point_j": [0.0, 0.0, 0.0],
-                    "axis": z,
-                    "length": LENGTH,
-                    "clearance": {
-                        "bearing_radius": R_B,
-                        "clearance": 0.5e-3,
-                        "bearing_material": {"youngs_modulus": 97e9, "poisson_ratio": 0.3},
-                        "journal_material": {"youngs_modulus": 207e9, "poisson_ratio": 0.3},
-                        "normal_law": {"type": "kelvin_voigt", "exponent": 1.5, "damping": 1e4},
-                    },
-                },
-            ],
-            "drivers": [
-                {
-                    "name": "motor",
-                    "joint": "spin",
-                    "profile": {"type": "constant_speed", "speed": OMEGA},
-                }
-            ],
-            "forces": [
-                {
-                    "type": "applied_force",
-                    "name": "load",
-                    "body": "carrier",
-                    "force": [0.0, -LOAD, 0.0],
-                }
-            ],
-        }
-    )
-
-
-def test_a_pressed_spatial_journal_wears_as_archards_closed_form() -> None:
-    """As the planar case (tests/test_wear_life.py): after N cycles on 36 cells the
-    loaded cell (270 deg about the bearing's axis, from its body's x axis) holds `N k F
-    / (L R_B dtheta) 2 pi R_J`, the journal wears uniformly `N k F / L`, and each part
-    loses `N k F 2 pi R_J`: the two ends' halves add up to the whole journal."""
-    k, cycles, cells = 3.7e-15, 2000.0, 36
-    period = 2 * math.pi / OMEGA
-    p = predict_wear(
-        pressed_journal(), cycles, coefficient=k, cells=cells, period=period, warmup=period
-    )
-    assert p.status == "finished", p.message
-    _, bearing, journal = p.profiles["bearing"][-1]
-    spot = cycles * k * LOAD / (LENGTH * R_B * 2 * math.pi / cells) * 2 * math.pi * R_J
-    assert bearing[27] == pytest.approx(spot, rel=2e-3)
-    assert bearing.max() == bearing[27]
-    assert journal == pytest.approx(cycles * k * LOAD / LENGTH, rel=2e-3)
-    last = p.history[p.history.cycles == p.history.cycles.max()].iloc[0]
-    volume = cycles * k * LOAD * 2 * math.pi * R_J
-    assert last.bearing_volume == pytest.approx(volume, rel=2e-3)
-    assert last.journal_volume == pytest.approx(volume, rel=2e-3)
-    assert p.runs < 40
 
 
 def test_the_command_wears_the_3d_founding_case_as_the_planar_one(tmp_path: Path) -> None:
