@@ -49,7 +49,14 @@ def test_a_cylindrical_joint_takes_wear_tables_with_units(tmp_path: Path) -> Non
     )
     model.save(tmp_path / "worn.toml")
     assert jointgap.load(tmp_path / "worn.toml") == model
-    # A spherical joint has no wear tables.
+    # A lubricated journal, its film carrying the load, has none; nor has a ball.
+    lubricated = worn.replace(
+        'type = "clearance_cylindrical"', 'type = "lubricated_cylindrical"', 1
+    ).replace(
+        'length = "20 mm"\n', 'length = "20 mm"\nlubrication = { viscosity = "0.05 Pa*s" }\n', 1
+    )
+    with pytest.raises(jointgap.ModelError, match="unknown key 'bearing_wear'"):
+        jointgap.loads(lubricated)
     ball = (ROOT / "examples" / "spatial_four_bar_clearance.toml").read_text()
     tables = 'clearance = "0.1 mm"\nbearing_wear = [0, 0, 0, 0, 0, 0, 0, 0]\n'
     worn_ball = ball.replace('clearance = "0.1 mm"\n', tables, 1)

@@ -792,12 +792,21 @@ _CYLINDER_CLEARANCE = [
     *_CLEARANCE,
     Param("length", "scalar", u.LENGTH, required=True, doc="length of the journal"),
     Param(
+        "axial_clearance",
+        "scalar",
+        u.LENGTH,
+        doc="gap on each side between the journal's ends and thrust faces; none by default",
+    ),
+]
+
+_CYLINDER_WEAR = [
+    Param(
         "bearing_wear",
         "list",
         u.LENGTH,
         doc="wear depth of the bearing, uniform along it, at N >= 8 equally spaced angles "
         "2 pi k / N about its axis (from body_i's x axis made normal to the axis, its y axis "
-        "for an axis near x; docs/wear.md); dry joints only",
+        "for an axis near x; docs/wear.md)",
     ),
     Param(
         "journal_wear",
@@ -805,12 +814,6 @@ _CYLINDER_CLEARANCE = [
         u.LENGTH,
         doc="wear depth of the journal at N >= 8 equally spaced angles about its axis in "
         "body_j's frame, counted as bearing_wear's",
-    ),
-    Param(
-        "axial_clearance",
-        "scalar",
-        u.LENGTH,
-        doc="gap on each side between the journal's ends and thrust faces; none by default",
     ),
 ]
 
@@ -918,7 +921,7 @@ SPATIAL_ELEMENTS: dict[str, list[Param] | dict[str, list[Param]]] = {
             _play("travel_play"),
         ],
         "clearance_spherical": [*_SPATIAL_JOINT_COMMON, *_SPHERE_CLEARANCE],
-        "clearance_cylindrical": _CYLINDER_CLEARANCE,
+        "clearance_cylindrical": [*_CYLINDER_CLEARANCE, *_CYLINDER_WEAR],
         "lubricated_cylindrical": [*_CYLINDER_CLEARANCE, _LUBRICATION],
         "clearance_translational": [
             *_SPATIAL_JOINT_COMMON,
