@@ -6,7 +6,7 @@
 //! Claro, Lankarani 2006 and Marques, Isaac, Dourado, Flores 2017 on spatial revolute
 //! joints with radial and axial clearance).
 
-use super::cylinder_section::worn_end;
+use super::cylinder_section::{worn_end, Section};
 use super::worn::Worn;
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
 use crate::mechanics::spatial::body::{BodyState, Vec3};
@@ -88,6 +88,11 @@ impl CylinderBearing {
         x.centre_j - x.centre_b
     }
 
+    /// The joint's section at the bodies' states `(bearing, journal)`.
+    pub fn section(&self, bearing: &BodyState, journal: &BodyState) -> Section {
+        Section::at(self.u_bearing, self.u_journal, bearing, journal)
+    }
+
     /// The radial offsets `d` of the journal's two ends (points 0 and 1) from the bearing
     /// axis, global [m]: each end's eccentricity in the plane normal to the bearing axis
     /// (`A_i^T d` in the bearing body's frame).
@@ -165,9 +170,10 @@ pub fn contact_cylinder_bearing(
     for (index, side) in [(0, -1.0), (1, 1.0)] {
         let (end, station, d) = g.end(&x, side);
         if let Some((w, section)) = &worn {
+            let parts = ([g.bearing, g.journal], (g.r_bearing, g.r_journal), g.clearance);
             let ends = (index, CylinderBearing::END_SHARE);
             let at = (x.centre_b, x.axis_b, station);
-            worn_end(g, w, section, (bearing, journal), ends, at, d, reach, out);
+            worn_end((w, section), parts, (bearing, journal), ends, at, d, reach, out);
             continue;
         }
         let len = d.norm();

@@ -6,7 +6,6 @@
 //! [`Worn::rims`]; a tilted journal's end is taken in the same section, its own turn
 //! about its axis projected onto it.
 
-use super::cylinder_bearing::CylinderBearing;
 use super::worn::Worn;
 use crate::math::Vec2;
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
@@ -52,28 +51,30 @@ impl Section {
     }
 }
 
-impl CylinderBearing {
-    /// The joint's section at the bodies' states `(bearing, journal)`.
-    pub fn section(&self, bearing: &BodyState, journal: &BodyState) -> Section {
-        let axes = section_basis(self.u_bearing).map(|e| bearing.rotate(&e));
+impl Section {
+    /// The section of a bearing along `u_bearing` (its body's frame) and a journal along
+    /// `u_journal` (its own) at the bodies' states `(bearing, journal)`.
+    pub fn at(u_bearing: Vec3, u_journal: Vec3, bearing: &BodyState, journal: &BodyState) -> Self {
+        let axes = section_basis(u_bearing).map(|e| bearing.rotate(&e));
         let mut section = Section { axes, journal_turn: 0.0 };
-        section.journal_turn = section.angle(&journal.rotate(&section_basis(self.u_journal)[0]));
+        section.journal_turn = section.angle(&journal.rotate(&section_basis(u_journal)[0]));
         section
     }
 }
 
 /// The contact points of the journal end `index` (at `station` along the bearing axis
-/// `axis` from the bearing centre `centre_b`, its radial offset `d` from the axis) in a
-/// worn bearing: each rim of the section ([`Worn::rims`] at the end's eccentricity)
-/// whose overlap is above `-reach` [m], carrying `share` of the rim's part of the law.
-/// Each rim's points are the planar joint's ([`super::worn::Rim::points`]) in the
-/// section through the end, so that `on_j - on_i = delta n`, and the penetration's rate
-/// is the relative velocity of the two points along `n` (`delta' = 0` at a rim).
+/// `axis` from the bearing centre `centre_b`, its radial offset `d` from the axis) of a
+/// journal of radius `r_journal` on body `bodies[1]` in a bearing of radius `r_bearing`
+/// on body `bodies[0]`, radial clearance `clearance`, both worn as `worn`: each rim of
+/// the section ([`Worn::rims`] at the end's eccentricity) whose overlap is above
+/// `-reach` [m], carrying `share` of the rim's part of the law. Each rim's points are the
+/// planar joint's ([`super::worn::Rim::points`]) in the section through the end, so that
+/// `on_j - on_i = delta n`, and the penetration's rate is the relative velocity of the
+/// two points along `n` (`delta' = 0` at a rim).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn worn_end(
-    g: &CylinderBearing,
-    worn: &Worn,
-    section: &Section,
+    (worn, section): (&Worn, &Section),
+    (bodies, (r_bearing, r_journal), clearance): ([Option<usize>; 2], (f64, f64), f64),
     (bearing, journal): (&BodyState, &BodyState),
     (index, share): (usize, f64),
     (centre_b, axis, station): (Vec3, Vec3, f64),
@@ -82,16 +83,16 @@ pub(super) fn worn_end(
     out: &mut ContactPoints3,
 ) {
     let e = section.of(&d);
-    for rim in worn.rims(e, (0.0, section.journal_turn), g.clearance, reach) {
-        let (on_bearing, on_journal) = rim.points((Vec2::zeros(), g.r_bearing), (e, g.r_journal));
+    for rim in worn.rims(e, (0.0, section.journal_turn), clearance, reach) {
+        let (on_bearing, on_journal) = rim.points((Vec2::zeros(), r_bearing), (e, r_journal));
         let wall = centre_b + axis * station;
         out.push(split(
             index,
             section.global(rim.normal),
             rim.penetration,
             share * rim.share,
-            (MaterialPoint3::of(g.bearing, bearing, wall + section.global(on_bearing)), bearing),
-            (MaterialPoint3::of(g.journal, journal, wall + section.global(on_journal)), journal),
+            (MaterialPoint3::of(bodies[0], bearing, wall + section.global(on_bearing)), bearing),
+            (MaterialPoint3::of(bodies[1], journal, wall + section.global(on_journal)), journal),
         ));
     }
 }
