@@ -148,6 +148,8 @@ def test_the_command_wears_the_3d_founding_case_as_the_planar_one(tmp_path: Path
     assert joint["max_bearing_depth"] == pytest.approx(bearing.max(), rel=0.01)
     assert joint["max_journal_depth"] == pytest.approx(journal.max(), rel=0.01)
     assert 1e-6 < joint["max_bearing_depth"] < 1e-5
+    with pytest.raises(ValueError, match="its own length"):
+        predict_wear(jointgap.load(model), 300, length="10 mm")
     history = pd.read_csv(out / "history.csv")
     assert history.peak_contact_force.iloc[0] == pytest.approx(
         planar.history.peak_contact_force.iloc[0], rel=0.01

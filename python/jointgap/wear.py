@@ -161,7 +161,12 @@ def _setup(
         names = list(joints)
     if not names:
         raise ModelError(f"the model has no {wearing} joint to wear")
-    if length is not None and not model.spatial:
+    if length is not None and model.spatial:
+        raise ValueError(
+            f"length = {length}: a spatial joint's journal gives its own length (the joint's "
+            "'length' key); the prediction's length fills planar joints only"
+        )
+    if length is not None:
         data = model.to_dict()
         for joint in data["joints"]:
             if joint["name"] in names and joint["clearance"].get("length") is None:

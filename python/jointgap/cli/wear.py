@@ -22,7 +22,8 @@ joints (docs/wear.md). Writes to OUT: history.csv (deepest wear, worn volume,
 clearance, peak contact force and the watched peak after each update), profiles_<joint>
 .csv, summary.json, the figures (wear_history.png, wear_profile_<joint>.png) and
 report.html; state.json after every update, from which the same command resumes.
-Each joint needs its 'length' (the bearing's, along the axis), or give --length.
+A planar joint needs its 'length' (the bearing's, along the axis), or give --length; a
+spatial clearance_cylindrical joint has its journal's own.
 """
 
 
@@ -89,7 +90,7 @@ def add_commands(sub: Any) -> None:
     parser.add_argument(
         "--length",
         metavar="L",
-        help="bearing length of the joints whose model gives none, e.g. '10 mm'",
+        help="bearing length of the planar joints whose model gives none, e.g. '10 mm'",
     )
 
 
