@@ -70,18 +70,18 @@ pub trait Kind: Contacts {
         None
     }
 
-    /// The wear integrand of contact point `point` of clearance joint `k` at `(q, v)`,
-    /// in contact state `state` ([`super::wear`]): `None` where it does not wear or
-    /// carries no load.
-    fn wear_integrand(
+    /// The wear integrands of clearance joint `k`'s wearing points at `(q, v)`, in their
+    /// contact states `states`, into `out` ([`super::wear`]): `None` for a point that
+    /// does not wear or carries no load.
+    fn wear_integrands(
         _sys: &System<Self>,
         _k: usize,
-        _point: usize,
-        _state: &ContactState,
+        _states: &[ContactState],
         _q: &[f64],
         _v: &[f64],
-    ) -> Option<Integrand> {
-        None
+        out: &mut [Option<Integrand>],
+    ) {
+        out.fill(None);
     }
 
     /// Writes marker `m`'s channels at `(q, v)`, the accelerations in `ws`.

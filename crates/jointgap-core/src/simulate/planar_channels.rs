@@ -317,17 +317,17 @@ impl Kind for Planar {
         }
     }
 
-    fn wear_integrand(
+    fn wear_integrands(
         sys: &System,
         k: usize,
-        _point: usize,
-        state: &ContactState,
+        states: &[ContactState],
         q: &[f64],
         v: &[f64],
-    ) -> Option<super::kind::Integrand> {
-        let PlanarClearance::Revolute(c) = &sys.clearances[k] else { return None };
+        out: &mut [Option<super::kind::Integrand>],
+    ) {
+        let PlanarClearance::Revolute(c) = &sys.clearances[k] else { return out.fill(None) };
         let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
-        super::wear::integrand(c, &bearing, &journal, state)
+        out[0] = super::wear::integrand(c, &bearing, &journal, &states[0]);
     }
 
     fn compile(model: &Model) -> Result<System, Error> {

@@ -269,18 +269,18 @@ impl Kind for Spatial {
         }
     }
 
-    fn wear_integrand(
+    fn wear_integrands(
         sys: &System<Spatial>,
         k: usize,
-        point: usize,
-        state: &ContactState,
+        states: &[ContactState],
         q: &[f64],
         v: &[f64],
-    ) -> Option<Integrand> {
+        out: &mut [Option<Integrand>],
+    ) {
         let c = &sys.clearances[k];
-        let SpatialGeometry::Cylinder(g) = &c.geometry else { return None };
+        let SpatialGeometry::Cylinder(g) = &c.geometry else { return out.fill(None) };
         let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
-        super::wear::cylinder_integrand(c, g, (&bearing, &journal), point, state)
+        super::wear::cylinder_integrands(c, g, (&bearing, &journal), states, out);
     }
 
     fn compile(model: &SpatialModel) -> Result<System<Spatial>, Error> {

@@ -93,41 +93,49 @@ pub fn integrand(
     })
 }
 
-/// The wear integrand of journal end `end` of the dry cylindrical joint `c` (geometry
-/// `g`) at the bodies' states `(bearing, journal)`, the end's point in contact state
-/// `state`: `None` apart or unloaded. Angles and the eccentricity are the section's
-/// through the end ([`CylinderBearing::section`]); the spins are each body's about the
-/// bearing's axis; the force is the end's over its share of the length.
-pub fn cylinder_integrand(
+/// The wear integrands of the two journal ends of the dry cylindrical joint `c`
+/// (geometry `g`) at the bodies' states `(bearing, journal)`, the ends' points in
+/// contact states `states`, into `out`: `None` for an end apart or unloaded. Angles and
+/// the eccentricity are the section's through the end ([`CylinderBearing::section`]);
+/// the spins are each body's about the bearing's axis; the force is the end's over its
+/// share of the length.
+pub fn cylinder_integrands(
     c: &SpatialClearance,
     g: &CylinderBearing,
     (bearing, journal): (&SpatialState, &SpatialState),
-    end: usize,
-    state: &ContactState,
-) -> Option<Integrand> {
+    states: &[ContactState],
+    out: &mut [Option<Integrand>],
+) {
     let points = c.contacts(bearing, journal, c.reach());
-    let mut rims = points.iter().filter(|p| p.index == end).peekable();
-    let p = **rims.peek()?;
-    let (f_n, load) = rims.fold((0.0, 0.0), |(f, l), q| {
-        let (f_n, _) = c.force(q, state.onset_for(q.penetration_rate));
-        let f_n = f_n.max(0.0);
-        (f + f_n, l + f_n * q.slip.norm())
-    });
-    (f_n > 0.0).then(|| {
-        let section = g.section(bearing, journal);
-        let alpha = section.angle(&p.normal);
-        let e = section.of(&g.end_offsets(bearing, journal)[end]);
-        let axis = bearing.rotate(&g.u_bearing);
-        Integrand {
-            f_n: f_n / CylinderBearing::END_SHARE,
-            speed: load / f_n,
-            bearing_angle: alpha,
-            journal_angle: alpha - section.journal_turn,
-            spins: (bearing.omega_global().dot(&axis), journal.omega_global().dot(&axis)),
-            eccentricity: e.norm(),
-            lead: wrap(e.y.atan2(e.x) - alpha),
-        }
-    })
+    let section = g.section(bearing, journal);
+    let offsets = g.end_offsets(bearing, journal);
+    let axis = bearing.rotate(&g.u_bearing);
+    for (end, out) in out.iter_mut().enumerate() {
+        let state = &states[end];
+        let mut rims = points.iter().filter(|p| p.index == end).peekable();
+        let Some(&&p) = rims.peek() else {
+            *out = None;
+            continue;
+        };
+        let (f_n, load) = rims.fold((0.0, 0.0), |(f, l), q| {
+            let (f_n, _) = c.force(q, state.onset_for(q.penetration_rate));
+            let f_n = f_n.max(0.0);
+            (f + f_n, l + f_n * q.slip.norm())
+        });
+        *out = (f_n > 0.0).then(|| {
+            let alpha = section.angle(&p.normal);
+            let e = section.of(&offsets[end]);
+            Integrand {
+                f_n: f_n / CylinderBearing::END_SHARE,
+                speed: load / f_n,
+                bearing_angle: alpha,
+                journal_angle: alpha - section.journal_turn,
+                spins: (bearing.omega_global().dot(&axis), journal.omega_global().dot(&axis)),
+                eccentricity: e.norm(),
+                lead: wrap(e.y.atan2(e.x) - alpha),
+            }
+        });
+    }
 }
 
 /// One joint's accumulation.
@@ -150,6 +158,8 @@ struct Accumulating {
     out: JointWear,
     /// Each wearing point's integrand at the last accepted state.
     last: Vec<Option<Integrand>>,
+    /// The same at the state a step reached (the step's scratch).
+    now: Vec<Option<Integrand>>,
 }
 
 /// The wear a run accumulates: one grid pair per dry journal in its bearing.
@@ -179,6 +189,7 @@ impl Wear {
                 share: w.share,
                 out: JointWear::none(w.name, n),
                 last: vec![None; w.points],
+                now: vec![None; w.points],
             });
         }
         Ok(Wear { joints, cells: n, start: opts.start })
@@ -188,9 +199,8 @@ impl Wear {
     /// integrands the first step starts from.
     pub fn start<K: Kind>(&mut self, sys: &System<K>, states: &[ContactState], q: &[f64], v: &[f64]) {
         for j in &mut self.joints {
-            for (point, last) in j.last.iter_mut().enumerate() {
-                *last = K::wear_integrand(sys, j.clearance, point, &states[j.slot + point], q, v);
-            }
+            let points = j.last.len();
+            K::wear_integrands(sys, j.clearance, &states[j.slot..j.slot + points], q, v, &mut j.last);
         }
     }
 
@@ -218,11 +228,14 @@ impl Wear {
     ) {
         let half_cell = std::f64::consts::PI / self.cells as f64;
         for j in &mut self.joints {
-            for point in 0..j.last.len() {
-                let now = K::wear_integrand(sys, j.clearance, point, &states[j.slot + point], q, v);
-                let last = std::mem::replace(&mut j.last[point], now);
-                step_point(j, (last, now), (t, dt), self.start, half_cell);
+            let points = j.last.len();
+            let mut now = std::mem::take(&mut j.now);
+            K::wear_integrands(sys, j.clearance, &states[j.slot..j.slot + points], q, v, &mut now);
+            for (point, now) in now.iter().enumerate() {
+                let last = std::mem::replace(&mut j.last[point], *now);
+                step_point(j, (last, *now), (t, dt), self.start, half_cell);
             }
+            j.now = now;
         }
     }
 
@@ -441,6 +454,7 @@ mod tests {
             share: 1.0,
             out: JointWear::none("c", cells),
             last: vec![None],
+            now: vec![None],
         }
     }
 
