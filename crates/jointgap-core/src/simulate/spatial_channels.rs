@@ -167,10 +167,14 @@ fn put_clearance(
     let points = c.contacts(&bi, &bj, f64::INFINITY);
     let first = contact::slots(&sys.clearances).nth(k).expect("joint k's points").2.start;
     let states = &ws.contacts[first..first + c.points()];
-    let mut forces: Vec<(f64, Vec3)> =
-        points.iter().map(|p| c.force(p, states[p.index].onset_for(p.penetration_rate))).collect();
-    let mut normal_forces: Vec<Vec3> =
-        points.iter().zip(&forces).map(|(p, (f_n, _))| -p.normal * *f_n).collect();
+    // Each point's normal force, friction force and normal force vector on body j.
+    let mut forces: Vec<(f64, Vec3, Vec3)> = points
+        .iter()
+        .map(|p| {
+            let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+            (f_n, f_t, -p.normal * f_n)
+        })
+        .collect();
     // A worn journal end's other rims share the end's deepest point and its channels:
     // their forces count in the end's and the joint's.
     if let SpatialGeometry::Cylinder(CylinderBearing { worn: Some(_), .. }) = &c.geometry {
@@ -178,13 +182,14 @@ fn put_clearance(
         for p in c.contacts(&bi, &bj, c.reach()).iter().filter(|p| p.index < 2) {
             if std::mem::replace(&mut seen[p.index], true) {
                 let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
-                forces[p.index].0 += f_n;
-                forces[p.index].1 += f_t;
-                normal_forces[p.index] -= p.normal * f_n;
+                let end = &mut forces[p.index];
+                end.0 += f_n;
+                end.1 += f_t;
+                end.2 -= p.normal * f_n;
             }
         }
     }
-    let f = normal_forces.iter().zip(&forces).fold(Vec3::zeros(), |sum, (n, (_, f_t))| sum + (n + f_t));
+    let f = forces.iter().fold(Vec3::zeros(), |sum, (_, f_t, n)| sum + (n + f_t));
     let e = match &c.geometry {
         SpatialGeometry::BallSocket(g) => g.eccentricity(&bi, &bj),
         SpatialGeometry::Cylinder(g) => g.eccentricity(&bi, &bj),
@@ -205,8 +210,8 @@ fn put_clearance(
         }
     };
     f.iter().for_each(|&x| out.put(x));
-    forces.iter().for_each(|(f_n, _)| out.put(*f_n));
-    forces.iter().for_each(|(_, f_t)| out.put(f_t.norm()));
+    forces.iter().for_each(|(f_n, _, _)| out.put(*f_n));
+    forces.iter().for_each(|(_, f_t, _)| out.put(f_t.norm()));
     points.iter().for_each(|p| out.put(p.penetration));
     points.iter().for_each(|p| out.put(p.penetration_rate));
     if block.is_none() {
@@ -221,10 +226,10 @@ fn put_clearance(
         return;
     }
     for d in 0..3 {
-        normal_forces.iter().for_each(|n| out.put(n[d]));
+        forces.iter().for_each(|(_, _, n)| out.put(n[d]));
     }
     for d in 0..3 {
-        forces.iter().for_each(|(_, f_t)| out.put(f_t[d]));
+        forces.iter().for_each(|(_, f_t, _)| out.put(f_t[d]));
     }
     if let SpatialGeometry::Lubricated(g) = &c.geometry {
         let halves = g.halves(&bi, &bj);
