@@ -18,5 +18,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         return Err(format!("the run stopped: {:?}", result.status).into());
     }
     println!("{} steps, {} evaluations", result.stats.accepted_steps, result.stats.rhs_evaluations);
+    println!("{}", result.stats.compiled);
     Ok(())
 }

@@ -19,12 +19,14 @@
 // Index loops mirror the formulas of the methods (stages, rows, coordinates).
 #![allow(clippy::needless_range_loop)]
 
+pub mod codegen;
 pub mod defaults;
 pub mod error;
 pub mod math;
 pub mod model;
 pub mod output;
 pub mod profile;
+pub mod scalar;
 
 pub mod mechanics;
 

@@ -43,6 +43,11 @@ pub struct RunStats {
     pub wall_time: f64,
     /// Time per stage, when the run was asked to measure it.
     pub profile: Option<crate::profile::Profile>,
+    /// How the rows and forces ran: compiled to native code (paths, compile time,
+    /// evaluations each way) or interpreted, and why (docs/compiled.md).
+    pub compiled: String,
+    /// Seconds spent compiling native code during the run (part of `wall_time`).
+    pub compile_time: f64,
 }
 
 /// One impact of a clearance joint: from the located contact onset to separation.

@@ -9,6 +9,7 @@
 use nalgebra::{DMatrix, DVector, Vector3};
 
 pub mod assembly;
+pub mod compiled;
 pub mod prescribed;
 pub mod schur;
 
@@ -76,6 +77,8 @@ pub struct Workspace<K: BodyKind = Planar> {
     ground: K::State,
     /// Scratch of length nv.
     scratch: Vec<f64>,
+    /// The rows and forces compiled to native code, when the run compiles them.
+    pub compiled: Option<compiled::Stage<K>>,
 }
 
 impl<K: Contacts> Workspace<K> {
@@ -146,6 +149,7 @@ impl<K: Contacts> Workspace<K> {
             ground: K::ground(),
             scratch: vec![0.0; n],
             layout,
+            compiled: None,
         }
     }
 
@@ -367,9 +371,11 @@ pub fn accelerations_for_integration<K: Contacts>(
     ws: &mut Workspace<K>,
 ) -> Result<(), Singular> {
     let lap = profile::start(&ws.profile);
-    ws.load_bodies(sys, q, v);
-    constraint_rows(sys, t, ws);
-    forces_at_bodies(sys, t, ws);
+    if !compiled::rows_and_forces(sys, t, q, v, ws) {
+        ws.load_bodies(sys, q, v);
+        constraint_rows(sys, t, ws);
+        forces_at_bodies(sys, t, ws);
+    }
     profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     let n = sys.layout.nv();
     for j in 0..n {
@@ -551,7 +557,7 @@ pub fn violation<K: Contacts>(
 
 /// What the dynamics needs of a body kind's clearance joints: their contact points'
 /// count, their loads, and the stiffness their friction brings.
-pub trait Contacts: BodyKind {
+pub trait Contacts: BodyKind + compiled::Compile {
     /// Contact points of all the clearance joints ([`contact::slots`]).
     fn contact_point_count(sys: &System<Self>) -> usize;
 

@@ -5,13 +5,13 @@ use crate::model::Profile;
 
 /// Displacement, speed and acceleration of a profile at one time.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Motion {
+pub struct Motion<T = f64> {
     /// Displacement from the initial joint coordinate [rad or m].
-    pub position: f64,
+    pub position: T,
     /// Speed [rad/s or m/s].
-    pub speed: f64,
+    pub speed: T,
     /// Acceleration [rad/s^2 or m/s^2].
-    pub acceleration: f64,
+    pub acceleration: T,
 }
 
 /// A checked, ready-to-evaluate motion profile.

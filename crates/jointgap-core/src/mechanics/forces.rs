@@ -8,6 +8,7 @@ use crate::mechanics::layout::Loads;
 use crate::mechanics::planar_body::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Force, Signal};
+use crate::scalar::{norm, Real};
 
 /// A value against time: constant, or linear between table points and held outside.
 #[derive(Debug, Clone)]
@@ -147,10 +148,10 @@ pub enum ForceElement {
 /// The line of a point-to-point element from point `s_i` of body i to point `s_j` of
 /// body j: unit vector, length and the length's rate; `None` where the points coincide
 /// and the direction is undefined (such an element carries no force).
-fn line(bi: &BodyState, s_i: Vec2, bj: &BodyState, s_j: Vec2) -> Option<(Vec2, f64, f64)> {
+fn line<T: Real>(bi: &BodyState<T>, s_i: Vec2, bj: &BodyState<T>, s_j: Vec2) -> Option<(Vec2<T>, T, T)> {
     let (a_i, a_j) = (bi.rotate(s_i), bj.rotate(s_j));
     let d = bj.r + a_j - bi.r - a_i;
-    let length = d.norm();
+    let length = norm(&d);
     if length < 1e-12 {
         return None;
     }
@@ -160,14 +161,20 @@ fn line(bi: &BodyState, s_i: Vec2, bj: &BodyState, s_j: Vec2) -> Option<(Vec2, f
 
 /// Adds force `f` acting at body-frame point `s` of body `b` to the loads.
 #[inline]
-pub fn add_point_force(loads: &mut Loads, b: Option<usize>, state: &BodyState, s: Vec2, f: Vec2) {
+pub fn add_point_force<T: Real>(
+    loads: &mut Loads<T>,
+    b: Option<usize>,
+    state: &BodyState<T>,
+    s: Vec2,
+    f: Vec2<T>,
+) {
     if let Some(qe) = loads.body(b) {
         planar_body::add_force(qe, state.rotate(s), f);
     }
 }
 
 #[inline]
-fn add_torque(loads: &mut Loads, b: Option<usize>, tau: f64) {
+fn add_torque<T: Real>(loads: &mut Loads<T>, b: Option<usize>, tau: T) {
     if let Some(qe) = loads.body(b) {
         planar_body::add_torque(qe, tau);
     }
@@ -182,6 +189,52 @@ pub(crate) fn non_negative(who: Named, what: &str, unit: &str, v: f64) -> Result
 }
 
 impl ForceElement {
+    /// The value of an applied force's table at time `t` (`[fx, fy]`), of an applied
+    /// torque's (`[tau, 0]`); zero for an element whose force comes from the state.
+    pub fn applied_at(&self, t: f64) -> [f64; 2] {
+        match self {
+            ForceElement::AppliedForce { force, .. } => force.at(t),
+            ForceElement::AppliedTorque { torque, .. } => [torque.at(t)[0], 0.0],
+            _ => [0.0; 2],
+        }
+    }
+
+    /// Adds this element's generalised force to the loads, the bodies' states given by
+    /// `state` and an applied load's table value by `applied` ([`Self::applied_at`]).
+    pub fn add_loads<T: Real>(
+        &self,
+        applied: [T; 2],
+        state: impl Fn(Option<usize>) -> BodyState<T>,
+        qe: &mut Loads<T>,
+    ) {
+        match self {
+            ForceElement::SpringDamper {
+                body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
+            } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let Some((u, length, rate)) = line(&bi, *s_i, &bj, *s_j) else {
+                    return;
+                };
+                let tension = (length - *free_length) * *stiffness + rate * *damping;
+                add_point_force(qe, *body_i, &bi, *s_i, u * tension);
+                add_point_force(qe, *body_j, &bj, *s_j, -u * tension);
+            }
+            ForceElement::RotationalSpringDamper {
+                body_i, body_j, stiffness, damping, free_angle, ..
+            } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let tau =
+                    (bj.phi() - bi.phi() - *free_angle) * -*stiffness - (bj.omega - bi.omega) * *damping;
+                add_torque(qe, *body_j, tau);
+                add_torque(qe, *body_i, -tau);
+            }
+            ForceElement::AppliedForce { body, s, .. } => {
+                add_point_force(qe, *body, &state(*body), *s, Vec2::new(applied[0], applied[1]));
+            }
+            ForceElement::AppliedTorque { body, .. } => add_torque(qe, *body, applied[0]),
+        }
+    }
+
     pub(crate) fn new(f: &Force, res: &Resolver) -> Result<Self, Error> {
         let who = Named::force(f.name());
         Ok(match f {
@@ -259,32 +312,7 @@ impl ForceLaw<BodyState> for ForceElement {
 
     /// Adds this element's generalised force at time `t` to the loads.
     fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut Loads) {
-        match self {
-            ForceElement::SpringDamper {
-                body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
-            } => {
-                let (bi, bj) = (state(*body_i), state(*body_j));
-                let Some((u, length, rate)) = line(&bi, *s_i, &bj, *s_j) else {
-                    return;
-                };
-                let tension = stiffness * (length - free_length) + damping * rate;
-                add_point_force(qe, *body_i, &bi, *s_i, u * tension);
-                add_point_force(qe, *body_j, &bj, *s_j, -u * tension);
-            }
-            ForceElement::RotationalSpringDamper {
-                body_i, body_j, stiffness, damping, free_angle, ..
-            } => {
-                let (bi, bj) = (state(*body_i), state(*body_j));
-                let tau = -stiffness * (bj.phi() - bi.phi() - free_angle) - damping * (bj.omega - bi.omega);
-                add_torque(qe, *body_j, tau);
-                add_torque(qe, *body_i, -tau);
-            }
-            ForceElement::AppliedForce { body, s, force, .. } => {
-                let f = force.at(t);
-                add_point_force(qe, *body, &state(*body), *s, Vec2::new(f[0], f[1]));
-            }
-            ForceElement::AppliedTorque { body, torque, .. } => add_torque(qe, *body, torque.at(t)[0]),
-        }
+        self.add_loads(self.applied_at(t), state, qe);
     }
 
     /// Power [W] the element delivers to the bodies at time `t`, as `(load, loss)`: the

@@ -44,17 +44,17 @@ where
 
 /// A row evaluated at one state: residual, Jacobian blocks and right-hand sides.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct RowEval<R> {
+pub struct RowEval<R, T = f64> {
     /// Residual `C`.
-    pub c: f64,
+    pub c: T,
     /// `dC/dv_i` over body i's velocity coordinates.
     pub jac_i: R,
     /// `dC/dv_j` over body j's.
     pub jac_j: R,
     /// `dC/dt`.
-    pub ct: f64,
+    pub ct: T,
     /// Acceleration right-hand side: `Cq qdd = gamma`.
-    pub gamma: f64,
+    pub gamma: T,
 }
 
 /// A force element of a body kind: adds its loads to the bodies, and says the power it

@@ -9,13 +9,13 @@ use std::ops::Range;
 /// The `N` entries of `x` from `at`, as an array: one body's block of a vector over all
 /// coordinates, sized by its kind.
 #[inline]
-pub fn block<const N: usize>(x: &[f64], at: usize) -> &[f64; N] {
+pub fn block<T, const N: usize>(x: &[T], at: usize) -> &[T; N] {
     x[at..at + N].try_into().expect("a block of N entries")
 }
 
 /// [`block`], to write.
 #[inline]
-pub fn block_mut<const N: usize>(x: &mut [f64], at: usize) -> &mut [f64; N] {
+pub fn block_mut<T, const N: usize>(x: &mut [T], at: usize) -> &mut [T; N] {
     (&mut x[at..at + N]).try_into().expect("a block of N entries")
 }
 
@@ -99,20 +99,20 @@ impl Layout {
 
 /// The bodies' generalized forces `qe` (laid out as `v`), which force elements add to
 /// body by body.
-pub struct Loads<'a> {
+pub struct Loads<'a, T = f64> {
     layout: &'a Layout,
-    qe: &'a mut [f64],
+    qe: &'a mut [T],
 }
 
-impl<'a> Loads<'a> {
+impl<'a, T> Loads<'a, T> {
     /// `qe` laid out by `layout`.
-    pub fn new(layout: &'a Layout, qe: &'a mut [f64]) -> Self {
+    pub fn new(layout: &'a Layout, qe: &'a mut [T]) -> Self {
         Loads { layout, qe }
     }
 
     /// Body `b`'s generalized forces; `None` for the ground, which takes none.
     #[inline]
-    pub fn body(&mut self, b: Option<usize>) -> Option<&mut [f64]> {
+    pub fn body(&mut self, b: Option<usize>) -> Option<&mut [T]> {
         b.map(|k| &mut self.qe[self.layout.slot(k).v()])
     }
 }

@@ -14,6 +14,7 @@ use crate::mechanics::planar_body::{
     add_weight, block, displace, gravity_work, inverse_mass, is_rotation, kinetic_energy, mass_diagonal,
     rotation_reach, BodyRow, BodyState, CHANNELS, NV, PLANAR_BODY,
 };
+use crate::scalar::Real;
 
 /// The planar body kind ([`BodyKind`]).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -139,30 +140,31 @@ pub enum RowKind {
 }
 
 /// A planar row evaluated at one state.
-pub type RowEval = kind::RowEval<BodyRow>;
+pub type RowEval<T = f64> = kind::RowEval<[T; NV], T>;
 
 impl RowKind {
     /// Evaluates the row; `motion` is the driver's prescribed motion (zero if none).
-    pub fn eval(&self, bi: &BodyState, bj: &BodyState, motion: Motion) -> RowEval {
+    pub fn eval<T: Real>(&self, bi: &BodyState<T>, bj: &BodyState<T>, motion: Motion<T>) -> RowEval<T> {
+        let (zero, one) = (T::constant(0.0), T::constant(1.0));
         match *self {
             RowKind::Coincide { axis, s_i, s_j } => {
                 let a_i = bi.rotate(s_i);
                 let a_j = bj.rotate(s_j);
                 let c = bi.r + a_i - bj.r - a_j;
                 let (pi, pj) = (perp(a_i), perp(a_j));
-                let g = a_i * bi.omega.powi(2) - a_j * bj.omega.powi(2);
-                let mut jac_i = [0.0; 3];
-                let mut jac_j = [0.0; 3];
-                jac_i[axis] = 1.0;
-                jac_j[axis] = -1.0;
+                let g = a_i * (bi.omega * bi.omega) - a_j * (bj.omega * bj.omega);
+                let mut jac_i = [zero; 3];
+                let mut jac_j = [zero; 3];
+                jac_i[axis] = one;
+                jac_j[axis] = -one;
                 jac_i[2] = pi[axis];
                 jac_j[2] = -pj[axis];
-                RowEval { c: c[axis], jac_i, jac_j, ct: 0.0, gamma: g[axis] }
+                RowEval { c: c[axis], jac_i, jac_j, ct: zero, gamma: g[axis] }
             }
             RowKind::Angle { offset } => RowEval {
                 c: bj.phi() - bi.phi() - offset - motion.position,
-                jac_i: [0.0, 0.0, -1.0],
-                jac_j: [0.0, 0.0, 1.0],
+                jac_i: [zero, zero, -one],
+                jac_j: [zero, zero, one],
                 ct: -motion.speed,
                 gamma: motion.acceleration,
             },
@@ -173,7 +175,7 @@ impl RowKind {
                 let d = bj.r + a_j - bi.r - a_i;
                 let d_dot = bj.v + perp(a_j) * bj.omega - bi.v - perp(a_i) * bi.omega;
                 let (wi, wj) = (bi.omega, bj.omega);
-                let gamma = motion.acceleration + wi * wi * wg.dot(&d) - 2.0 * wi * perp(wg).dot(&d_dot)
+                let gamma = motion.acceleration + wi * wi * wg.dot(&d) - wi * 2.0 * perp(wg).dot(&d_dot)
                     + wj * wj * wg.dot(&a_j)
                     - wi * wi * wg.dot(&a_i);
                 RowEval {

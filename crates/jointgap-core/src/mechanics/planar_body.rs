@@ -7,6 +7,7 @@
 use crate::math::{cross, Vec2};
 use crate::mechanics::layout::{self, BodyShape};
 use crate::model::Body;
+use crate::scalar::Real;
 
 /// The planar body kind: positions `(x, y, phi)`, velocities `(vx, vy, omega)`, and a
 /// diagonal mass `(m, m, J)`.
@@ -73,9 +74,9 @@ pub fn read_acceleration(a: &[f64]) -> (Vec2, f64) {
 /// Adds the weight `m g` of a body of mass `mass` [kg] to its generalized forces (at
 /// its centre of mass: no moment).
 #[inline]
-pub fn add_weight(qe: &mut [f64], mass: f64, gravity: Vec2) {
-    qe[0] += mass * gravity.x;
-    qe[1] += mass * gravity.y;
+pub fn add_weight<T: Real>(qe: &mut [T], mass: f64, gravity: Vec2) {
+    qe[0] += T::constant(mass * gravity.x);
+    qe[1] += T::constant(mass * gravity.y);
 }
 
 /// How far the rounding of a planar body's angle moves the point of a row whose block
@@ -94,17 +95,17 @@ pub fn rotation_reach(entries: &BodyRow, q: &[f64], v: &[f64]) -> Option<(f64, f
 /// Position and velocity of one body (the ground: all zero), with the sine and cosine
 /// of its angle computed once: every joint row and force on the body rotates by them.
 #[derive(Debug, Clone, Copy)]
-pub struct BodyState {
+pub struct BodyState<T: Real = f64> {
     /// Centre of mass [m].
-    pub r: Vec2,
+    pub r: Vec2<T>,
     /// Angle [rad]; read by [`BodyState::phi`], set only with its sine and cosine.
-    phi: f64,
+    phi: T,
     /// Velocity of the centre of mass [m/s].
-    pub v: Vec2,
+    pub v: Vec2<T>,
     /// Angular velocity [rad/s].
-    pub omega: f64,
-    sin: f64,
-    cos: f64,
+    pub omega: T,
+    sin: T,
+    cos: T,
 }
 
 impl BodyState {
@@ -117,9 +118,24 @@ impl BodyState {
         sin: 0.0,
         cos: 1.0,
     };
+}
+
+impl<T: Real> BodyState<T> {
+    /// The ground, in numbers of `T`.
+    pub fn ground() -> Self {
+        let zero = T::constant(0.0);
+        BodyState {
+            r: Vec2::new(zero, zero),
+            phi: zero,
+            v: Vec2::new(zero, zero),
+            omega: zero,
+            sin: zero,
+            cos: T::constant(1.0),
+        }
+    }
 
     /// The state at centre `r`, angle `phi`, velocity `v`, angular velocity `omega`.
-    pub fn new(r: Vec2, phi: f64, v: Vec2, omega: f64) -> Self {
+    pub fn new(r: Vec2<T>, phi: T, v: Vec2<T>, omega: T) -> Self {
         let (sin, cos) = phi.sin_cos();
         BodyState { r, phi, v, omega, sin, cos }
     }
@@ -127,19 +143,19 @@ impl BodyState {
     /// The state of a planar body from its positions `q = (x, y, phi)` and velocities
     /// `v = (vx, vy, omega)`.
     #[inline]
-    pub fn read(q: &BodyRow, v: &BodyRow) -> Self {
+    pub fn read(q: &[T; NV], v: &[T; NV]) -> Self {
         BodyState::new(Vec2::new(q[0], q[1]), q[2], Vec2::new(v[0], v[1]), v[2])
     }
 
     /// Angle [rad].
     #[inline]
-    pub fn phi(&self) -> f64 {
+    pub fn phi(&self) -> T {
         self.phi
     }
 
     /// `A(phi) s`: a body-frame vector in global axes.
     #[inline]
-    pub fn rotate(&self, s: Vec2) -> Vec2 {
+    pub fn rotate(&self, s: Vec2) -> Vec2<T> {
         Vec2::new(self.cos * s.x - self.sin * s.y, self.sin * s.x + self.cos * s.y)
     }
 }
@@ -166,7 +182,7 @@ pub fn is_rotation(d: usize) -> bool {
 /// Adds force `f` [N], whose arm from the centre of mass is `arm` (global axes), to a
 /// planar body's generalized forces `qe = (Fx, Fy, M)`.
 #[inline]
-pub fn add_force(qe: &mut [f64], arm: Vec2, f: Vec2) {
+pub fn add_force<T: Real>(qe: &mut [T], arm: Vec2<T>, f: Vec2<T>) {
     qe[0] += f.x;
     qe[1] += f.y;
     qe[2] += cross(arm, f);
@@ -174,7 +190,7 @@ pub fn add_force(qe: &mut [f64], arm: Vec2, f: Vec2) {
 
 /// Adds torque `tau` [N m] to a planar body's generalized forces.
 #[inline]
-pub fn add_torque(qe: &mut [f64], tau: f64) {
+pub fn add_torque<T: Real>(qe: &mut [T], tau: T) {
     qe[2] += tau;
 }
 

@@ -268,6 +268,11 @@ pub(crate) fn run_prepared<K: Kind>(
     let mut rec =
         record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(Profile::default);
+    let interpreted = if opts.compiled {
+        ode.ws.compile(system).err()
+    } else {
+        Some("turned off by the run's options".to_string())
+    };
     let n = system.layout.nq();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();
     let mut stats = RunStats::default();
@@ -317,6 +322,10 @@ pub(crate) fn run_prepared<K: Kind>(
     }
     stats.rhs_evaluations = ode.evaluations;
     stats.profile = ode.ws.profile.take();
+    (stats.compiled, stats.compile_time) = match (&ode.ws.compiled, interpreted) {
+        (Some(stage), _) => (stage.summary(), stage.compile_seconds),
+        (None, why) => (format!("interpreted: {}", why.unwrap_or_default()), 0.0),
+    };
     stats.wall_time = started.elapsed().as_secs_f64();
     let impacts = log.joint_impacts(system);
     let clearances = system.clearances.iter().map(ClearanceJoint::data).collect();

@@ -33,6 +33,9 @@ impl Method {
     }
 }
 
+fn default_compiled() -> bool {
+    true
+}
 fn default_rtol() -> f64 {
     1e-8
 }
@@ -111,6 +114,11 @@ pub struct SimOptions {
     /// events, projection) into `RunStats::profile`.
     #[serde(default)]
     pub profile: bool,
+    /// Compile the model's constraint rows and applied forces to native code where the
+    /// compiler covers the model (docs/compiled.md); `false` runs them interpreted. The
+    /// results are the same to the bit.
+    #[serde(default = "default_compiled")]
+    pub compiled: bool,
     /// Accumulate the Archard wear of the dry journals in their bearings (revolute and
     /// cylindrical clearance joints) on angular grids
     /// into `SimResult::wear` (docs/wear.md); none by default.
@@ -135,6 +143,7 @@ impl SimOptions {
             step_peaks: false,
             energy: false,
             profile: false,
+            compiled: default_compiled(),
             wear: None,
         }
     }

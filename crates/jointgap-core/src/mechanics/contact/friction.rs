@@ -6,6 +6,7 @@ use super::normal::{step, step_slope};
 use crate::error::ElementError;
 use crate::error::Error;
 use crate::model::FrictionSpec;
+use crate::scalar::{norm, Real};
 use nalgebra::SVector;
 
 /// Checks a friction law's values of clearance joint `joint`; its errors name the law's
@@ -56,9 +57,9 @@ pub fn check(joint: &str, spec: &FrictionSpec) -> Result<(), Error> {
 impl FrictionSpec {
     /// Tangential force [N] along the tangent `t`, opposing the slip `v_t` [m/s], for a
     /// normal force `f_n` >= 0 [N].
-    pub fn force(&self, v_t: f64, f_n: f64) -> f64 {
+    pub fn force<T: Real>(&self, v_t: T, f_n: T) -> T {
         match *self {
-            FrictionSpec::None => 0.0,
+            FrictionSpec::None => T::constant(0.0),
             FrictionSpec::Coulomb { mu_s, mu_d, v_s, v_d } => {
                 let a = v_t.abs();
                 let mu = if a <= v_s {
@@ -73,19 +74,19 @@ impl FrictionSpec {
             FrictionSpec::ModifiedCoulomb { mu, v_0, v_1 } => {
                 let a = v_t.abs();
                 let c_d = if a <= v_0 {
-                    0.0
+                    T::constant(0.0)
                 } else if a <= v_1 {
                     (a - v_0) / (v_1 - v_0)
                 } else {
-                    1.0
+                    T::constant(1.0)
                 };
-                -mu * c_d * f_n * v_t.signum()
+                c_d * -mu * f_n * v_t.signum()
             }
             FrictionSpec::ViscousCoulomb { mu, v_s, viscous } => {
                 if f_n > 0.0 {
-                    -mu * f_n * (v_t / v_s).tanh() - viscous * v_t
+                    f_n * -mu * (v_t / v_s).tanh() - v_t * viscous
                 } else {
-                    0.0
+                    T::constant(0.0)
                 }
             }
         }
@@ -97,11 +98,11 @@ impl FrictionSpec {
     /// With one tangent (the plane) the law takes the slip's signed component as it is,
     /// which is the same force, so a planar run computes exactly what the scalar law does.
     #[inline]
-    pub fn force_on_slip<const N: usize>(&self, slip: &SVector<f64, N>, f_n: f64) -> SVector<f64, N> {
+    pub fn force_on_slip<T: Real, const N: usize>(&self, slip: &SVector<T, N>, f_n: T) -> SVector<T, N> {
         if N == 1 {
             return SVector::repeat(self.force(slip[0], f_n));
         }
-        let speed = slip.norm();
+        let speed = norm(slip);
         if speed > 0.0 {
             slip * (self.force(speed, f_n) / speed)
         } else {

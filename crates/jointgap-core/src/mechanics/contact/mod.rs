@@ -22,7 +22,7 @@ pub mod translational;
 pub mod wear_coefficients;
 
 pub use point::{ContactPoint, ContactPoints, Tangential, MAX_POINTS};
-pub use state::{ContactState, Mode};
+pub use state::{onset_for, ContactState, Mode};
 
 use std::ops::{Deref, Range};
 
@@ -33,6 +33,7 @@ use crate::mechanics::planar_body::{self, BodyState};
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint, JointKind};
 use crate::output::ClearanceData;
+use crate::scalar::Real;
 use geometry::{contact_journal_bearing, contact_worn, JournalBearing, Worn};
 use normal::NormalForce;
 
@@ -467,7 +468,32 @@ impl ClearanceJoint for ClearanceRevolute {
 
     #[inline]
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        add_point_forces(self, bearing, journal, states, qe);
+        if self.worn.is_some() {
+            add_point_forces(self, bearing, journal, states, qe);
+        } else {
+            self.add_round_loads(bearing, journal, |k, rate| states[k].onset_for(rate), qe);
+        }
+    }
+}
+
+impl ClearanceRevolute {
+    /// Adds the contact loads of the joint's round parts ([`contact_journal_bearing`] and
+    /// the dry laws), in any number type: `onset(k, rate)` is the impact onset speed of
+    /// point `k` at penetration rate `rate` ([`ContactState::onset_for`]).
+    #[inline]
+    pub fn add_round_loads<T: Real>(
+        &self,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints::new();
+        contact_journal_bearing(&self.geometry, bearing, journal, self.reach(), &mut points);
+        let force = |p: &ContactPoint<T>| {
+            dry_force(&self.normal, &self.friction, p, onset(p.index, p.penetration_rate))
+        };
+        apply_point_forces(&points, force, bearing, journal, qe);
     }
 }
 
@@ -528,13 +554,13 @@ pub(crate) fn line_contact(who: Named, length: f64, laws: &Laws) -> Result<WearC
 /// and `friction` at contact point `p` for the impact onset speed `onset_speed` [m/s]:
 /// friction opposes the slip, and acts only under a pressing normal force.
 #[inline]
-pub(crate) fn dry_force(
+pub(crate) fn dry_force<T: Real>(
     normal: &NormalForce,
     friction: &FrictionSpec,
-    p: &ContactPoint,
-    onset_speed: f64,
-) -> (f64, Tangential) {
-    let f_n = p.share * normal.force(p.penetration, p.penetration_rate, onset_speed);
+    p: &ContactPoint<T>,
+    onset_speed: T,
+) -> (T, Tangential<T>) {
+    let f_n = normal.force(p.penetration, p.penetration_rate, onset_speed) * p.share;
     let f_t = if f_n > 0.0 { friction.force_on_slip(&p.slip, f_n) } else { Tangential::zeros() };
     (f_n, f_t)
 }
@@ -582,8 +608,22 @@ pub(crate) fn add_point_forces<C>(
 ) where
     C: ClearanceJoint<State = BodyState, Point = ContactPoint, Points = ContactPoints, Friction = Tangential>,
 {
-    for p in c.contacts(i, j, c.reach()).iter() {
-        let (f_n, f_t) = c.force(p, states[p.index].onset_for(p.penetration_rate));
+    let force = |p: &ContactPoint| c.force(p, states[p.index].onset_for(p.penetration_rate));
+    apply_point_forces(&c.contacts(i, j, c.reach()), force, i, j, qe);
+}
+
+/// Adds the force of each of `points` (`force` gives its normal and friction forces):
+/// body j's at its material point, the opposite on body i at its own.
+#[inline]
+pub(crate) fn apply_point_forces<T: Real>(
+    points: &[ContactPoint<T>],
+    force: impl Fn(&ContactPoint<T>) -> (T, Tangential<T>),
+    i: &BodyState<T>,
+    j: &BodyState<T>,
+    qe: &mut Loads<T>,
+) {
+    for p in points {
+        let (f_n, f_t) = force(p);
         if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
             let f = p.force_on_j(f_n, &f_t);
             add_force_at(qe, p.on_j.body, j, p.on_j.at, f);
@@ -594,7 +634,13 @@ pub(crate) fn add_point_forces<C>(
 
 /// Adds a force at a global point of a body.
 #[inline]
-pub(crate) fn add_force_at(loads: &mut Loads, b: Option<usize>, state: &BodyState, p: Vec2, f: Vec2) {
+pub(crate) fn add_force_at<T: Real>(
+    loads: &mut Loads<T>,
+    b: Option<usize>,
+    state: &BodyState<T>,
+    p: Vec2<T>,
+    f: Vec2<T>,
+) {
     if let Some(qe) = loads.body(b) {
         planar_body::add_force(qe, p - state.r, f);
     }

@@ -3,6 +3,7 @@
 use crate::error::ElementError;
 use crate::error::Error;
 use crate::model::NormalLawSpec;
+use crate::scalar::Real;
 
 /// A checked normal law; `k` and `n` are the stiffness and exponent.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,9 +48,16 @@ pub struct NormalForce {
 pub const MIN_ONSET_SPEED: f64 = 1e-4;
 
 /// Cubic STEP of ADAMS from `(x0, h0)` to `(x1, h1)`.
-pub fn step(x: f64, x0: f64, h0: f64, x1: f64, h1: f64) -> f64 {
-    let s = ((x - x0) / (x1 - x0)).clamp(0.0, 1.0);
-    h0 + (h1 - h0) * s * s * (3.0 - 2.0 * s)
+pub fn step<T: Real>(x: T, x0: f64, h0: f64, x1: f64, h1: f64) -> T {
+    let mut s = (x - x0) / (x1 - x0);
+    // As f64::clamp(0, 1).
+    if s < 0.0 {
+        s = T::constant(0.0);
+    }
+    if s > 1.0 {
+        s = T::constant(1.0);
+    }
+    T::constant(h0) + s * (h1 - h0) * s * (T::constant(3.0) - s * 2.0)
 }
 
 /// `d/dx` of [`step`].
@@ -157,11 +165,11 @@ impl NormalForce {
     /// The elastic part `K delta^n` of the force [N] (zero for `delta <= 0`), whose
     /// work is the change of [`NormalForce::elastic_energy`].
     #[inline]
-    pub fn elastic_force(&self, delta: f64) -> f64 {
+    pub fn elastic_force<T: Real>(&self, delta: T) -> T {
         if delta <= 0.0 {
-            0.0
+            T::constant(0.0)
         } else {
-            self.stiffness * power(delta, self.exponent)
+            power(delta, self.exponent) * self.stiffness
         }
     }
 
@@ -176,23 +184,24 @@ impl NormalForce {
 
     /// Normal force [N] (compressive positive) at penetration `delta` [m], rate
     /// `delta_dot` [m/s], with `onset_speed` the approach speed of the current impact.
-    pub fn force(&self, delta: f64, delta_dot: f64, onset_speed: f64) -> f64 {
+    pub fn force<T: Real>(&self, delta: T, delta_dot: T, onset_speed: T) -> T {
         if delta <= 0.0 {
-            return 0.0;
+            return T::constant(0.0);
         }
         let elastic = self.elastic_force(delta);
         let f = match self.law {
             NormalLaw::Hertz => elastic,
-            NormalLaw::KelvinVoigt { damping } => elastic + damping * delta_dot,
+            NormalLaw::KelvinVoigt { damping } => elastic + delta_dot * damping,
             NormalLaw::Hysteresis { factor } => {
-                elastic * (1.0 + factor * delta_dot / onset_speed.max(MIN_ONSET_SPEED))
+                elastic
+                    * (T::constant(1.0) + delta_dot * factor / onset_speed.max(T::constant(MIN_ONSET_SPEED)))
             }
             NormalLaw::AdamsImpact { c_max, d_max } => {
                 elastic + step(delta, 0.0, 0.0, d_max, c_max) * delta_dot
             }
         };
         if self.clip {
-            f.max(0.0)
+            f.max(T::constant(0.0))
         } else {
             f
         }
@@ -203,13 +212,13 @@ impl NormalForce {
 /// cheaper than `powf` (the force law runs at every evaluation and is a tenth of its
 /// cost with `powf`) and, like it, within an ulp of the exact power.
 #[inline]
-fn power(delta: f64, n: f64) -> f64 {
+fn power<T: Real>(delta: T, n: f64) -> T {
     if n == 1.5 {
         delta * delta.sqrt()
     } else if n == 1.0 {
         delta
     } else {
-        delta.powf(n)
+        delta.powf(T::constant(n))
     }
 }
 

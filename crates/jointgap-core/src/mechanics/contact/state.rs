@@ -4,6 +4,8 @@
 //! event location changes the state at onsets and separations. A run keeps one state per
 //! contact point, joint after joint ([`super::slots`]).
 
+use crate::scalar::Real;
+
 /// Contact mode reported in the `mode` channel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -34,16 +36,23 @@ impl Default for ContactState {
     }
 }
 
+/// [`ContactState::onset_for`] of a state whose `in_contact` is 1 or 0 and whose onset
+/// speed is `onset_speed`, in any number type: a compiled evaluation reads both as inputs.
+#[inline]
+pub fn onset_for<T: Real>(in_contact: T, onset_speed: T, rate: T) -> T {
+    if in_contact > 0.5 {
+        onset_speed
+    } else {
+        rate
+    }
+}
+
 impl ContactState {
     /// Approach speed for the hysteresis laws: the located onset's, or, outside a
     /// located contact (a run that starts in contact), the current penetration rate
     /// `rate` [m/s].
     pub fn onset_for(&self, rate: f64) -> f64 {
-        if self.in_contact {
-            self.onset_speed
-        } else {
-            rate
-        }
+        onset_for(if self.in_contact { 1.0 } else { 0.0 }, self.onset_speed, rate)
     }
 
     /// An onset: contact begins at the approach speed `rate` [m/s], as an impact.

@@ -4,6 +4,7 @@
 use crate::math::{perp, Vec2};
 use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar_body::BodyState;
+use crate::scalar::{norm, Real};
 
 /// Where a journal and its bearing are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,7 +31,7 @@ impl JournalBearing {
 
     /// The bearing's and the journal's centres, global [m].
     #[inline]
-    pub fn centres(&self, bearing: &BodyState, journal: &BodyState) -> (Vec2, Vec2) {
+    pub fn centres<T: Real>(&self, bearing: &BodyState<T>, journal: &BodyState<T>) -> (Vec2<T>, Vec2<T>) {
         (bearing.r + bearing.rotate(self.s_bearing), journal.r + journal.rotate(self.s_journal))
     }
 
@@ -43,7 +44,7 @@ impl JournalBearing {
 
 /// Velocity of a global point `p` of a body.
 #[inline]
-fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
+fn point_velocity<T: Real>(b: &BodyState<T>, p: Vec2<T>) -> Vec2<T> {
     b.v + perp(p - b.r) * b.omega
 }
 
@@ -53,24 +54,24 @@ fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
 /// `r_J + R_J n` on the journal and `r_B + R_B n` on the bearing, and the relative
 /// velocity `v` of the journal's point to the bearing's split along `n` and the tangent.
 #[inline]
-pub fn contact_journal_bearing(
+pub fn contact_journal_bearing<T: Real>(
     g: &JournalBearing,
-    bearing: &BodyState,
-    journal: &BodyState,
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
     reach: f64,
-    out: &mut ContactPoints,
+    out: &mut ContactPoints<T>,
 ) {
     let (centre_b, centre_j) = g.centres(bearing, journal);
     let e = centre_j - centre_b;
-    let ecc = e.norm();
+    let ecc = norm(&e);
     let penetration = ecc - g.clearance;
     if penetration <= -reach {
         return;
     }
     // Concentric: any normal will do; the force is zero there.
-    let n = if ecc > 1e-15 { e / ecc } else { Vec2::new(1.0, 0.0) };
-    let point_journal = centre_j + n * g.r_journal;
-    let point_bearing = centre_b + n * g.r_bearing;
+    let n = if ecc > 1e-15 { e / ecc } else { Vec2::new(T::constant(1.0), T::constant(0.0)) };
+    let point_journal = centre_j + n * T::constant(g.r_journal);
+    let point_bearing = centre_b + n * T::constant(g.r_bearing);
     let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
     out.push(ContactPoint::in_bearing(
         n,
