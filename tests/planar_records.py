@@ -100,7 +100,8 @@ def _finite_max(values: np.ndarray) -> float | None:
 
 
 def fingerprint(result: jointgap.Result) -> dict[str, Any]:
-    """What a run must reproduce bit for bit (wall time and machine memory aside)."""
+    """What a run must reproduce bit for bit (wall time and machine memory aside, and the
+    account of its compiled code, whose compile time is a wall time)."""
     impacts = {
         joint: _digest(
             [
@@ -114,7 +115,11 @@ def fingerprint(result: jointgap.Result) -> dict[str, Any]:
         "status": result.status,
         "message": result.message,
         "warnings": list(result.warnings),
-        "stats": {k: v for k, v in result.stats.items() if k != "wall_time"},
+        "stats": {
+            k: v
+            for k, v in result.stats.items()
+            if k not in ("wall_time", "compile_time", "compiled")
+        },
         "samples": len(result.time),
         "time": _digest(result.time),
         "marks": None if result.samples is None else _digest(result.samples),

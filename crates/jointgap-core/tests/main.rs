@@ -3,6 +3,7 @@
 
 mod clearance;
 mod common;
+mod compiled;
 mod drift;
 mod element_errors;
 mod energy;

@@ -1,19 +1,25 @@
-//! The first stage of an evaluation, compiled to native code: the bodies' states, the
-//! active constraint rows (`C`, `Cq`, `dC/dt`, `gamma`) and the applied forces `Qe`
-//! (gravity, force elements, contact loads), which [`super::constraints`] and
-//! [`super::applied_forces`] compute interpreted (docs/compiled.md).
+//! One evaluation of the equations of motion compiled to native code: the bodies' states,
+//! the active constraint rows (`C`, `Cq`, `dC/dt`, `gamma`), the applied forces `Qe`
+//! (gravity, force elements, contact loads), and the accelerations and multipliers of
+//! the augmented solve (the prescribed bodies' blocks, the Schur complement's plain
+//! factor and solve), which [`super::accelerations_for_integration`] computes
+//! interpreted otherwise (docs/compiled.md).
 //!
-//! At the first evaluation the stage records the kernels on [`Traced`] numbers, as a
-//! graph with the model's constants folded, and compiles it ([`codegen`]). The graph is
-//! one path through the kernels' branches (in contact or not, a friction regime); where
-//! an evaluation finds that a guard of every path recorded so far fails, it records and
-//! compiles the path it takes there. Each path computes what the interpreted kernels
-//! compute, operation for operation, so a run gives the same bits either way.
+//! At the first evaluation the stage records the kernels on [`crate::scalar::Traced`]
+//! numbers, as a graph with the model's constants folded, and compiles it
+//! ([`crate::codegen`]). The graph is one path through the kernels' branches (in
+//! contact or not, a friction regime); where an evaluation finds that a guard of every
+//! path recorded so far fails, it records and compiles the path it takes there. Each
+//! path computes what the interpreted kernels compute, operation for operation, so a run
+//! gives the same bits either way. An evaluation the graphs do not cover (a Schur
+//! complement that is not well conditioned, a singular prescribed block) runs
+//! interpreted.
 //!
 //! Inputs: `q`, `v`, the motion of each driven active row (position, speed,
 //! acceleration), the table value of each applied load (two numbers), and each contact
 //! point's state (in contact, 1 or 0, and its onset speed). Outputs: per active row `C`,
-//! `dC/dt`, `gamma` and its two Jacobian blocks, then `Qe`.
+//! `dC/dt`, `gamma` and its two Jacobian blocks, then `Qe`, the accelerations, the
+//! Schur complement's multipliers and each prescribed body's inverse block.
 
 use std::sync::Arc;
 
@@ -30,21 +36,34 @@ use crate::mechanics::spatial::kind::Spatial;
 use crate::scalar::{record, Graph, Real};
 use crate::system::System;
 
+use super::schur::Factorisation;
 use super::Workspace;
 
-/// Paths a run compiles at most; past them, an evaluation that none of them covers runs
-/// interpreted.
+/// Paths a run compiles at most; past them, an evaluation that the last path used does
+/// not cover runs interpreted (a mechanism with several clearance joints has as many
+/// combinations of their branches as it meets).
 pub const MAX_PATHS: usize = 16;
+/// Operations of a recorded evaluation above which it is not compiled: compiling takes
+/// about 10 us per operation, which a long run of a large mechanism repays, but a short
+/// one does not (docs/compiled.md).
+pub const MAX_OPERATIONS: usize = 6000;
+/// Evaluations after one that no graph covers (a Schur complement near a singular
+/// position, which the plain solve does not take) before the next is recorded again.
+const BACK_OFF: usize = 64;
 
-/// How the rows and forces of a system of kind `K` are recorded and fed.
+/// How the evaluation of a system of kind `K` is recorded and fed.
 #[derive(Debug, Clone, Copy)]
 pub struct Recorder<K: BodyKind> {
-    /// The graph of the active rows `active` and the forces at inputs `x`.
-    record: fn(&System<K>, &[usize], &[f64]) -> Graph,
+    /// The graph of an evaluation with the workspace's rows at inputs `x`; `None` where
+    /// the evaluation there takes a way that is not compiled.
+    record: Record<K>,
     /// Appends the inputs after `q` and `v`: the driven rows' motions at time `t` (the
     /// piece of time `t_piece`), the applied loads' table values, the contact states.
     inputs: Feed<K>,
 }
+
+/// Records an evaluation of the system with the workspace's rows at the inputs.
+type Record<K> = fn(&System<K>, &Workspace<K>, &[f64]) -> Option<Graph>;
 
 /// Appends a stage's inputs after `q` and `v` for the system, its active rows, time
 /// `t`, the piece of time `t_piece` and the contact states.
@@ -52,7 +71,7 @@ type Feed<K> = fn(&System<K>, &[usize], f64, f64, &[ContactState], &mut Vec<f64>
 
 /// What a body kind gives the compiled stage.
 pub trait Compile: BodyKind {
-    /// How the rows and forces of `sys` are recorded, or why they are not compiled.
+    /// How the evaluation of `sys` is recorded, or why it is not compiled.
     fn recorder(sys: &System<Self>) -> Result<Recorder<Self>, String>;
 }
 
@@ -73,6 +92,12 @@ pub struct Stage<K: BodyKind> {
     pub from_cache: usize,
     /// Evaluations the compiled code did, and those that ran interpreted.
     pub evaluations: [usize; 2],
+    /// Evaluations whose recording left the compiled ways (then interpreted).
+    pub uncovered: usize,
+    /// Evaluations left before the next recording after an uncovered one.
+    back_off: usize,
+    /// Calls of a path whose guards failed (the next path was tried).
+    pub misses: usize,
     /// Why the stage stopped compiling (a code generation error), if it did.
     pub stopped: Option<String>,
 }
@@ -90,6 +115,9 @@ impl<K: BodyKind> Stage<K> {
             compiled_now: 0,
             from_cache: 0,
             evaluations: [0; 2],
+            uncovered: 0,
+            back_off: 0,
+            misses: 0,
             stopped: None,
         }
     }
@@ -97,13 +125,15 @@ impl<K: BodyKind> Stage<K> {
     /// The one-line account of the run's compiled code.
     pub fn summary(&self) -> String {
         let [native, interpreted] = self.evaluations;
+        let nodes: usize = self.paths.iter().map(|p| p.nodes).sum();
         let mut line = format!(
-            "native code: {} paths ({} compiled in {:.1} ms, {} from the cache), {native} evaluations \
-             compiled, {interpreted} interpreted",
+            "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
+             {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
             self.paths.len(),
             self.compiled_now,
             1e3 * self.compile_seconds,
-            self.from_cache
+            self.from_cache,
+            self.misses
         );
         if let Some(why) = &self.stopped {
             line += &format!(" ({why})");
@@ -112,60 +142,99 @@ impl<K: BodyKind> Stage<K> {
     }
 }
 
-/// Fills the rows and forces of `ws` at `(t, q, v)` by compiled code; `false` where none
-/// covers this state (the caller then evaluates them interpreted).
-pub fn rows_and_forces<K: BodyKind>(
+/// Evaluates `ws` at `(t, q, v)` by compiled code, as
+/// [`super::accelerations_for_integration`] does; `false` where none covers this state
+/// (the caller then evaluates interpreted).
+pub fn accelerations<K: BodyKind>(
     sys: &System<K>,
     t: f64,
     q: &[f64],
     v: &[f64],
     ws: &mut Workspace<K>,
 ) -> bool {
-    let Some(stage) = ws.compiled.as_mut() else {
+    let Some(mut stage) = ws.compiled.take() else {
         return false;
     };
-    stage.inputs.clear();
-    stage.inputs.extend_from_slice(q);
-    stage.inputs.extend_from_slice(v);
-    (stage.recorder.inputs)(sys, &ws.active, t, ws.t_piece, &ws.contacts, &mut stage.inputs);
-    let n = stage.paths.len();
-    let covered = (0..n)
-        .map(|k| (stage.last + k) % n)
-        .find(|&k| stage.paths[k].call(&stage.inputs, &mut stage.outputs));
-    let found = match covered {
-        Some(k) => Some(k),
-        None if stage.paths.len() < MAX_PATHS && stage.stopped.is_none() => {
-            match compile_cached(&(stage.recorder.record)(sys, &ws.active, &stage.inputs)) {
-                Ok((code, fresh)) => {
-                    if fresh {
-                        stage.compile_seconds += code.compile_seconds;
-                        stage.compiled_now += 1;
-                    } else {
-                        stage.from_cache += 1;
-                    }
-                    stage.outputs.resize(code.outputs(), 0.0);
-                    stage.paths.push(code);
-                    let k = stage.paths.len() - 1;
-                    // A path holds where it was recorded.
-                    stage.paths[k].call(&stage.inputs, &mut stage.outputs).then_some(k)
+    let found = stage.run(sys, t, q, v, ws);
+    if found {
+        stage.evaluations[0] += 1;
+        scatter(&stage.outputs, ws);
+    } else {
+        stage.evaluations[1] += 1;
+    }
+    ws.compiled = Some(stage);
+    found
+}
+
+impl<K: BodyKind> Stage<K> {
+    /// Runs the path that covers `(t, q, v)`, recording and compiling it if none does;
+    /// `false` where none can.
+    fn run(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &Workspace<K>) -> bool {
+        self.inputs.clear();
+        self.inputs.extend_from_slice(q);
+        self.inputs.extend_from_slice(v);
+        (self.recorder.inputs)(sys, &ws.active, t, ws.t_piece, &ws.contacts, &mut self.inputs);
+        let n = self.paths.len();
+        // At capacity only the last path is tried: the others cost a whole evaluation
+        // each to fail.
+        let tries = if n >= MAX_PATHS { n.min(1) } else { n };
+        let mut tried = 0;
+        let covered = (0..tries).map(|k| (self.last + k) % n).find(|&k| {
+            tried += 1;
+            self.paths[k].call(&self.inputs, &mut self.outputs)
+        });
+        self.misses += tried - usize::from(covered.is_some());
+        if let Some(k) = covered {
+            self.last = k;
+            return true;
+        }
+        if n >= MAX_PATHS || self.stopped.is_some() {
+            return false;
+        }
+        if self.back_off > 0 {
+            self.back_off -= 1;
+            return false;
+        }
+        let Some(graph) = (self.recorder.record)(sys, ws, &self.inputs) else {
+            self.uncovered += 1;
+            self.back_off = BACK_OFF;
+            return false;
+        };
+        if graph.nodes.len() > MAX_OPERATIONS {
+            self.stopped = Some(format!(
+                "an evaluation of {} operations is more than the {MAX_OPERATIONS} compiled",
+                graph.nodes.len()
+            ));
+            return false;
+        }
+        match compile_cached(&graph) {
+            Ok((code, fresh)) => {
+                if fresh {
+                    self.compile_seconds += code.compile_seconds;
+                    self.compiled_now += 1;
+                } else {
+                    self.from_cache += 1;
                 }
-                Err(e) => {
-                    stage.stopped = Some(e.0);
-                    None
-                }
+                self.outputs.resize(code.outputs(), 0.0);
+                // A path holds where it was recorded.
+                let held = code.call(&self.inputs, &mut self.outputs);
+                self.paths.push(code);
+                self.last = self.paths.len() - 1;
+                held
+            }
+            Err(e) => {
+                self.stopped = Some(e.0);
+                false
             }
         }
-        None => None,
-    };
-    let Some(k) = found else {
-        stage.evaluations[1] += 1;
-        return false;
-    };
-    stage.last = k;
-    stage.evaluations[0] += 1;
+    }
+}
+
+/// Puts a path's outputs in the workspace ([`self`]'s layout of them).
+fn scatter<K: BodyKind>(out: &[f64], ws: &mut Workspace<K>) {
     let nb = K::SHAPE.nv;
     let per_row = 3 + 2 * nb;
-    let out = &stage.outputs;
+    let (m, nv) = (ws.jac.len(), ws.qe.len());
     for (a, row) in ws.jac.iter_mut().enumerate() {
         let o = &out[a * per_row..(a + 1) * per_row];
         ws.c[a] = o[0];
@@ -174,8 +243,22 @@ pub fn rows_and_forces<K: BodyKind>(
         row.entries[0].as_mut().copy_from_slice(&o[3..3 + nb]);
         row.entries[1].as_mut().copy_from_slice(&o[3 + nb..per_row]);
     }
-    ws.qe.copy_from_slice(&out[ws.jac.len() * per_row..]);
-    true
+    let mut at = m * per_row;
+    let mut next = |count: usize| {
+        at += count;
+        &out[at - count..at]
+    };
+    ws.qe.copy_from_slice(next(nv));
+    ws.qdd.copy_from_slice(next(nv));
+    let dynamic = ws.dynamic;
+    ws.lambda.as_mut_slice()[..dynamic].copy_from_slice(next(dynamic));
+    for b_inv in ws.prescribed_inverse.iter_mut() {
+        for row in b_inv.iter_mut() {
+            let n = row.len();
+            row.copy_from_slice(next(n));
+        }
+    }
+    ws.schur.solved_elsewhere();
 }
 
 /// The round dry revolute clearance joints of `sys`, or why a clearance joint of it is
@@ -203,7 +286,7 @@ impl Compile for Planar {
     fn recorder(sys: &System) -> Result<Recorder<Planar>, String> {
         round_revolutes(sys)?;
         Ok(Recorder {
-            record: |sys, active, x| record(x, |x| planar_rows_and_forces(sys, active, x)),
+            record: |sys, ws, x| record(x, |x| planar_evaluation(sys, ws, x)),
             inputs: planar_inputs,
         })
     }
@@ -238,8 +321,10 @@ fn has_table(f: &ForceElement) -> bool {
 }
 
 /// The outputs of the stage at inputs `x`, in any number type: the sequence of
-/// [`super::constraints`] and [`super::applied_forces`] for a planar system.
-fn planar_rows_and_forces<T: Real>(sys: &System, active: &[usize], x: &[T]) -> Vec<T> {
+/// [`super::accelerations_for_integration`] for a planar system, `None` where it leaves
+/// the plain solve.
+fn planar_evaluation<T: Real>(sys: &System, ws: &Workspace, x: &[T]) -> Option<Vec<T>> {
+    let active = &ws.active;
     let (nq, nv) = (sys.layout.nq(), sys.layout.nv());
     let (q, v) = (&x[..nq], &x[nq..nq + nv]);
     let mut at = nq + nv;
@@ -252,7 +337,9 @@ fn planar_rows_and_forces<T: Real>(sys: &System, active: &[usize], x: &[T]) -> V
     let ground = BodyState::ground();
     let state = |b: Option<usize>| b.map_or(ground, |k| bodies[k]);
     let zero = T::constant(0.0);
-    let mut out = Vec::with_capacity(active.len() * 9 + nv);
+    let mut out = Vec::with_capacity(active.len() * 9 + 2 * nv);
+    let mut blocks: Vec<[[T; 3]; 2]> = Vec::with_capacity(active.len());
+    let mut gamma = Vec::with_capacity(active.len());
     for &r in active {
         let row = &sys.rows[r];
         let motion = match row.driver {
@@ -266,6 +353,8 @@ fn planar_rows_and_forces<T: Real>(sys: &System, active: &[usize], x: &[T]) -> V
         out.extend([ev.c, ev.ct, ev.gamma]);
         out.extend(ev.jac_i);
         out.extend(ev.jac_j);
+        blocks.push([ev.jac_i, ev.jac_j]);
+        gamma.push(ev.gamma);
     }
     let mut qe = vec![zero; nv];
     for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
@@ -293,8 +382,36 @@ fn planar_rows_and_forces<T: Real>(sys: &System, active: &[usize], x: &[T]) -> V
             );
         }
     }
+    // The solve of [`super::accelerations_for_integration`], operation for operation.
+    let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
     out.extend(qe);
-    out
+    let dot = |a: usize, x: &[T]| ws.jac[a].dot_of([&blocks[a][0], &blocks[a][1]], x);
+    let mut inverses = Vec::with_capacity(ws.prescribed.len());
+    let mut lambda = Vec::with_capacity(ws.dynamic);
+    if !active.is_empty() {
+        for p in &ws.prescribed {
+            let b_inv = p.inverse_of(|a, side| blocks[a][side]).ok()?;
+            p.solve_rows_of(dot, &b_inv, |a| gamma[a], &mut qdd);
+            inverses.push(b_inv);
+        }
+        lambda.extend((0..ws.dynamic).map(|a| dot(a, &qdd) - gamma[a]));
+        if !lambda.is_empty() {
+            ws.schur
+                .solve_plain(&ws.jac[..ws.dynamic], &blocks[..ws.dynamic], &ws.m_inv, &mut lambda)?
+                .ok()?;
+        }
+        let mut correction = vec![zero; nv];
+        for ((row, block), &m) in ws.jac.iter().zip(&blocks).zip(&lambda) {
+            row.add_transposed_of([&block[0], &block[1]], m, &mut correction);
+        }
+        for ((a, c), m) in qdd.iter_mut().zip(&correction).zip(&ws.m_inv) {
+            *a -= *c * *m;
+        }
+    }
+    out.extend(qdd);
+    out.extend(lambda);
+    out.extend(inverses.iter().flatten().flatten());
+    Some(out)
 }
 
 impl Compile for Spatial {
@@ -308,7 +425,14 @@ impl<K: Compile> Workspace<K> {
     /// Compiles the rows and forces of `sys` as the run needs them, or says why they
     /// stay interpreted.
     pub fn compile(&mut self, sys: &System<K>) -> Result<(), String> {
-        self.compiled = Some(Stage::new(K::recorder(sys)?));
+        let recorder = K::recorder(sys)?;
+        if self.schur.factorisation() == Factorisation::Sparse {
+            return Err(format!(
+                "the Schur complement of its {} rows is factored sparse, which is not compiled yet",
+                self.dynamic
+            ));
+        }
+        self.compiled = Some(Box::new(Stage::new(recorder)));
         Ok(())
     }
 }

@@ -78,7 +78,7 @@ pub struct Workspace<K: BodyKind = Planar> {
     /// Scratch of length nv.
     scratch: Vec<f64>,
     /// The rows and forces compiled to native code, when the run compiles them.
-    pub compiled: Option<compiled::Stage<K>>,
+    pub compiled: Option<Box<compiled::Stage<K>>>,
 }
 
 impl<K: Contacts> Workspace<K> {
@@ -371,11 +371,13 @@ pub fn accelerations_for_integration<K: Contacts>(
     ws: &mut Workspace<K>,
 ) -> Result<(), Singular> {
     let lap = profile::start(&ws.profile);
-    if !compiled::rows_and_forces(sys, t, q, v, ws) {
-        ws.load_bodies(sys, q, v);
-        constraint_rows(sys, t, ws);
-        forces_at_bodies(sys, t, ws);
+    if compiled::accelerations(sys, t, q, v, ws) {
+        profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
+        return Ok(());
     }
+    ws.load_bodies(sys, q, v);
+    constraint_rows(sys, t, ws);
+    forces_at_bodies(sys, t, ws);
     profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     let n = sys.layout.nv();
     for j in 0..n {

@@ -11,6 +11,7 @@
 use super::schur::{RowJacobian, Singular};
 use crate::mechanics::kind::{Block, BodyKind};
 use crate::mechanics::planar_body::{BodyRow, NV, PLANAR_BODY};
+use crate::scalar::Real;
 use crate::system::System;
 
 /// A square block over one body's velocities: `B` of its own rows, and its inverse.
@@ -106,7 +107,16 @@ impl PrescribedBody {
     /// `B^-1`, with `B` its own rows' entries for its coordinates (one row per
     /// equation); `Singular` where `B` is.
     pub fn inverse<R: Block>(&self, jac: &[RowJacobian<R>]) -> Result<BodyBlock, Singular> {
-        inverse3(self.rows.map(|(a, side)| planar_row(&jac[a].entries[side])))
+        self.inverse_of(|a, side| planar_row(&jac[a].entries[side]))
+    }
+
+    /// [`Self::inverse`] in any number type, `entries(a, side)` the block of row `a` on
+    /// its side `side`.
+    pub fn inverse_of<T: Real>(
+        &self,
+        entries: impl Fn(usize, usize) -> [T; NV],
+    ) -> Result<[[T; NV]; NV], Singular> {
+        inverse3(self.rows.map(|(a, side)| entries(a, side)))
     }
 
     /// Sets its coordinates' part of `x` so that its own rows give `rhs`:
@@ -119,8 +129,19 @@ impl PrescribedBody {
         rhs: impl Fn(usize) -> f64,
         x: &mut [f64],
     ) {
-        x[self.own.clone()].fill(0.0);
-        let r = self.rows.map(|(a, _)| rhs(a) - jac[a].dot(x));
+        self.solve_rows_of(|a, x| jac[a].dot(x), b_inv, rhs, x);
+    }
+
+    /// [`Self::solve_rows`] in any number type, `dot(a, x)` row `a`'s `Cq_a x`.
+    pub fn solve_rows_of<T: Real>(
+        &self,
+        dot: impl Fn(usize, &[T]) -> T,
+        b_inv: &[[T; NV]; NV],
+        rhs: impl Fn(usize) -> T,
+        x: &mut [T],
+    ) {
+        x[self.own.clone()].fill(T::constant(0.0));
+        let r = self.rows.map(|(a, _)| rhs(a) - dot(a, x));
         for (x, b) in x[self.own.clone()].iter_mut().zip(b_inv) {
             *x = b[0] * r[0] + b[1] * r[1] + b[2] * r[2];
         }
@@ -161,7 +182,7 @@ fn planar_row<R: Block>(r: &R) -> BodyRow {
 /// Inverse of a 3x3 matrix by its cofactors; `Singular` when the determinant vanishes
 /// against the entries' scale.
 #[inline(always)]
-fn inverse3(a: BodyBlock) -> Result<BodyBlock, Singular> {
+fn inverse3<T: Real>(a: [[T; NV]; NV]) -> Result<[[T; NV]; NV], Singular> {
     // Written out: the compiler does not always unroll index arithmetic here (measured:
     // 2.4x the instructions when it did not).
     let cof = |[r0, r1]: [usize; 2], [c0, c1]: [usize; 2]| a[r0][c0] * a[r1][c1] - a[r0][c1] * a[r1][c0];
@@ -172,9 +193,10 @@ fn inverse3(a: BodyBlock) -> Result<BodyBlock, Singular> {
         [cof(n2, n0), cof(n2, n1), cof(n2, n2)],
     ];
     let det = a[0][0] * c[0][0] + a[0][1] * c[0][1] + a[0][2] * c[0][2];
-    let scale = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-    // Also catches a NaN determinant.
-    if det.is_nan() || det.abs() <= 1e-12 * scale.powi(3) {
+    let scale = a.iter().flatten().fold(T::constant(0.0), |m, x| m.max(x.abs()));
+    // Also catches a NaN determinant (`det != det`).
+    #[allow(clippy::eq_op)]
+    if det != det || det.abs() <= scale * scale * scale * 1e-12 {
         return Err(Singular);
     }
     // The inverse is the transposed cofactor matrix over the determinant.

@@ -31,6 +31,7 @@ use faer::{Conj, Par};
 use crate::mechanics::kind::Block;
 use crate::mechanics::layout::Layout;
 use crate::mechanics::planar_body::BodyRow;
+use crate::scalar::Real;
 
 /// The augmented system is singular: the mechanism locks up or passes a singular
 /// configuration (e.g. a four-bar at a change point). Kept with the Schur complement,
@@ -88,28 +89,42 @@ impl<R: Block> RowJacobian<R> {
     /// `Cq_a x` for a vector over all coordinates.
     #[inline(always)]
     pub fn dot(&self, x: &[f64]) -> f64 {
+        self.dot_of([self.entries[0].as_ref(), self.entries[1].as_ref()], x)
+    }
+
+    /// `Cq_a x` with this row's bodies and the blocks `entries`, in any number type.
+    #[inline(always)]
+    pub fn dot_of<T: Real>(&self, entries: [&[T]; 2], x: &[T]) -> T {
         // Body i's products, then body j's, in the order the sum has always been taken.
         let part = |side: usize| {
             self.bodies[side].map(|_| {
-                let (jac, x) = (self.entries[side].as_ref(), R::of(x, self.at[side]).as_ref());
-                jac[1..].iter().zip(&x[1..]).fold(jac[0] * x[0], |sum, (j, x)| sum + j * x)
+                let jac = entries[side];
+                let x = &x[self.at[side]..self.at[side] + jac.len()];
+                jac[1..].iter().zip(&x[1..]).fold(jac[0] * x[0], |sum, (j, x)| sum + *j * *x)
             })
         };
         match (part(0), part(1)) {
             (Some(a), Some(b)) => a + b,
             (Some(a), None) | (None, Some(a)) => a,
-            (None, None) => 0.0,
+            (None, None) => T::constant(0.0),
         }
     }
 
     /// `y += s Cq_a^T`.
     #[inline(always)]
     pub fn add_transposed(&self, s: f64, y: &mut [f64]) {
+        self.add_transposed_of([self.entries[0].as_ref(), self.entries[1].as_ref()], s, y);
+    }
+
+    /// `y += s Cq_a^T` with this row's bodies and the blocks `entries`, in any number
+    /// type.
+    #[inline(always)]
+    pub fn add_transposed_of<T: Real>(&self, entries: [&[T]; 2], s: T, y: &mut [T]) {
         for side in 0..2 {
             if self.bodies[side].is_some() {
-                let (jac, y) = (&self.entries[side], R::of_mut(y, self.at[side]));
-                for (y, e) in y.as_mut().iter_mut().zip(jac.as_ref()) {
-                    *y += s * e;
+                let y = &mut y[self.at[side]..self.at[side] + entries[side].len()];
+                for (y, e) in y.iter_mut().zip(entries[side]) {
+                    *y += s * *e;
                 }
             }
         }
@@ -270,14 +285,16 @@ impl Envelope {
 
     /// Cholesky factor of the packed symmetric matrix `a` (lower envelope) in place;
     /// `Singular` unless positive definite. Products are subtracted in index order.
-    fn factor(&self, a: &mut [f64]) -> Result<(), Singular> {
+    fn factor<T: Real>(&self, a: &mut [T]) -> Result<(), Singular> {
         for step in &self.steps {
             let products = &self.products[step.from as usize..step.to as usize];
             let target = step.target as usize;
             let s = products.iter().fold(a[target], |s, &(x, y)| s - a[x as usize] * a[y as usize]);
             a[target] = match step.pivot {
                 Some(p) => s / a[p as usize],
-                None if s.is_nan() || s <= 0.0 => return Err(Singular),
+                // `s != s`: NaN.
+                #[allow(clippy::eq_op)]
+                None if s != s || s <= 0.0 => return Err(Singular),
                 None => s.sqrt(),
             };
         }
@@ -285,11 +302,12 @@ impl Envelope {
     }
 
     /// Solves `L L^T x = b` in place with the packed factor `l`.
-    fn solve(&self, l: &[f64], x: &mut [f64]) {
+    fn solve<T: Real>(&self, l: &[T], x: &mut [T]) {
         let m = x.len();
         for i in 0..m {
             let ahead = &self.ahead[self.ahead_ptr[i]..self.ahead_ptr[i + 1]];
-            let s: f64 = ahead.iter().map(|&(k, p)| l[p as usize] * x[k as usize]).sum();
+            // As `Iterator::sum` of f64, from -0.
+            let s = ahead.iter().fold(T::constant(-0.0), |s, &(k, p)| s + l[p as usize] * x[k as usize]);
             x[i] = (x[i] - s) / l[self.diagonal[i] as usize];
         }
         for i in (0..m).rev() {
@@ -490,14 +508,64 @@ impl<R: Block> Schur<R> {
 
     /// Factors `S + shift I` into the dense buffer, summing `S` straight into it.
     fn factor_dense(&mut self, shift: f64) -> Result<(), Singular> {
-        self.dense.fill(0.0);
+        let mut dense = std::mem::take(&mut self.dense);
+        let factored = self.factor_dense_into(&self.scaled, &self.plain, shift, &mut dense);
+        self.dense = dense;
+        factored
+    }
+
+    /// Factors `S + shift I` of the rows' Jacobian blocks `plain` and their products with
+    /// `M^-1`, `scaled` (two per row), into `dense`, in any number type.
+    fn factor_dense_into<T: Real, B: AsRef<[T]>>(
+        &self,
+        scaled: &[B],
+        plain: &[B],
+        shift: f64,
+        dense: &mut [T],
+    ) -> Result<(), Singular> {
+        dense.fill(T::constant(0.0));
         for s in &self.shared {
-            add_shared(&mut self.dense[s.packed as usize], &self.scaled[s.a], &self.plain[s.b]);
+            add_shared(&mut dense[s.packed as usize], &scaled[s.a], &plain[s.b]);
         }
         for &d in &self.envelope.diagonal {
-            self.dense[d as usize] += shift;
+            dense[d as usize] += T::constant(shift);
         }
-        self.envelope.factor(&mut self.dense)
+        self.envelope.factor(dense)
+    }
+
+    /// Solves `S x = rhs` in place by the plain factor of `S`, in any number type, where
+    /// `S` is factored over its envelope and well conditioned, as [`Schur::solve`] does
+    /// there; `None` elsewhere (the regularised solve is then [`Schur::solve`]'s). `jac`
+    /// holds each row's two blocks (the ground's side too, unused), `m_inv` the inverse
+    /// mass; `rows` the rows' bodies and places, as [`Schur::update`] takes them.
+    pub(super) fn solve_plain<T: Real, const N: usize>(
+        &self,
+        rows: &[RowJacobian<R>],
+        jac: &[[[T; N]; 2]],
+        m_inv: &[f64],
+        rhs: &mut [T],
+    ) -> Option<Result<(), Singular>> {
+        if self.factorisation == Factorisation::Sparse {
+            return None;
+        }
+        let zero = [T::constant(0.0); N];
+        let (mut plain, mut scaled) = (vec![zero; 2 * jac.len()], vec![zero; 2 * jac.len()]);
+        for (a, (entries, row)) in jac.iter().zip(rows).enumerate() {
+            for side in (0..2).filter(|&side| row.bodies[side].is_some()) {
+                let w = &m_inv[row.at[side]..row.at[side] + N];
+                plain[2 * a + side] = entries[side];
+                scaled[2 * a + side] = std::array::from_fn(|d| entries[side][d] * w[d]);
+            }
+        }
+        let mut dense = vec![T::constant(0.0); self.envelope.size];
+        self.factor_dense_into(&scaled, &plain, 0.0, &mut dense).ok()?;
+        let (low, high) = dense_pivots(&self.envelope, &dense);
+        let well_conditioned = low >= high * WELL_CONDITIONED;
+        if !well_conditioned {
+            return None;
+        }
+        self.envelope.solve(&dense, rhs);
+        Some(if rhs.iter().all(|x| x.abs() < f64::INFINITY) { Ok(()) } else { Err(Singular) })
     }
 
     /// Factors `S + shift I` with faer's sparse Cholesky into `sparse` (the values of `S`
@@ -555,10 +623,7 @@ impl<R: Block> Schur<R> {
     fn squared_pivots(&self) -> (f64, f64) {
         match (self.factorisation, self.symbolic.as_deref()) {
             (Factorisation::Sparse, Some(symbolic)) => sparse_pivots(symbolic, &self.sparse),
-            _ => {
-                let pivots = self.envelope.diagonal.iter().map(|&d| self.dense[d as usize].powi(2));
-                pivots.fold((f64::INFINITY, 0.0f64), |(l, h), p| (l.min(p), h.max(p)))
-            }
+            _ => dense_pivots(&self.envelope, &self.dense),
         }
     }
 
@@ -631,6 +696,16 @@ impl<R: Block> Schur<R> {
         self.ill_conditioned
     }
 
+    /// Records that the equations were solved by compiled code with the plain factor of
+    /// a well-conditioned `S` ([`Schur::solve_plain`]): what [`Schur::solve`] leaves
+    /// there, but that its buffers do not hold that factor.
+    pub(super) fn solved_elsewhere(&mut self) {
+        self.plain_factor = false;
+        self.values_current = false;
+        self.ill_conditioned = false;
+        self.rank_deficient = false;
+    }
+
     /// Whether the last [`Schur::solve`] treated `S` as rank deficient.
     pub fn rank_deficient(&self) -> bool {
         self.rank_deficient
@@ -689,10 +764,16 @@ impl<R: Block> Schur<R> {
 /// Adds one shared body's part of an entry of `S`, `(Cq_a,d / m_d) Cq_b,d`, to `value`
 /// term by term in the order `d` = x, y, angle, as every path of the factor sums it.
 #[inline]
-fn add_shared<R: Block>(value: &mut f64, scaled: &R, plain: &R) {
+fn add_shared<T: Real, B: AsRef<[T]>>(value: &mut T, scaled: &B, plain: &B) {
     for (s, p) in scaled.as_ref().iter().zip(plain.as_ref()) {
-        *value += s * p;
+        *value += *s * *p;
     }
+}
+
+/// The smallest and largest squared pivot of the envelope factor `l`.
+fn dense_pivots<T: Real>(envelope: &Envelope, l: &[T]) -> (T, T) {
+    let pivots = envelope.diagonal.iter().map(|&d| l[d as usize] * l[d as usize]);
+    pivots.fold((T::constant(f64::INFINITY), T::constant(0.0)), |(l, h), p| (l.min(p), h.max(p)))
 }
 
 /// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).

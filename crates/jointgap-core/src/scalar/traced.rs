@@ -179,17 +179,18 @@ thread_local! {
 }
 
 /// Runs `f` on `inputs.len()` traced inputs holding `inputs` and returns the graph of
-/// what it computed, its outputs being the values `f` returns, in order.
-pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Vec<Traced>) -> Graph {
+/// what it computed, its outputs being the values `f` returns, in order; `None` where
+/// `f` returns none (it took a way the graph does not cover).
+pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<Graph> {
     let previous = TAPE.with(|t| t.borrow_mut().replace(Tape::default()));
     assert!(previous.is_none(), "a recording is already running on this thread");
     let traced: Vec<Traced> =
         inputs.iter().enumerate().map(|(k, &x)| push(Node::Input(k as u32), x)).collect();
     let outputs = f(&traced);
     let mut tape = TAPE.with(|t| t.borrow_mut().take()).expect("the recording's tape");
-    tape.graph.outputs = outputs.iter().map(|o| o.id).collect();
+    tape.graph.outputs = outputs?.iter().map(|o| o.id).collect();
     tape.graph.inputs = inputs.len();
-    tape.graph
+    Some(tape.graph)
 }
 
 /// Adds node `node` of value `value` to the tape, or finds the equal one recorded before.
@@ -336,8 +337,12 @@ impl Add for Traced {
     type Output = Traced;
     fn add(self, o: Traced) -> Traced {
         // x + (-0) is x, signed zero included; x + 0 is not (-0 + 0 = +0).
-        if o.known().is_some_and(|z| z == 0.0 && z.is_sign_negative()) {
+        let negative_zero = |t: Traced| t.known().is_some_and(|z| z == 0.0 && z.is_sign_negative());
+        if negative_zero(o) {
             return self;
+        }
+        if negative_zero(self) {
+            return o;
         }
         self.binary(o, Node::Add(self.id, o.id), self.value + o.value)
     }
@@ -472,7 +477,7 @@ mod tests {
     /// where the kernel takes the other branch.
     #[test]
     fn graph_repeats_the_kernel_on_its_path() {
-        let g = record(&[3.0, 4.0], |x| vec![kernel(x[0], x[1])]);
+        let g = record(&[3.0, 4.0], |x| Some(vec![kernel(x[0], x[1])])).expect("a graph");
         assert_eq!(g.guards.len(), 1);
         for (x, y) in [(3.0, 4.0), (0.7, 0.9), (-2.0, 1e-3)] {
             let (ok, out) = g.eval(&[x, y]);
@@ -488,8 +493,9 @@ mod tests {
     fn constants_fold_and_equal_operations_merge() {
         let g = record(&[0.5], |x| {
             let k = c::<Traced>(0.1) * 3.0 + 0.2;
-            vec![x[0] * k, x[0] * k, x[0] * 1.0]
-        });
+            Some(vec![x[0] * k, x[0] * k, x[0] * 1.0])
+        })
+        .expect("a graph");
         assert_eq!(g.outputs[0], g.outputs[1]);
         assert_eq!(g.outputs[2], 0);
         let k = (0.1f64 * 3.0 + 0.2).to_bits();
@@ -503,7 +509,7 @@ mod tests {
     /// `x + 0` is kept (it turns -0 into +0); `x - 0` is dropped (it never changes x).
     #[test]
     fn signed_zeros_survive_simplification() {
-        let g = record(&[-0.0], |x| vec![x[0] + 0.0, x[0] - 0.0]);
+        let g = record(&[-0.0], |x| Some(vec![x[0] + 0.0, x[0] - 0.0])).expect("a graph");
         let (_, out) = g.eval(&[-0.0]);
         assert!(out[0].is_sign_positive() && out[1].is_sign_negative());
     }
