@@ -28,9 +28,12 @@ def test_batch_equals_serial_exactly(variants, engine) -> None:
             assert many.channels == one.channels
             assert np.array_equal(many.time, one.time) and np.array_equal(many.data, one.data)
             assert many.impacts == one.impacts
-            assert {k: v for k, v in many.stats.items() if k != "wall_time"} == {
-                k: v for k, v in one.stats.items() if k != "wall_time"
+            # Times, and whether the compiled code came from the process's cache, differ.
+            timed = ("wall_time", "compile_time", "compiled")
+            assert {k: v for k, v in many.stats.items() if k not in timed} == {
+                k: v for k, v in one.stats.items() if k not in timed
             }
+            assert many.stats["compiled"].startswith("native code")
     # The variants really differ: the clearance is in the results.
     gaps = [r.clearances["rod_slider"]["clearance"] for r in serial]
     assert gaps == pytest.approx([2e-4, 3.5e-4, 5e-4, 8e-4])

@@ -1,8 +1,8 @@
 """The core's stages import only the stages before them (docs/architecture.md).
 
 model data -> mechanics -> system -> dynamics -> integrators -> simulate, with the plain
-vocabulary (errors, the model's defaults, math, profile, output types) below all of
-them; the integrators know nothing of mechanics. A `crate::<module>` path in a file of
+vocabulary (errors, the model's defaults, math, the number type the kernels are written
+over and the compiler of its recordings, profile, output types) below all of them; the integrators know nothing of mechanics. A `crate::<module>` path in a file of
 one stage naming a later stage (or, for the integrators, any stage of mechanics) fails
 here, before it turns into an import circle.
 """
@@ -15,7 +15,7 @@ from pathlib import Path
 SRC = Path(__file__).resolve().parents[1] / "crates" / "jointgap-core" / "src"
 
 #: What each stage may use besides the vocabulary and itself.
-VOCABULARY = {"error", "defaults", "math", "profile", "output", "model"}
+VOCABULARY = {"error", "defaults", "math", "scalar", "codegen", "profile", "output", "model"}
 ALLOWED = {
     "model": {"defaults", "error"},
     "mechanics": VOCABULARY,
@@ -50,7 +50,7 @@ def test_each_stage_imports_only_the_stages_before_it() -> None:
 
 def test_the_vocabulary_imports_no_stage() -> None:
     stages = set(ALLOWED) - {"model"}
-    for name in ("error", "defaults", "math", "profile", "output"):
-        code = (SRC / f"{name}.rs").read_text()
-        code = "\n".join(line.split("//")[0] for line in code.splitlines())
-        assert not set(_PATH.findall(code)) & stages, name
+    files = [SRC / f"{n}.rs" for n in ("error", "defaults", "math", "codegen", "profile", "output")]
+    for path in [*files, *sorted((SRC / "scalar").glob("*.rs"))]:
+        code = "\n".join(line.split("//")[0] for line in path.read_text().splitlines())
+        assert not set(_PATH.findall(code)) & stages, path.name

@@ -66,6 +66,7 @@ def run_options(
     step_peaks: bool | None = None,
     energy: bool | None = None,
     profile: bool | None = None,
+    compiled: bool | None = None,
     wear_cells: int | None = None,
     wear_start: float | str | None = None,
 ) -> dict[str, Any]:
@@ -95,6 +96,8 @@ def run_options(
         options["max_steps"] = int(max_steps)
     if profile is not None:
         options["profile"] = bool(profile)
+    if compiled is not None:
+        options["compiled"] = bool(compiled)
     if step_peaks is not None:
         options["step_peaks"] = bool(step_peaks)
     if energy is not None:

@@ -1233,6 +1233,7 @@ class Model:
         energy: bool = False,
         wear_cells: int | None = None,
         wear_start: Quantity | None = None,
+        compiled: bool = True,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -1276,6 +1277,10 @@ class Model:
                 (docs/wear.md).
             wear_start: the time from which the wear counts [s] (by default from the
                 start): the steady cycles after a start-up.
+            compiled: evaluate the equations of motion by native code compiled from the
+                model where the compiler covers it (the default; docs/compiled.md), or
+                always interpreted (``False``). The results are the same to the bit;
+                ``stats["compiled"]`` says which ran and why.
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -1301,6 +1306,7 @@ class Model:
             step_peaks=step_peaks,
             wear_cells=wear_cells,
             wear_start=wear_start,
+            compiled=compiled,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

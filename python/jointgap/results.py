@@ -117,6 +117,12 @@ class RunStats(TypedDict, total=False):
     prepares it, so a loaded model's runs leave that out)."""
     profile: StageTimes | None
     """Time per stage when the run was asked to measure it, else None."""
+    compiled: str
+    """How the equations of motion ran (docs/compiled.md): ``"native code: ..."`` with
+    the compiled paths, their operations, the compile time and the evaluations each way,
+    or ``"interpreted: <why>"``."""
+    compile_time: float
+    """Seconds spent compiling native code during the run (part of ``wall_time``)."""
 
 
 @dataclass(frozen=True)
@@ -322,7 +328,7 @@ class Result:
             row from the file when it is asked for.
         stats: run counters (:class:`RunStats`): accepted_steps, rejected_steps,
             rhs_evaluations, jacobian_evaluations, projections, events, method,
-            wall_time [s], profile.
+            wall_time [s], profile, compiled, compile_time [s].
         status: ``"finished"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C,
             :data:`RunStatus`); the data of a failed or interrupted run stop where the
             run did.

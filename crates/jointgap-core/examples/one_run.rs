@@ -1,23 +1,30 @@
 //! `make bench`: one run of a model, for counting its instructions (`benchmarks/instructions.py`
 //! runs this under callgrind). Nothing but the run: no timing loop, no output written.
 //!
-//! Usage: `one_run MODEL.json OPTIONS.json` (SI model as `jointgap.Model.to_json()` writes
-//! it; options as the engine reads them, e.g. `{"t_end": 0.5, "rate": 10000}`).
+//! Usage: `one_run MODEL.json OPTIONS.json [RUNS]` (SI model as `jointgap.Model.to_json()`
+//! writes it; options as the engine reads them, e.g. `{"t_end": 0.5, "rate": 10000}`).
+//! With RUNS, the same run that many times in the process: the runs after the first take
+//! the compiled code from the process's cache, so the difference of two counts is a run
+//! without compiling (`benchmarks/compiled.py`).
 
 use jointgap_core::{simulate, Model, SimOptions, Status};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
-    let [_, model, options] = args.as_slice() else {
-        return Err("usage: one_run MODEL.json OPTIONS.json".into());
+    let (model, options, runs) = match args.as_slice() {
+        [_, model, options] => (model, options, 1),
+        [_, model, options, runs] => (model, options, runs.parse()?),
+        _ => return Err("usage: one_run MODEL.json OPTIONS.json [RUNS]".into()),
     };
     let model = Model::from_json(&std::fs::read_to_string(model)?)?;
     let options: SimOptions = serde_json::from_str(&std::fs::read_to_string(options)?)?;
-    let result = simulate(&model, &options)?;
-    if !matches!(result.status, Status::Finished) {
-        return Err(format!("the run stopped: {:?}", result.status).into());
+    for _ in 0..runs {
+        let result = simulate(&model, &options)?;
+        if !matches!(result.status, Status::Finished) {
+            return Err(format!("the run stopped: {:?}", result.status).into());
+        }
+        println!("{} steps, {} evaluations", result.stats.accepted_steps, result.stats.rhs_evaluations);
+        println!("{}", result.stats.compiled);
     }
-    println!("{} steps, {} evaluations", result.stats.accepted_steps, result.stats.rhs_evaluations);
-    println!("{}", result.stats.compiled);
     Ok(())
 }

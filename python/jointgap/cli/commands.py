@@ -162,6 +162,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="record only this channel (repeatable; 'element.*' for all of an element)",
     )
     run.add_argument(
+        "--interpreted",
+        action="store_true",
+        help="evaluate the equations of motion interpreted, not by native code compiled from "
+        "the model (the same results; docs/compiled.md)",
+    )
+    run.add_argument(
         "--energy",
         action="store_true",
         help="also keep the energy accounts: work of drivers and applied loads, energy "
@@ -418,6 +424,7 @@ def _run(args: argparse.Namespace) -> int:
             channels=args.channels,
             decimate=args.decimate,
             energy=args.energy,
+            compiled=not args.interpreted,
             stream=out / RESULTS_PARQUET if args.stream else None,
             progress=progress,
             **options,
@@ -490,6 +497,7 @@ def _summary(model: Model, path: str, result: Result, written: list[Path], conta
         f" {s.get('rhs_evaluations', 0)} rhs evaluations, "
         f"{s.get('jacobian_evaluations', 0)} Jacobians, {s.get('projections', 0)} projections",
         f"wall time  {s.get('wall_time', 0.0):.3g} s",
+        f"evaluation {s.get('compiled', '?')}",
         f"status     {result.message or result.status}",
     ]
     peaks = main_channels(result)

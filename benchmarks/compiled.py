@@ -1,0 +1,180 @@
+"""Compiled against interpreted evaluation, measured side by side in one run.
+
+The founding clearance case (examples/slider_crank_clearance.toml, 0.5 s, slider.ax at
+10 kHz, ``auto`` at rtol 1e-8):
+
+1. Instructions (callgrind, when valgrind is installed) of the core's ``one_run``
+   example: one run interpreted, one run compiled (its compiling included), and a run
+   compiled that takes its code from the process's cache (the count of two runs in one
+   process minus that of one). Each count divided by the run's evaluations gives the
+   cost per evaluation of everything a run does, the integrator and output included.
+2. Wall time in this process, runs alternating so that a load on the machine falls on
+   both: the first compiled run (compiling), and the median of the next ones (from the
+   cache) against the median of interpreted runs.
+3. A batch of variants of the clearance (``simulate_batch``, two threads): each variant's
+   constants differ, so each compiles its own code.
+4. The spatial four-bar with a spherical clearance joint: interpreted (the spatial
+   kernels are not compiled yet), as the account of the run says.
+
+Writes benchmarks/output/compiled.md and benchmarks/results/compiled.json.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import jointgap
+from jointgap import simulate_batch
+from jointgap.variants import with_parameters
+
+ROOT = Path(__file__).resolve().parents[1]
+MODEL = ROOT / "examples" / "slider_crank_clearance.toml"
+SPATIAL = ROOT / "examples" / "spatial_four_bar_clearance.toml"
+PROGRAM = ROOT / "target" / "release" / "examples" / "one_run"
+REPORT = ROOT / "benchmarks" / "output" / "compiled.md"
+RESULTS = ROOT / "benchmarks" / "results" / "compiled.json"
+RUN: dict[str, Any] = {"t_end": 0.5, "rate": 10_000.0, "channels": ["slider.ax"], "rtol": 1e-8}
+REPEATS = 9
+BATCH = 64
+_COLLECTED = re.compile(r"Collected\s*:\s*(\d+)")
+
+
+def instructions(model: Path, options: dict[str, Any], runs: int, folder: Path) -> tuple[int, str]:
+    """Instructions of ``runs`` runs in one process under callgrind, and its printout."""
+    path = folder / "options.json"
+    path.write_text(json.dumps(options))
+    done = subprocess.run(
+        ["valgrind", "--tool=callgrind", f"--callgrind-out-file={folder / 'cg.out'}",
+         str(PROGRAM), str(model), str(path), str(runs)],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    found = _COLLECTED.search(done.stderr)
+    if found is None:
+        raise RuntimeError(f"callgrind printed no count:\n{done.stderr[-2000:]}")
+    return int(found.group(1)), done.stdout
+
+
+def counts() -> dict[str, float] | None:
+    """The three instruction counts and the evaluations of one run, or None without
+    valgrind."""
+    if shutil.which("valgrind") is None:
+        return None
+    subprocess.run(
+        ["cargo", "build", "--release", "-q", "-p", "jointgap-core", "--example", "one_run"],
+        check=True, cwd=ROOT,
+    )  # fmt: skip
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp)
+        model = folder / "model.json"
+        model.write_text(jointgap.load(MODEL).to_json())
+        plain, out = instructions(model, {**RUN, "compiled": False}, 1, folder)
+        evaluations = int(re.search(r"(\d+) evaluations", out).group(1))  # type: ignore[union-attr]
+        cold, _ = instructions(model, RUN, 1, folder)
+        twice, _ = instructions(model, RUN, 2, folder)
+    return {"interpreted": plain, "compiled": cold, "cached": twice - cold, "evaluations": evaluations}
+
+
+def timings() -> dict[str, Any]:
+    """Wall times [s] of the founding case, compiled and interpreted, in this process."""
+    model = jointgap.load(MODEL)
+    options = {k: v for k, v in RUN.items() if k != "t_end"}
+    first = model.simulate(RUN["t_end"], **options)
+    native: list[float] = []
+    plain: list[float] = []
+    for _ in range(REPEATS):
+        for compiled, into in ((True, native), (False, plain)):
+            start = time.perf_counter()
+            model.simulate(RUN["t_end"], compiled=compiled, **options)
+            into.append(time.perf_counter() - start)
+    return {
+        "first_compiled": first.stats["wall_time"],
+        "compile_time": first.stats["compile_time"],
+        "account": first.stats["compiled"],
+        "compiled": statistics.median(native),
+        "interpreted": statistics.median(plain),
+    }
+
+
+def batch() -> dict[str, float]:
+    """Wall time [s] of a batch of clearance variants, compiled and interpreted."""
+    base = jointgap.load(MODEL)
+    variants = [
+        with_parameters(base, {"rod_slider.clearance": f"{0.2 + 0.6 * k / (BATCH - 1):.4f} mm"})
+        for k in range(BATCH)
+    ]
+    out: dict[str, float] = {}
+    for compiled in (True, False):
+        start = time.perf_counter()
+        results = simulate_batch(variants, 0.2, rate=2000, threads=2, compiled=compiled)
+        out["compiled" if compiled else "interpreted"] = time.perf_counter() - start
+        if compiled:
+            out["compile_time"] = sum(r.stats["compile_time"] for r in results)
+    return out
+
+
+def main() -> int:
+    counted = counts()
+    timed = timings()
+    batched = batch()
+    spatial = jointgap.load(SPATIAL).simulate(0.05, rate=1000).stats["compiled"]
+    lines = [
+        f"Compiled against interpreted evaluation ({platform.machine()}, "
+        f"{platform.processor() or 'cpu'}), the founding clearance case, 0.5 s, auto at rtol 1e-8",
+        "",
+    ]
+    if counted is not None:
+        n = counted["evaluations"]
+        lines += [
+            "| run (callgrind) | instructions | per evaluation | against interpreted |",
+            "|---|---:|---:|---:|",
+        ]
+        for name in ("interpreted", "compiled", "cached"):
+            c = counted[name]
+            label = {
+                "interpreted": "interpreted",
+                "compiled": "compiled, compiling included",
+                "cached": "compiled, code from the cache",
+            }[name]
+            lines.append(
+                f"| {label} | {c / 1e6:.1f} M | {c / n:.0f} | {counted['interpreted'] / c:.2f}x |"
+            )
+        lines.append("")
+    lines += [
+        f"Account of the first run: {timed['account']}",
+        "",
+        "| wall time (this process) | seconds | ratio |",
+        "|---|---:|---:|",
+        f"| first compiled run | {timed['first_compiled']:.4f} | compile {timed['compile_time']:.4f} s |",
+        f"| compiled, median of {REPEATS} | {timed['compiled']:.4f} | "
+        f"{timed['interpreted'] / timed['compiled']:.2f}x |",
+        f"| interpreted, median of {REPEATS} | {timed['interpreted']:.4f} | 1 |",
+        f"| batch of {BATCH} clearance variants (0.2 s each, 2 threads), compiled | "
+        f"{batched['compiled']:.3f} | {batched['interpreted'] / batched['compiled']:.2f}x "
+        f"(compiling {batched['compile_time']:.3f} s of thread time) |",
+        f"| the same batch interpreted | {batched['interpreted']:.3f} | 1 |",
+        "",
+        f"Spatial four-bar with a spherical clearance joint: {spatial}",
+    ]
+    text = "\n".join(lines) + "\n"
+    REPORT.parent.mkdir(parents=True, exist_ok=True)
+    REPORT.write_text(text)
+    RESULTS.write_text(
+        json.dumps({"counts": counted, "timings": timed, "batch": batched, "spatial": spatial}, indent=1)
+        + "\n"
+    )
+    print(text)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
