@@ -67,6 +67,7 @@ valgrind:
 ## bench: speed and accuracy figures (benchmarks/output/)
 bench: install valgrind
 	$(PY) benchmarks/instructions.py
+	$(PY) benchmarks/compiled.py
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
 	$(PY) benchmarks/scaling.py

@@ -1,13 +1,14 @@
 //! A recorded [`Graph`] compiled to native code in the running process, by Cranelift:
-//! one straight-line function that reads the inputs, computes every node that an output
-//! or a guard needs, stores the outputs and returns whether every guard held. The
+//! one straight-line function that reads the inputs and the parameters, computes every
+//! node that an output or a guard needs, stores the outputs and returns whether every
+//! guard held. The
 //! arithmetic is the processor's own (add, subtract, multiply, divide, square root,
 //! absolute value, negation: exact IEEE operations, as Rust's); the other functions are
 //! calls to the very functions the interpreted engine calls, so both give the same bits.
 //!
 //! Compiled graphs are kept in a process-wide cache by their content: a run, a batch or a
-//! study that records the same graph again (the same model and parameters on the same
-//! path) takes the code compiled before.
+//! study that records the same graph again (the same model, whatever its numbers, on the
+//! same path) takes the code compiled before, with its own parameters.
 
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
@@ -25,14 +26,15 @@ use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
 
 use crate::scalar::{Cmp, Func, Graph, Node};
 
-/// The native function of a graph: reads `inputs`, writes `outputs`, returns 1 where
-/// every guard held and 0 where one did not (its outputs then mean nothing).
-type NativeFn = unsafe extern "C" fn(*const f64, *mut f64) -> u8;
+/// The native function of a graph: reads `inputs` and `params`, writes `outputs`, returns
+/// 1 where every guard held and 0 where one did not (its outputs then mean nothing).
+type NativeFn = unsafe extern "C" fn(*const f64, *const f64, *mut f64) -> u8;
 
 /// A graph's compiled code.
 pub struct Compiled {
     function: NativeFn,
     inputs: usize,
+    params: usize,
     outputs: usize,
     /// Owns the code's memory.
     _code: CodeMemory,
@@ -73,13 +75,17 @@ impl Compiled {
         self.outputs
     }
 
-    /// Runs the code: `outputs` filled and `true` where every guard held.
+    /// Runs the code at `inputs` with parameters `params`: `outputs` filled and `true`
+    /// where every guard held.
     #[inline]
-    pub fn call(&self, inputs: &[f64], outputs: &mut [f64]) -> bool {
-        assert!(inputs.len() == self.inputs && outputs.len() == self.outputs, "compiled function's sizes");
-        // Safety: the function reads `inputs` entries and writes `outputs` entries, whose
-        // lengths are checked above; its code lives as long as `self`.
-        unsafe { (self.function)(inputs.as_ptr(), outputs.as_mut_ptr()) == 1 }
+    pub fn call(&self, inputs: &[f64], params: &[f64], outputs: &mut [f64]) -> bool {
+        assert!(
+            inputs.len() == self.inputs && params.len() == self.params && outputs.len() == self.outputs,
+            "compiled function's sizes"
+        );
+        // Safety: the function reads `inputs` and `params` entries and writes `outputs`
+        // entries, whose lengths are checked above; its code lives as long as `self`.
+        unsafe { (self.function)(inputs.as_ptr(), params.as_ptr(), outputs.as_mut_ptr()) == 1 }
     }
 }
 
@@ -123,6 +129,7 @@ fn content_hash(graph: &Graph) -> u64 {
     graph.guards.hash(&mut h);
     graph.outputs.hash(&mut h);
     graph.inputs.hash(&mut h);
+    graph.params.hash(&mut h);
     h.finish()
 }
 
@@ -179,7 +186,7 @@ fn live(graph: &Graph) -> Vec<bool> {
             continue;
         }
         match graph.nodes[k] {
-            Node::Const(_) | Node::Input(_) => {}
+            Node::Const(_) | Node::Input(_) | Node::Param(_) => {}
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => {
                 live[a as usize] = true;
                 live[b as usize] = true;
@@ -208,6 +215,10 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     // The builder above is the only producer of the IR, and its tests run it: checking
     // every function again costs a third of the compile time.
     flags.set("enable_verifier", "false").map_err(codegen_error)?;
+    // One pass of register allocation: on the founding case it compiles in 60 % of the
+    // time of the backtracking allocator, for code that runs 7 % more instructions; a
+    // single run comes out ahead only this way (benchmarks/README.md).
+    flags.set("regalloc_algorithm", "single_pass").map_err(codegen_error)?;
     let isa = cranelift_native::builder()
         .map_err(codegen_error)?
         .finish(settings::Flags::new(flags))
@@ -233,8 +244,9 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     }
 
     let mut ctx = module.make_context();
-    ctx.func.signature.params.push(AbiParam::new(ptr));
-    ctx.func.signature.params.push(AbiParam::new(ptr));
+    for _ in 0..3 {
+        ctx.func.signature.params.push(AbiParam::new(ptr));
+    }
     ctx.func.signature.returns.push(AbiParam::new(types::I8));
     let live = live(graph);
     let mut fctx = FunctionBuilderContext::new();
@@ -244,7 +256,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
         b.append_block_params_for_function_params(block);
         b.switch_to_block(block);
         b.seal_block(block);
-        let (input, output) = (b.block_params(block)[0], b.block_params(block)[1]);
+        let [input, param, output] = [0, 1, 2].map(|k| b.block_params(block)[k]);
         let sin_cos_ref = module.declare_func_in_func(sin_cos, b.func);
         let call_refs: HashMap<Func, _> =
             calls.iter().map(|(&f, &id)| (f, module.declare_func_in_func(id, b.func))).collect();
@@ -261,6 +273,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
             let value = match *node {
                 Node::Const(bits) => b.ins().f64const(f64::from_bits(bits)),
                 Node::Input(i) => b.ins().load(types::F64, flags, input, (8 * i) as i32),
+                Node::Param(i) => b.ins().load(types::F64, flags, param, (8 * i) as i32),
                 Node::Add(p, q) => b.ins().fadd(a(p), a(q)),
                 Node::Sub(p, q) => b.ins().fsub(a(p), a(q)),
                 Node::Mul(p, q) => b.ins().fmul(a(p), a(q)),
@@ -323,6 +336,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     Ok(Compiled {
         function,
         inputs: graph.inputs,
+        params: graph.params,
         outputs: graph.outputs.len(),
         _code: CodeMemory { module: Some(module) },
         compile_seconds: started.elapsed().as_secs_f64(),
@@ -348,18 +362,18 @@ mod tests {
             x[1].signum() * x[0].cosh(),
             x[0].max(x[1]),
             x[0].min(c(0.25)),
-            c::<T>(2.0) * 0.5,
+            c::<T>(2.0) * 0.5 + 0.25,
         ]
     }
 
     #[test]
     fn compiled_code_repeats_the_kernel_bit_for_bit() {
         let at = [0.7, 1.3];
-        let graph = record(&at, |x| Some(kernel::<Traced>(x))).expect("a graph");
+        let (graph, p) = record(&at, |x| Some(kernel::<Traced>(x))).expect("a graph");
         let f = compile(&graph).expect("compiles");
         let mut out = vec![0.0; 7];
         for x in [[0.7, 1.3], [-2.1, 0.4], [3.0, -0.0], [1.0, 5e-3]] {
-            let ok = f.call(&x, &mut out);
+            let ok = f.call(&x, &p, &mut out);
             let expected = kernel::<f64>(&x);
             let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
             assert_eq!(ok, r > 1.0, "{x:?}");
@@ -368,7 +382,7 @@ mod tests {
                     assert_eq!(a.to_bits(), b.to_bits(), "{x:?} output {k}: {a} vs {b}");
                 }
             }
-            let (graph_ok, graph_out) = graph.eval(&x);
+            let (graph_ok, graph_out) = graph.eval(&x, &p);
             assert_eq!(graph_ok, ok);
             if ok {
                 assert_eq!(graph_out, out);
@@ -379,7 +393,7 @@ mod tests {
     /// The cache returns the code compiled for an equal graph.
     #[test]
     fn equal_graphs_share_their_code() {
-        let graph = record(&[0.3, 0.4], |x| Some(vec![x[0] * x[1] + 17.125])).expect("a graph");
+        let (graph, _) = record(&[0.3, 0.4], |x| Some(vec![x[0] * x[1] + 17.125])).expect("a graph");
         let (a, first) = compile_cached(&graph).expect("compiles");
         let (b, again) = compile_cached(&graph.clone()).expect("compiles");
         assert!(first && !again);

@@ -93,3 +93,27 @@ fn what_is_not_compiled_says_why() {
     );
     assert_eq!(run.stats.compile_time, 0.0);
 }
+
+/// The paths a run took from the process's cache, read from its account.
+fn from_cache(run: &SimResult) -> usize {
+    let account = &run.stats.compiled;
+    let end = account.find(" from the cache").expect("a compiled run's account");
+    let start = account[..end].rfind(' ').map_or(0, |k| k + 1);
+    account[start..end].parse().expect("a count")
+}
+
+/// A variant whose numbers differ (another clearance, another damping) records the same
+/// graphs, the model's numbers being their parameters: it runs the code compiled for the
+/// first, and still gives the interpreted run's bits.
+#[test]
+fn variants_share_their_code() {
+    let model = slider_crank_clearance();
+    let mut raw = serde_json::to_value(&model).unwrap();
+    let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
+    joint["clearance"]["clearance"] = json!(0.4e-3);
+    joint["clearance"]["normal_law"]["c_max"] = json!(20000.0);
+    let variant: Model = serde_json::from_value(raw).unwrap();
+    same_run(&model, 0.08, Method::Dopri5);
+    let run = same_run(&variant, 0.08, Method::Dopri5);
+    assert!(from_cache(&run) > 0, "{}", run.stats.compiled);
+}

@@ -62,8 +62,9 @@ pub struct Recorder<K: BodyKind> {
     inputs: Feed<K>,
 }
 
-/// Records an evaluation of the system with the workspace's rows at the inputs.
-type Record<K> = fn(&System<K>, &Workspace<K>, &[f64]) -> Option<Graph>;
+/// Records an evaluation of the system with the workspace's rows at the inputs: its graph
+/// and the values of its parameters.
+type Record<K> = fn(&System<K>, &Workspace<K>, &[f64]) -> Option<(Graph, Vec<f64>)>;
 
 /// Appends a stage's inputs after `q` and `v` for the system, its active rows, time
 /// `t`, the piece of time `t_piece` and the contact states.
@@ -79,7 +80,8 @@ pub trait Compile: BodyKind {
 #[derive(Debug, Clone)]
 pub struct Stage<K: BodyKind> {
     recorder: Recorder<K>,
-    paths: Vec<Arc<Compiled>>,
+    /// Each path's code and the values of its parameters.
+    paths: Vec<(Arc<Compiled>, Vec<f64>)>,
     /// The path that ran last, tried first.
     last: usize,
     inputs: Vec<f64>,
@@ -125,7 +127,7 @@ impl<K: BodyKind> Stage<K> {
     /// The one-line account of the run's compiled code.
     pub fn summary(&self) -> String {
         let [native, interpreted] = self.evaluations;
-        let nodes: usize = self.paths.iter().map(|p| p.nodes).sum();
+        let nodes: usize = self.paths.iter().map(|(p, _)| p.nodes).sum();
         let mut line = format!(
             "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
              {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
@@ -181,7 +183,8 @@ impl<K: BodyKind> Stage<K> {
         let mut tried = 0;
         let covered = (0..tries).map(|k| (self.last + k) % n).find(|&k| {
             tried += 1;
-            self.paths[k].call(&self.inputs, &mut self.outputs)
+            let (code, params) = &self.paths[k];
+            code.call(&self.inputs, params, &mut self.outputs)
         });
         self.misses += tried - usize::from(covered.is_some());
         if let Some(k) = covered {
@@ -195,7 +198,7 @@ impl<K: BodyKind> Stage<K> {
             self.back_off -= 1;
             return false;
         }
-        let Some(graph) = (self.recorder.record)(sys, ws, &self.inputs) else {
+        let Some((graph, params)) = (self.recorder.record)(sys, ws, &self.inputs) else {
             self.uncovered += 1;
             self.back_off = BACK_OFF;
             return false;
@@ -217,8 +220,8 @@ impl<K: BodyKind> Stage<K> {
                 }
                 self.outputs.resize(code.outputs(), 0.0);
                 // A path holds where it was recorded.
-                let held = code.call(&self.inputs, &mut self.outputs);
-                self.paths.push(code);
+                let held = code.call(&self.inputs, &params, &mut self.outputs);
+                self.paths.push((code, params));
                 self.last = self.paths.len() - 1;
                 held
             }

@@ -6,8 +6,12 @@
 //! guards say where that path holds.
 //!
 //! Every node's value is computed as it is recorded, so a kernel that branches reads the
-//! branch it takes now. Folding computes a constant with the operation the graph would
-//! run; the only other simplifications (`x * 1`, `x / 1`, `x - 0`, `x + (-0)`, `-(-x)`)
+//! branch it takes now. The model's numbers (lengths, masses, law parameters) enter as
+//! parameters, read at run time from an array that the recording fills: variants of a
+//! model whose numbers differ record the same graph, which is compiled once. The
+//! literals of the kernels' own code (0, 1, 2, 3, 1/2, infinity, their negatives) are
+//! constants; folding computes an operation on constants with the operation the graph
+//! would run, and the only other simplifications (`x * 1`, `x / 1`, `x - 0`, `x + (-0)`)
 //! give `x`'s bits exactly.
 
 use std::cell::RefCell;
@@ -61,6 +65,8 @@ impl Func {
 pub enum Node {
     /// A constant, by its bits.
     Const(u64),
+    /// Parameter `k` of the compiled function (a number of the model).
+    Param(u32),
     /// Input `k` of the compiled function.
     Input(u32),
     /// `a + b`.
@@ -138,18 +144,22 @@ pub struct Graph {
     pub outputs: Vec<u32>,
     /// Number of inputs.
     pub inputs: usize,
+    /// Number of parameters.
+    pub params: usize,
 }
 
 impl Graph {
-    /// Whether every guard holds at inputs `x`, and the outputs there, evaluated node by
-    /// node on `f64`: what the compiled function computes, for tests and checks.
-    pub fn eval(&self, x: &[f64]) -> (bool, Vec<f64>) {
+    /// Whether every guard holds at inputs `x` and parameters `p`, and the outputs there,
+    /// evaluated node by node on `f64`: what the compiled function computes, for tests
+    /// and checks.
+    pub fn eval(&self, x: &[f64], p: &[f64]) -> (bool, Vec<f64>) {
         let mut v = vec![0.0; self.nodes.len()];
         for (k, node) in self.nodes.iter().enumerate() {
             let a = |i: u32| v[i as usize];
             v[k] = match *node {
                 Node::Const(bits) => f64::from_bits(bits),
                 Node::Input(i) => x[i as usize],
+                Node::Param(i) => p[i as usize],
                 Node::Add(p, q) => a(p) + a(q),
                 Node::Sub(p, q) => a(p) - a(q),
                 Node::Mul(p, q) => a(p) * a(q),
@@ -170,6 +180,8 @@ impl Graph {
 struct Tape {
     graph: Graph,
     values: Vec<f64>,
+    params: Vec<f64>,
+    param_of: HashMap<u64, u32>,
     merged: HashMap<Node, u32>,
     guarded: HashMap<(u32, u32, Cmp), bool>,
 }
@@ -179,9 +191,10 @@ thread_local! {
 }
 
 /// Runs `f` on `inputs.len()` traced inputs holding `inputs` and returns the graph of
-/// what it computed, its outputs being the values `f` returns, in order; `None` where
-/// `f` returns none (it took a way the graph does not cover).
-pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<Graph> {
+/// what it computed, its outputs being the values `f` returns, in order, and the values
+/// of its parameters; `None` where `f` returns none (it took a way the graph does not
+/// cover).
+pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<(Graph, Vec<f64>)> {
     let previous = TAPE.with(|t| t.borrow_mut().replace(Tape::default()));
     assert!(previous.is_none(), "a recording is already running on this thread");
     let traced: Vec<Traced> =
@@ -190,7 +203,19 @@ pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) 
     let mut tape = TAPE.with(|t| t.borrow_mut().take()).expect("the recording's tape");
     tape.graph.outputs = outputs?.iter().map(|o| o.id).collect();
     tape.graph.inputs = inputs.len();
-    Some(tape.graph)
+    tape.graph.params = tape.params.len();
+    Some((tape.graph, tape.params))
+}
+
+/// The constant an operation on constants gives.
+fn folded(x: f64) -> Traced {
+    push(Node::Const(x.to_bits()), x)
+}
+
+/// Whether `x` is a literal of the kernels' code rather than a number of the model.
+fn literal(x: f64) -> bool {
+    let a = x.abs();
+    a == 0.0 || a == 1.0 || a == 2.0 || a == 3.0 || a == 0.5 || a.is_infinite()
 }
 
 /// Adds node `node` of value `value` to the tape, or finds the equal one recorded before.
@@ -249,7 +274,7 @@ impl Traced {
     /// `f(self, other)` of value `value`: a constant where both are.
     fn binary(self, other: Traced, node: Node, value: f64) -> Traced {
         if self.is_constant() && other.is_constant() {
-            Traced::constant(value)
+            folded(value)
         } else {
             push(node, value)
         }
@@ -257,7 +282,7 @@ impl Traced {
 
     fn unary(self, node: Node, value: f64) -> Traced {
         if self.is_constant() {
-            Traced::constant(value)
+            folded(value)
         } else {
             push(node, value)
         }
@@ -424,7 +449,20 @@ impl num_traits::One for Traced {
 
 impl Real for Traced {
     fn constant(x: f64) -> Traced {
-        push(Node::Const(x.to_bits()), x)
+        if literal(x) {
+            return folded(x);
+        }
+        let k = TAPE.with(|t| {
+            let mut guard = t.borrow_mut();
+            let tape = guard.as_mut().expect("a traced number is used outside a recording");
+            let next = tape.params.len() as u32;
+            let k = *tape.param_of.entry(x.to_bits()).or_insert(next);
+            if k == next {
+                tape.params.push(x);
+            }
+            k
+        });
+        push(Node::Param(k), x)
     }
     fn value(self) -> f64 {
         self.value
@@ -477,40 +515,44 @@ mod tests {
     /// where the kernel takes the other branch.
     #[test]
     fn graph_repeats_the_kernel_on_its_path() {
-        let g = record(&[3.0, 4.0], |x| Some(vec![kernel(x[0], x[1])])).expect("a graph");
+        let (g, p) = record(&[3.0, 4.0], |x| Some(vec![kernel(x[0], x[1])])).expect("a graph");
         assert_eq!(g.guards.len(), 1);
         for (x, y) in [(3.0, 4.0), (0.7, 0.9), (-2.0, 1e-3)] {
-            let (ok, out) = g.eval(&[x, y]);
+            let (ok, out) = g.eval(&[x, y], &p);
             assert!(ok, "({x}, {y})");
             assert_eq!(out[0].to_bits(), kernel(x, y).to_bits());
         }
-        assert!(!g.eval(&[0.1, 0.2]).0);
+        assert!(!g.eval(&[0.1, 0.2], &p).0);
     }
 
-    /// Constants fold with the operation itself (the graph keeps one multiplication),
-    /// equal operations merge, and `x * 1` leaves `x`.
+    /// Literals fold with the operation itself, equal operations merge, `x * 1` leaves
+    /// `x`, and the model's numbers are parameters: a kernel of other numbers records the
+    /// same graph.
     #[test]
-    fn constants_fold_and_equal_operations_merge() {
-        let g = record(&[0.5], |x| {
-            let k = c::<Traced>(0.1) * 3.0 + 0.2;
-            Some(vec![x[0] * k, x[0] * k, x[0] * 1.0])
-        })
-        .expect("a graph");
+    fn literals_fold_numbers_are_parameters_and_equal_operations_merge() {
+        let kernel = |k: f64| {
+            move |x: &[Traced]| {
+                let two = c::<Traced>(0.5) * 3.0 + 0.5;
+                Some(vec![x[0] * two, x[0] * two, x[0] * 1.0, x[0] * k])
+            }
+        };
+        let (g, p) = record(&[0.5], kernel(0.1)).expect("a graph");
         assert_eq!(g.outputs[0], g.outputs[1]);
         assert_eq!(g.outputs[2], 0);
-        let k = (0.1f64 * 3.0 + 0.2).to_bits();
-        let operations: Vec<_> =
-            g.nodes.iter().filter(|n| !matches!(n, Node::Const(_) | Node::Input(_))).collect();
-        assert!(g.nodes.contains(&Node::Const(k)));
-        assert_eq!(operations.len(), 1, "{:?}", g.nodes);
-        assert_eq!(g.eval(&[0.5]).1[0].to_bits(), (0.5 * (0.1f64 * 3.0 + 0.2)).to_bits());
+        assert!(g.nodes.contains(&Node::Const(2.0f64.to_bits())));
+        assert_eq!((g.params, p), (1, vec![0.1]));
+        let operations = g.nodes.iter().filter(|n| matches!(n, Node::Mul(..))).count();
+        assert_eq!(operations, 2, "{:?}", g.nodes);
+        let (other, q) = record(&[0.5], kernel(0.3)).expect("a graph");
+        assert_eq!(other, g);
+        assert_eq!(g.eval(&[0.5], &q).1[3].to_bits(), (0.5f64 * 0.3).to_bits());
     }
 
     /// `x + 0` is kept (it turns -0 into +0); `x - 0` is dropped (it never changes x).
     #[test]
     fn signed_zeros_survive_simplification() {
-        let g = record(&[-0.0], |x| Some(vec![x[0] + 0.0, x[0] - 0.0])).expect("a graph");
-        let (_, out) = g.eval(&[-0.0]);
+        let (g, p) = record(&[-0.0], |x| Some(vec![x[0] + 0.0, x[0] - 0.0])).expect("a graph");
+        let (_, out) = g.eval(&[-0.0], &p);
         assert!(out[0].is_sign_positive() && out[1].is_sign_negative());
     }
 }
