@@ -81,7 +81,12 @@ def counts() -> dict[str, float] | None:
         evaluations = int(re.search(r"(\d+) evaluations", out).group(1))  # type: ignore[union-attr]
         cold, _ = instructions(model, RUN, 1, folder)
         twice, _ = instructions(model, RUN, 2, folder)
-    return {"interpreted": plain, "compiled": cold, "cached": twice - cold, "evaluations": evaluations}
+    return {
+        "interpreted": plain,
+        "compiled": cold,
+        "cached": twice - cold,
+        "evaluations": evaluations,
+    }
 
 
 def timings() -> dict[str, Any]:
@@ -154,7 +159,8 @@ def main() -> int:
         "",
         "| wall time (this process) | seconds | ratio |",
         "|---|---:|---:|",
-        f"| first compiled run | {timed['first_compiled']:.4f} | compile {timed['compile_time']:.4f} s |",
+        f"| first compiled run | {timed['first_compiled']:.4f} | "
+        f"compile {timed['compile_time']:.4f} s |",
         f"| compiled, median of {REPEATS} | {timed['compiled']:.4f} | "
         f"{timed['interpreted'] / timed['compiled']:.2f}x |",
         f"| interpreted, median of {REPEATS} | {timed['interpreted']:.4f} | 1 |",
@@ -168,10 +174,8 @@ def main() -> int:
     text = "\n".join(lines) + "\n"
     REPORT.parent.mkdir(parents=True, exist_ok=True)
     REPORT.write_text(text)
-    RESULTS.write_text(
-        json.dumps({"counts": counted, "timings": timed, "batch": batched, "spatial": spatial}, indent=1)
-        + "\n"
-    )
+    figures = {"counts": counted, "timings": timed, "batch": batched, "spatial": spatial}
+    RESULTS.write_text(json.dumps(figures, indent=1) + "\n")
     print(text)
     return 0
 

@@ -2,9 +2,10 @@
 
 model data -> mechanics -> system -> dynamics -> integrators -> simulate, with the plain
 vocabulary (errors, the model's defaults, math, the number type the kernels are written
-over and the compiler of its recordings, profile, output types) below all of them; the integrators know nothing of mechanics. A `crate::<module>` path in a file of
-one stage naming a later stage (or, for the integrators, any stage of mechanics) fails
-here, before it turns into an import circle.
+over and the compiler of its recordings, profile, output types) below all of them; the
+integrators know nothing of mechanics. A `crate::<module>` path in a file of one stage
+naming a later stage (or, for the integrators, any stage of mechanics) fails here,
+before it turns into an import circle.
 """
 
 from __future__ import annotations
