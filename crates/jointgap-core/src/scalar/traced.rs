@@ -17,6 +17,7 @@
 use std::cell::RefCell;
 use std::cmp::Ordering;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
 
 use super::Real;
@@ -181,9 +182,41 @@ struct Tape {
     graph: Graph,
     values: Vec<f64>,
     params: Vec<f64>,
-    param_of: HashMap<u64, u32>,
-    merged: HashMap<Node, u32>,
-    guarded: HashMap<(u32, u32, Cmp), bool>,
+    param_of: HashMap<u64, u32, Quick>,
+    merged: HashMap<Node, u32, Quick>,
+    guarded: HashMap<(u32, u32, Cmp), bool, Quick>,
+}
+
+/// The tape's maps hash node indices and bits, which need no defence against chosen
+/// keys: a multiply-rotate hash (as rustc's own) instead of SipHash.
+type Quick = BuildHasherDefault<QuickHasher>;
+
+/// See [`Quick`].
+#[derive(Default)]
+struct QuickHasher(u64);
+
+impl Hasher for QuickHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        bytes.iter().for_each(|&b| self.write_u64(u64::from(b)));
+    }
+    fn write_u8(&mut self, x: u8) {
+        self.write_u64(u64::from(x));
+    }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(u64::from(x));
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+    fn write_isize(&mut self, x: isize) {
+        self.write_u64(x as u64);
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
 }
 
 thread_local! {
