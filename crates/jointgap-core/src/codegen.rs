@@ -215,10 +215,12 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     // The builder above is the only producer of the IR, and its tests run it: checking
     // every function again costs a third of the compile time.
     flags.set("enable_verifier", "false").map_err(codegen_error)?;
-    // One pass of register allocation: on the founding case it compiles in 60 % of the
-    // time of the backtracking allocator, for code that runs 7 % more instructions; a
-    // single run comes out ahead only this way (benchmarks/README.md).
-    flags.set("regalloc_algorithm", "single_pass").map_err(codegen_error)?;
+    // Cranelift's backtracking register allocator (its default): against the one-pass
+    // allocator it takes about twice the compile time (founding case: 22 ms against
+    // 13 ms) for code that runs the founding case 1.19x faster instead of 1.06x, wall
+    // time of repeated runs (benchmarks/README.md). Many runs of one model (batches,
+    // studies, fitting, wear) are what compiling is for.
+    flags.set("regalloc_algorithm", "backtracking").map_err(codegen_error)?;
     let isa = cranelift_native::builder()
         .map_err(codegen_error)?
         .finish(settings::Flags::new(flags))
