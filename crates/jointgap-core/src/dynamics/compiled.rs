@@ -94,8 +94,9 @@ pub struct Stage<K: BodyKind> {
     pub from_cache: usize,
     /// Evaluations the compiled code did, and those that ran interpreted.
     pub evaluations: [usize; 2],
-    /// Evaluations whose recording left the compiled ways (then interpreted).
-    pub uncovered: usize,
+    /// Evaluations whose recording left the compiled ways (then interpreted), in the
+    /// account.
+    uncovered: usize,
     /// Evaluations left before the next recording after an uncovered one.
     back_off: usize,
     /// Calls of a path whose guards failed (the next path was tried).
@@ -137,6 +138,12 @@ impl<K: BodyKind> Stage<K> {
             self.from_cache,
             self.misses
         );
+        if self.uncovered > 0 {
+            line += &format!(
+                ", {} evaluations outside the compiled solve (a Schur complement not well conditioned or a singular prescribed block)",
+                self.uncovered
+            );
+        }
         if let Some(why) = &self.stopped {
             line += &format!(" ({why})");
         }
