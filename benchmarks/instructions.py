@@ -39,9 +39,16 @@ PROGRAM = ROOT / "target" / "release" / "examples" / "one_run"
 #: Largest change of a run's count that still reads as the same engine.
 TOLERANCE = 0.03
 
-#: The interpreted engine: its layout is what this count watches (benchmarks/compiled.py
-#: counts the compiled evaluation against it).
-COMMON = {"t_end": 0.5, "rate": 10_000.0, "channels": ["slider.ax"], "compiled": False}
+#: The interpreted engine with the applied forces' Jacobian: its layout is what this count
+#: watches (benchmarks/compiled.py counts the compiled evaluation against it,
+#: benchmarks/jacobian.py the exact Jacobians).
+COMMON = {
+    "t_end": 0.5,
+    "rate": 10_000.0,
+    "channels": ["slider.ax"],
+    "compiled": False,
+    "exact_jacobian": False,
+}
 RUNS = {
     "auto, rtol 1e-8 (the default)": {**COMMON, "rtol": 1e-8},
     "auto, rtol 1e-7": {**COMMON, "rtol": 1e-7, "atol": 1e-9},

@@ -155,8 +155,10 @@ def differences(expected: dict[str, Any], got: dict[str, Any]) -> list[str]:
     return out
 
 
-#: Vector instruction sets that change how the linear algebra's sums are grouped.
-VECTOR_FLAGS = ("sse4_2", "avx", "avx2", "fma", "avx512f")
+#: Vector instruction sets that change how the linear algebra's sums are grouped. AVX-512
+#: is not one: every case gave the same bits on a machine with it as on the one they were
+#: recorded on, without it.
+VECTOR_FLAGS = ("sse4_2", "avx", "avx2", "fma")
 
 
 def instruction_set() -> list[str]:

@@ -67,6 +67,7 @@ def run_options(
     energy: bool | None = None,
     profile: bool | None = None,
     compiled: bool | None = None,
+    exact_jacobian: bool | None = None,
     wear_cells: int | None = None,
     wear_start: float | str | None = None,
 ) -> dict[str, Any]:
@@ -98,6 +99,8 @@ def run_options(
         options["profile"] = bool(profile)
     if compiled is not None:
         options["compiled"] = bool(compiled)
+    if exact_jacobian is not None:
+        options["exact_jacobian"] = bool(exact_jacobian)
     if step_peaks is not None:
         options["step_peaks"] = bool(step_peaks)
     if energy is not None:

@@ -1234,6 +1234,7 @@ class Model:
         wear_cells: int | None = None,
         wear_start: Quantity | None = None,
         compiled: bool = True,
+        exact_jacobian: bool = True,
     ) -> Result:
         """Runs the mechanism from t = 0 to ``t_end`` and returns its :class:`Result`.
 
@@ -1281,6 +1282,11 @@ class Model:
                 model where the compiler covers it (the default; docs/compiled.md), or
                 always interpreted (``False``). The results are the same to the bit;
                 ``stats["compiled"]`` says which ran and why.
+            exact_jacobian: the implicit methods (``radau5``, ``sdirk4``, and ``auto``
+                when it hands them the steps) take the exact derivatives of the
+                accelerations, differentiated from the recorded evaluation where the
+                compiler covers the model (the default), or the applied forces' part by
+                forward differences (``False``, as where it does not cover the model).
 
         A run that stops early is returned with ``status == "failed"``, one stopped by
         Ctrl-C with ``status == "interrupted"``, each with everything computed up to
@@ -1307,6 +1313,7 @@ class Model:
             wear_cells=wear_cells,
             wear_start=wear_start,
             compiled=compiled,
+            exact_jacobian=exact_jacobian,
         )
         try:
             return simulate(self.to_dict(), options, progress=progress, stream=stream)

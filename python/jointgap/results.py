@@ -104,6 +104,8 @@ class RunStats(TypedDict, total=False):
     rhs_evaluations: int
     """Evaluations of the equations of motion (each one an augmented solve)."""
     jacobian_evaluations: int
+    newton_iterations: int
+    """Newton iterations of the implicit method (each evaluates every stage it solves)."""
     projections: int
     """Position and velocity projections onto the constraints."""
     events: int
@@ -327,8 +329,8 @@ class Result:
             streamed to disk, a :class:`~jointgap._stream.StoredChannels` that reads each
             row from the file when it is asked for.
         stats: run counters (:class:`RunStats`): accepted_steps, rejected_steps,
-            rhs_evaluations, jacobian_evaluations, projections, events, method,
-            wall_time [s], profile, compiled, compile_time [s].
+            rhs_evaluations, jacobian_evaluations, newton_iterations, projections, events,
+            method, wall_time [s], profile, compiled, compile_time [s].
         status: ``"finished"``, ``"failed"`` or ``"interrupted"`` (Ctrl-C,
             :data:`RunStatus`); the data of a failed or interrupted run stop where the
             run did.

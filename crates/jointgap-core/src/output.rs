@@ -33,6 +33,8 @@ pub struct RunStats {
     pub rhs_evaluations: usize,
     /// Jacobian evaluations of the implicit method.
     pub jacobian_evaluations: usize,
+    /// Newton iterations of the implicit method, converged or not.
+    pub newton_iterations: usize,
     /// Position and velocity projections onto the constraint manifold.
     pub projections: usize,
     /// Located contact onsets and separations.

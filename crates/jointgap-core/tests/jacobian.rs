@@ -1,7 +1,8 @@
-//! The force Jacobian of the implicit methods (`dynamics::force_jacobian`) against
-//! forward differences of the whole equations of motion: equal where there are no
+//! The implicit methods' Jacobians against differences of the whole equations of motion.
+//! The force Jacobian (`dynamics::force_jacobian`): equal where there are no
 //! constraints, and within the geometric terms it leaves out on the founding
-//! slider-crank in contact, where the contact's stiffness dominates.
+//! slider-crank in contact, where the contact's stiffness dominates. The exact Jacobian
+//! (`dynamics::compiled::jacobian`): equal to central differences to their own error.
 
 use jointgap_core::dynamics::force_jacobian;
 use jointgap_core::integrators::jacobian::forward_difference;
@@ -101,3 +102,62 @@ fn keeps_the_stiff_part_on_the_founding_case_in_contact() {
 }
 
 use crate::common;
+
+/// Central differences of the accelerations `[dqdd/dq dqdd/dv]` at `y`, each column with
+/// its own increment `steps[j]`.
+fn central_differences(ode: &mut Ode, t: f64, y: &[f64], steps: &[f64]) -> DMatrix<f64> {
+    let n = y.len() / 2;
+    let mut jac = DMatrix::zeros(n, 2 * n);
+    let (mut up, mut down) = (vec![0.0; 2 * n], vec![0.0; 2 * n]);
+    let mut yp = y.to_vec();
+    for j in 0..2 * n {
+        yp[j] = y[j] + steps[j];
+        ode.rhs(t, &yp, &mut up).unwrap();
+        yp[j] = y[j] - steps[j];
+        ode.rhs(t, &yp, &mut down).unwrap();
+        yp[j] = y[j];
+        for i in 0..n {
+            jac[(i, j)] = (up[n + i] - down[n + i]) / (2.0 * steps[j]);
+        }
+    }
+    jac
+}
+
+/// The exact Jacobian (reverse-mode derivatives of the recorded evaluation) on the
+/// founding slider-crank in sliding contact mid-run, against central differences of the
+/// whole equations of motion: equal to the differences' own error, and closer by far
+/// than the applied forces' part, which leaves out the constraint forces' geometric
+/// stiffness and the velocity terms.
+#[test]
+fn exact_jacobian_matches_central_differences_in_contact() {
+    let model = common::slider_crank_clearance();
+    let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
+    let res = simulate(&model, &opts).unwrap();
+    let pen = res.channel("rod_slider.penetration").unwrap();
+    let slip = res.channel("rod_slider.slip").unwrap();
+    let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
+    let y = state_at(&res, &["crank", "rod", "slider"], i);
+    let t = res.time[i];
+    let prepared = prepare(&model).unwrap();
+    let sys = &prepared.system;
+    let n = sys.layout.nv();
+    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
+    ode.ws.compile(sys, false, true).unwrap();
+    let mut f0 = vec![0.0; 2 * n];
+    ode.rhs(t, &y, &mut f0).unwrap();
+    let mut exact = DMatrix::zeros(n, 2 * n);
+    assert!(jointgap_core::dynamics::compiled::jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut exact));
+    // Increments well below the 1e-7 m penetration and the sliding speed, and large
+    // enough that rounding stays below the terms compared (measured: the differences
+    // move towards the exact Jacobian as the increments grow from 1e-13 m to 3e-9 m).
+    let steps: Vec<f64> = (0..2 * n).map(|j| if j < n { 1e-9 } else { 1e-6 }).collect();
+    let central = central_differences(&mut ode, t, &y, &steps);
+    let mut by_forces = DMatrix::zeros(n, 2 * n);
+    force_jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut by_forces).unwrap();
+    let scale = largest(&central);
+    let exact_off = largest(&(&exact - &central));
+    let forces_off = largest(&(&by_forces - &central));
+    // Measured: 1.3 and 1.6e4 of 4.0e7.
+    assert!(exact_off <= 1e-7 * scale, "exact off by {exact_off:.3e} of {scale:.3e}");
+    assert!(forces_off >= 1000.0 * exact_off, "forces only {forces_off:.3e}, exact {exact_off:.3e}");
+}

@@ -495,7 +495,8 @@ def _summary(model: Model, path: str, result: Result, written: list[Path], conta
         f"method     {s.get('method', '?')}",
         f"steps      {s.get('accepted_steps', 0)} accepted, {s.get('rejected_steps', 0)} rejected;"
         f" {s.get('rhs_evaluations', 0)} rhs evaluations, "
-        f"{s.get('jacobian_evaluations', 0)} Jacobians, {s.get('projections', 0)} projections",
+        f"{s.get('jacobian_evaluations', 0)} Jacobians, {s.get('newton_iterations', 0)} Newton "
+        f"iterations, {s.get('projections', 0)} projections",
         f"wall time  {s.get('wall_time', 0.0):.3g} s",
         f"evaluation {s.get('compiled', '?')}",
         f"status     {result.message or result.status}",

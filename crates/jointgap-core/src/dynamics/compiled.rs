@@ -21,7 +21,10 @@
 //! `dC/dt`, `gamma` and its two Jacobian blocks, then `Qe`, the accelerations, the
 //! Schur complement's multipliers and each prescribed body's inverse block.
 
+use std::ops::Range;
 use std::sync::Arc;
+
+use nalgebra::DMatrix;
 
 use crate::codegen::{compile_cached, Compiled};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
@@ -33,7 +36,7 @@ use crate::mechanics::layout::{block, Loads};
 use crate::mechanics::planar::Planar;
 use crate::mechanics::planar_body::{add_weight, BodyState};
 use crate::mechanics::spatial::kind::Spatial;
-use crate::scalar::{record, Graph, Real};
+use crate::scalar::{record, Graph, Real, Sweep};
 use crate::system::System;
 
 use super::schur::Factorisation;
@@ -47,6 +50,8 @@ pub const MAX_PATHS: usize = 16;
 /// about 10 us per operation, which a long run of a large mechanism repays, but a short
 /// one does not (docs/compiled.md).
 pub const MAX_OPERATIONS: usize = 6000;
+/// Why a run whose options turn compiling off runs interpreted.
+pub const TURNED_OFF: &str = "turned off by the run's options";
 /// Evaluations after one that no graph covers (a Schur complement near a singular
 /// position, which the plain solve does not take) before the next is recorded again.
 const BACK_OFF: usize = 64;
@@ -80,12 +85,18 @@ pub trait Compile: BodyKind {
 #[derive(Debug, Clone)]
 pub struct Stage<K: BodyKind> {
     recorder: Recorder<K>,
-    /// Each path's code and the values of its parameters.
-    paths: Vec<(Arc<Compiled>, Vec<f64>)>,
+    /// Whether evaluations run the paths' native code (else only their graphs serve,
+    /// for the Jacobians).
+    native: bool,
+    /// Whether the implicit methods take their Jacobians from the paths' graphs.
+    exact_jacobian: bool,
+    paths: Vec<Path>,
     /// The path that ran last, tried first.
     last: usize,
     inputs: Vec<f64>,
     outputs: Vec<f64>,
+    /// The adjoints of [`Graph::jacobian`], zero between calls.
+    adjoints: Vec<f64>,
     /// Seconds spent compiling (paths taken from the process's cache cost none).
     pub compile_seconds: f64,
     /// Paths compiled during this run.
@@ -94,6 +105,9 @@ pub struct Stage<K: BodyKind> {
     pub from_cache: usize,
     /// Evaluations the compiled code did, and those that ran interpreted.
     pub evaluations: [usize; 2],
+    /// Jacobians taken exactly from a graph, and those left to the applied forces'
+    /// differences (no graph covers the state).
+    pub jacobians: [usize; 2],
     /// Evaluations whose recording left the compiled ways (then interpreted), in the
     /// account.
     uncovered: usize,
@@ -105,19 +119,37 @@ pub struct Stage<K: BodyKind> {
     pub stopped: Option<String>,
 }
 
+/// One path through the kernels' branches: its graph, its native code where the stage
+/// runs native code, and the values of its parameters.
+#[derive(Debug, Clone)]
+struct Path {
+    graph: Graph,
+    code: Option<Arc<Compiled>>,
+    params: Vec<f64>,
+    /// The nodes between the state and the accelerations, once the path has served a
+    /// Jacobian.
+    sweep: Option<Sweep>,
+}
+
 impl<K: BodyKind> Stage<K> {
-    /// The stage of a run, recorded by `recorder` as the run needs its paths.
-    pub fn new(recorder: Recorder<K>) -> Self {
+    /// The stage of a run, recorded by `recorder` as the run needs its paths; `native`:
+    /// evaluations run the paths' native code; `exact_jacobian`: the implicit methods'
+    /// Jacobians come from the paths' graphs.
+    pub fn new(recorder: Recorder<K>, native: bool, exact_jacobian: bool) -> Self {
         Stage {
             recorder,
+            native,
+            exact_jacobian,
             paths: Vec::new(),
             last: 0,
             inputs: Vec::new(),
             outputs: Vec::new(),
+            adjoints: Vec::new(),
             compile_seconds: 0.0,
             compiled_now: 0,
             from_cache: 0,
             evaluations: [0; 2],
+            jacobians: [0; 2],
             uncovered: 0,
             back_off: 0,
             misses: 0,
@@ -125,24 +157,32 @@ impl<K: BodyKind> Stage<K> {
         }
     }
 
-    /// The one-line account of the run's compiled code.
+    /// The one-line account of the run's compiled code and Jacobians.
     pub fn summary(&self) -> String {
         let [native, interpreted] = self.evaluations;
-        let nodes: usize = self.paths.iter().map(|(p, _)| p.nodes).sum();
-        let mut line = format!(
-            "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
-             {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
-            self.paths.len(),
-            self.compiled_now,
-            1e3 * self.compile_seconds,
-            self.from_cache,
-            self.misses
-        );
+        let mut line = if self.native {
+            let nodes: usize = self.paths.iter().map(|p| p.graph.nodes.len()).sum();
+            format!(
+                "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
+                 {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
+                self.paths.len(),
+                self.compiled_now,
+                1e3 * self.compile_seconds,
+                self.from_cache,
+                self.misses
+            )
+        } else {
+            format!("interpreted: {TURNED_OFF}; {} paths recorded", self.paths.len())
+        };
         if self.uncovered > 0 {
             line += &format!(
                 ", {} evaluations outside the compiled solve (a Schur complement not well conditioned or a singular prescribed block)",
                 self.uncovered
             );
+        }
+        let [exact, forces] = self.jacobians;
+        if exact + forces > 0 {
+            line += &format!(", Jacobians: {exact} exact, {forces} of the applied forces only");
         }
         if let Some(why) = &self.stopped {
             line += &format!(" ({why})");
@@ -161,7 +201,7 @@ pub fn accelerations<K: BodyKind>(
     v: &[f64],
     ws: &mut Workspace<K>,
 ) -> bool {
-    let Some(mut stage) = ws.compiled.take() else {
+    let Some(mut stage) = ws.compiled.take_if(|s| s.native) else {
         return false;
     };
     let found = stage.run(sys, t, q, v, ws);
@@ -175,14 +215,40 @@ pub fn accelerations<K: BodyKind>(
     found
 }
 
+/// Writes the acceleration rows of `df/dy` at `(t, q, v)`, `[dqdd/dq dqdd/dv]`, into
+/// `jac`, exactly: the forward-mode derivatives of the graph of the path that holds
+/// there (recorded now if none does). `false` where the run takes no exact Jacobians or
+/// no graph covers the state (the caller then takes the applied forces' differences).
+pub fn jacobian<K: BodyKind>(
+    sys: &System<K>,
+    t: f64,
+    q: &[f64],
+    v: &[f64],
+    ws: &mut Workspace<K>,
+    jac: &mut DMatrix<f64>,
+) -> bool {
+    let Some(mut stage) = ws.compiled.take_if(|s| s.exact_jacobian) else {
+        return false;
+    };
+    let done = stage.jacobian(sys, t, q, v, ws, jac);
+    stage.jacobians[usize::from(!done)] += 1;
+    ws.compiled = Some(stage);
+    done
+}
+
 impl<K: BodyKind> Stage<K> {
-    /// Runs the path that covers `(t, q, v)`, recording and compiling it if none does;
-    /// `false` where none can.
-    fn run(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &Workspace<K>) -> bool {
+    /// Gathers the inputs at `(t, q, v)`.
+    fn gather(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &Workspace<K>) {
         self.inputs.clear();
         self.inputs.extend_from_slice(q);
         self.inputs.extend_from_slice(v);
         (self.recorder.inputs)(sys, &ws.active, t, ws.t_piece, &ws.contacts, &mut self.inputs);
+    }
+
+    /// Runs the path that covers `(t, q, v)`, recording and compiling it if none does;
+    /// `false` where none can.
+    fn run(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &Workspace<K>) -> bool {
+        self.gather(sys, t, q, v, ws);
         let n = self.paths.len();
         // At capacity only the last path is tried: the others cost a whole evaluation
         // each to fail.
@@ -190,8 +256,8 @@ impl<K: BodyKind> Stage<K> {
         let mut tried = 0;
         let covered = (0..tries).map(|k| (self.last + k) % n).find(|&k| {
             tried += 1;
-            let (code, params) = &self.paths[k];
-            code.call(&self.inputs, params, &mut self.outputs)
+            let path = &self.paths[k];
+            path.code.as_ref().is_some_and(|code| code.call(&self.inputs, &path.params, &mut self.outputs))
         });
         self.misses += tried - usize::from(covered.is_some());
         if let Some(k) = covered {
@@ -205,39 +271,112 @@ impl<K: BodyKind> Stage<K> {
             self.back_off -= 1;
             return false;
         }
-        let Some((graph, params)) = (self.recorder.record)(sys, ws, &self.inputs) else {
+        let Some((graph, params)) = self.record(sys, ws) else {
             self.uncovered += 1;
             self.back_off = BACK_OFF;
             return false;
         };
+        if !self.add(graph, params) {
+            return false;
+        }
+        // A path holds where it was recorded.
+        let path = &self.paths[self.last];
+        path.code.as_ref().is_some_and(|code| code.call(&self.inputs, &path.params, &mut self.outputs))
+    }
+
+    /// The graph of the evaluation at the gathered inputs and its parameters; `None`
+    /// where it takes a way that is not compiled, or is too large (which stops the
+    /// stage).
+    fn record(&mut self, sys: &System<K>, ws: &Workspace<K>) -> Option<(Graph, Vec<f64>)> {
+        if self.stopped.is_some() {
+            return None;
+        }
+        let (graph, params) = (self.recorder.record)(sys, ws, &self.inputs)?;
         if graph.nodes.len() > MAX_OPERATIONS {
             self.stopped = Some(format!(
                 "an evaluation of {} operations is more than the {MAX_OPERATIONS} compiled",
                 graph.nodes.len()
             ));
-            return false;
+            return None;
         }
-        match compile_cached(&graph) {
-            Ok((code, fresh)) => {
-                if fresh {
-                    self.compile_seconds += code.compile_seconds;
-                    self.compiled_now += 1;
-                } else {
-                    self.from_cache += 1;
-                }
-                self.outputs.resize(code.outputs(), 0.0);
-                // A path holds where it was recorded.
-                let held = code.call(&self.inputs, &params, &mut self.outputs);
-                self.paths.push((code, params));
-                self.last = self.paths.len() - 1;
-                held
-            }
-            Err(e) => {
-                self.stopped = Some(e.0);
-                false
-            }
-        }
+        Some((graph, params))
     }
+
+    /// Keeps a recorded path as the last, compiled where the stage runs native code;
+    /// `false` where compiling it failed (which stops the stage).
+    fn add(&mut self, graph: Graph, params: Vec<f64>) -> bool {
+        let code = if self.native {
+            match compile_cached(&graph) {
+                Ok((code, fresh)) => {
+                    if fresh {
+                        self.compile_seconds += code.compile_seconds;
+                        self.compiled_now += 1;
+                    } else {
+                        self.from_cache += 1;
+                    }
+                    self.outputs.resize(code.outputs(), 0.0);
+                    Some(code)
+                }
+                Err(e) => {
+                    self.stopped = Some(e.0);
+                    return false;
+                }
+            }
+        } else {
+            None
+        };
+        self.paths.push(Path { graph, code, params, sweep: None });
+        self.last = self.paths.len() - 1;
+        true
+    }
+
+    /// [`jacobian`]'s work: the derivatives from the path that holds at `(t, q, v)`, or
+    /// from the one recorded there (kept while the stage has room).
+    fn jacobian(
+        &mut self,
+        sys: &System<K>,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        ws: &Workspace<K>,
+        jac: &mut DMatrix<f64>,
+    ) -> bool {
+        self.gather(sys, t, q, v, ws);
+        let (wrt, of) = (0..q.len() + v.len(), accelerations_in_outputs(ws));
+        let mut put = |i: usize, j: usize, d: f64| jac[(i, j)] = d;
+        let n = self.paths.len();
+        for k in (0..n).map(|k| (self.last + k) % n) {
+            let path = &mut self.paths[k];
+            // Native code tells a path that does not hold faster than the graph's values.
+            if path
+                .code
+                .as_ref()
+                .is_some_and(|code| !code.call(&self.inputs, &path.params, &mut self.outputs))
+            {
+                continue;
+            }
+            let sweep = path.sweep.get_or_insert_with(|| path.graph.sweep(wrt.clone(), of.clone()));
+            if path.graph.jacobian(&self.inputs, &path.params, sweep, &mut self.adjoints, &mut put) {
+                self.last = k;
+                return true;
+            }
+        }
+        let Some((graph, params)) = self.record(sys, ws) else {
+            return false;
+        };
+        let sweep = graph.sweep(wrt, of);
+        let held = graph.jacobian(&self.inputs, &params, &sweep, &mut self.adjoints, put);
+        if n < MAX_PATHS && self.add(graph, params) {
+            self.paths[self.last].sweep = Some(sweep);
+        }
+        held
+    }
+}
+
+/// Where the accelerations lie among a path's outputs ([`scatter`]'s layout).
+fn accelerations_in_outputs<K: BodyKind>(ws: &Workspace<K>) -> Range<usize> {
+    let at = ws.jac.len() * (3 + 2 * K::SHAPE.nv) + ws.qe.len();
+    at..at + ws.qe.len()
 }
 
 /// Puts a path's outputs in the workspace ([`self`]'s layout of them).
@@ -432,9 +571,10 @@ impl Compile for Spatial {
 }
 
 impl<K: Compile> Workspace<K> {
-    /// Compiles the rows and forces of `sys` as the run needs them, or says why they
-    /// stay interpreted.
-    pub fn compile(&mut self, sys: &System<K>) -> Result<(), String> {
+    /// Records the evaluation of `sys` as the run needs its paths, or says why it is not
+    /// recorded: compiled to native code for the evaluations where `native`, and
+    /// differentiated for the implicit methods' Jacobians where `exact_jacobian`.
+    pub fn compile(&mut self, sys: &System<K>, native: bool, exact_jacobian: bool) -> Result<(), String> {
         let recorder = K::recorder(sys)?;
         if self.schur.factorisation() == Factorisation::Sparse {
             return Err(format!(
@@ -442,7 +582,7 @@ impl<K: Compile> Workspace<K> {
                 self.dynamic
             ));
         }
-        self.compiled = Some(Box::new(Stage::new(recorder)));
+        self.compiled = Some(Box::new(Stage::new(recorder, native, exact_jacobian)));
         Ok(())
     }
 }

@@ -77,16 +77,28 @@ pub trait Rhs {
     }
     /// Where stage times are booked when the run measures them.
     fn profile(&mut self) -> &mut Option<Profile>;
-    /// The acceleration rows of `df/dy` (nv x (nq + nv)) by a cheaper route than forward
-    /// differences of [`Rhs::eval`], where there is one; `None` where not.
-    fn force_jacobian(
+    /// The acceleration rows of `df/dy` (nv x (nq + nv)) by another route than forward
+    /// differences of [`Rhs::eval`], where there is one, and how exact it is; `None`
+    /// where there is none.
+    fn acceleration_jacobian(
         &mut self,
         _t: f64,
         _y: &[f64],
         _jac: &mut DMatrix<f64>,
-    ) -> Option<Result<(), Singular>> {
+    ) -> Option<Result<JacobianKind, Singular>> {
         None
     }
+}
+
+/// How [`Rhs::acceleration_jacobian`] took its rows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JacobianKind {
+    /// The derivatives of the accelerations themselves: a Newton iteration that fails
+    /// with it needs a smaller step, not another Jacobian.
+    Exact,
+    /// The applied forces' part alone: a Newton iteration that fails with it takes
+    /// forward differences of the whole right-hand side next.
+    Forces,
 }
 
 /// Tolerances of a run: a method accepts a step whose local error, weighted by them,

@@ -13,10 +13,10 @@
 //! ```
 //!
 //! with `G = (T^-1 x I) F((T x I) W)` and `J` a Jacobian at the step's start: the
-//! right-hand side's force Jacobian where it has one ([`Rhs::force_jacobian`]: the
-//! stiff part, through the applied forces, at a fraction of the cost), forward
-//! differences of the whole right-hand side after Newton fails with a fresh force
-//! Jacobian, until a step is accepted. The iteration starts from the previous step's
+//! right-hand side's acceleration rows where it has them ([`Rhs::acceleration_jacobian`]:
+//! exact, or the stiff part through the applied forces at a fraction of the cost),
+//! forward differences of the whole right-hand side after Newton fails with fresh rows
+//! of the applied forces alone, until a step is accepted. The iteration starts from the previous step's
 //! collocation polynomial; its contraction rate `theta` decides whether `J` and the LU
 //! factors are kept for the next step. The error estimate is
 //! `(I - h gamma0 J)^-1 (gamma0 h f0 + gamma0 sum dd_i z_i)` (`gamma0 = 1/gamma`),
@@ -40,7 +40,7 @@
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::jacobian;
-use super::ode::{PositionRate, Rhs, Singular, Tolerances};
+use super::ode::{JacobianKind, PositionRate, Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
 use crate::profile;
 
@@ -223,14 +223,16 @@ pub struct Radau5 {
     /// `G = d(q')/d(v)` (nq x nv) with `J`, where `q' = G(q) v`; `None` for `q' = v`.
     rate: Option<DMatrix<f64>>,
     jac_evals: usize,
+    newton_iterations: usize,
     /// `J` was evaluated at the start of the step being attempted (RADAU5's CALJAC).
     jac_current: bool,
     /// Evaluate `J` afresh at the start of the next attempt.
     need_jac: bool,
-    /// `J` is the right-hand side's force Jacobian ([`Rhs::force_jacobian`]).
+    /// `J`'s acceleration rows are the applied forces' part alone
+    /// ([`Rhs::acceleration_jacobian`]).
     jac_from_forces: bool,
-    /// Newton failed with a fresh force Jacobian: forward differences until a step is
-    /// accepted.
+    /// Newton failed with fresh rows of the applied forces: forward differences until a
+    /// step is accepted.
     full_jacobian: bool,
     factors: Option<Factors>,
     /// Newton's `theta / (1 - theta)` of the last attempt, for the first iteration's test.
@@ -289,6 +291,7 @@ impl Radau5 {
             jac: DMatrix::zeros(nv, n),
             rate: None,
             jac_evals: 0,
+            newton_iterations: 0,
             jac_current: false,
             need_jac: true,
             jac_from_forces: false,
@@ -383,9 +386,10 @@ impl Radau5 {
         let mut result = Ok(());
         if self.need_jac {
             let nq = self.nq;
-            let cheap = if self.full_jacobian { None } else { rhs.force_jacobian(t, y, &mut self.jac) };
-            self.jac_from_forces = cheap.is_some();
-            let done = cheap.unwrap_or_else(|| {
+            let cheap =
+                if self.full_jacobian { None } else { rhs.acceleration_jacobian(t, y, &mut self.jac) };
+            self.jac_from_forces = matches!(cheap, Some(Ok(JacobianKind::Forces)));
+            let done = cheap.map(|done| done.map(drop)).unwrap_or_else(|| {
                 jacobian::forward_difference(rhs, t, y, f0, nq, &mut self.jac, &mut self.work)
             });
             self.rate = match rhs.shape().rate {
@@ -430,6 +434,7 @@ impl Radau5 {
         let (mut dyno_old, mut thq_old) = (1.0, 1.0);
         let (g, a, b) = (GAMMA / h, ALPHA / h, BETA / h);
         for newt in 1..=self.max_newton {
+            self.newton_iterations += 1;
             for k in 0..3 {
                 for i in 0..n {
                     self.stage[i] = y[i] + self.z[k][i];
@@ -601,6 +606,10 @@ impl<R: Rhs + ?Sized> Stepper<R> for Radau5 {
 
     fn jacobian_evaluations(&self) -> usize {
         self.jac_evals
+    }
+
+    fn newton_iterations(&self) -> usize {
+        self.newton_iterations
     }
 
     fn step_factor(&self) -> Option<f64> {

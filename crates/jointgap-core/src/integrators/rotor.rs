@@ -14,7 +14,7 @@
 use nalgebra::{DMatrix, DMatrixViewMut};
 
 use super::dopri5::Dopri5;
-use super::ode::{DenseStep, PositionRate, Rhs, Singular, StateShape, Tolerances};
+use super::ode::{DenseStep, JacobianKind, PositionRate, Rhs, Singular, StateShape, Tolerances};
 use super::radau5::Radau5;
 use super::sdirk4::Sdirk4;
 use super::stepper::{StepFailure, Stepper};
@@ -76,15 +76,15 @@ impl Rhs for Rotor {
         &mut self.profile
     }
 
-    fn force_jacobian(
+    fn acceleration_jacobian(
         &mut self,
         _t: f64,
         _y: &[f64],
         jac: &mut DMatrix<f64>,
-    ) -> Option<Result<(), Singular>> {
+    ) -> Option<Result<JacobianKind, Singular>> {
         self.forces.then(|| {
             jac.copy_from_slice(&[0.0, 0.0, -C]);
-            Ok(())
+            Ok(JacobianKind::Forces)
         })
     }
 }

@@ -1,15 +1,15 @@
 //! L-stable SDIRK of order 4 with an embedded order-3 estimate, gamma = 1/4 (Hairer and
 //! Wanner, Solving ODEs II, Table IV.6.5). Stages are solved by simplified Newton with a
-//! Jacobian reused across steps while Newton converges fast: `[0 G; force Jacobian]`,
+//! Jacobian reused across steps while Newton converges fast: `[0 G; acceleration rows]`,
 //! with `G = d(q')/d(v)` from [`Rhs::rate_jacobian`] and the acceleration rows from
-//! [`Rhs::force_jacobian`], or forward differences of the whole right-hand side (every
-//! row, `d(q')/d(q)` included) where it has no force Jacobian or after Newton fails with
-//! a fresh one, until Newton converges again.
+//! [`Rhs::acceleration_jacobian`], or forward differences of the whole right-hand side
+//! (every row, `d(q')/d(q)` included) where it has no such rows, or after Newton fails
+//! with fresh rows of the applied forces alone, until Newton converges again.
 
 use nalgebra::{DMatrix, DVector};
 
 use super::jacobian;
-use super::ode::{Rhs, Singular, Tolerances};
+use super::ode::{JacobianKind, Rhs, Singular, Tolerances};
 use super::stepper::{Attempt, StepFailure, Stepper};
 use crate::profile;
 
@@ -32,13 +32,15 @@ pub struct Sdirk4 {
     jac: DMatrix<f64>,
     jac_fresh: bool,
     jac_valid: bool,
-    /// The current Jacobian is the force Jacobian.
+    /// The current Jacobian's acceleration rows are the applied forces' part alone.
     jac_from_forces: bool,
-    /// Newton failed with a fresh force Jacobian: forward differences until it converges.
+    /// Newton failed with fresh rows of the applied forces: forward differences until it
+    /// converges.
     full_jacobian: bool,
-    /// The force Jacobian's rows `[dv'/dq dv'/dv]`; (nv x n).
+    /// The acceleration rows `[dv'/dq dv'/dv]`; (nv x n).
     lower: DMatrix<f64>,
     jac_evals: usize,
+    newton_iterations: usize,
     lu: Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>>,
     lu_h: f64,
     slow: bool,
@@ -61,6 +63,7 @@ impl Sdirk4 {
             full_jacobian: false,
             lower: DMatrix::zeros(nv, n),
             jac_evals: 0,
+            newton_iterations: 0,
             lu: None,
             lu_h: 0.0,
             slow: false,
@@ -71,7 +74,7 @@ impl Sdirk4 {
         }
     }
 
-    /// Jacobian of f at (t, y): `[0 G; force Jacobian]`, or forward differences.
+    /// Jacobian of f at (t, y): `[0 G; acceleration rows]`, or forward differences.
     fn jacobian<R: Rhs + ?Sized>(
         &mut self,
         ode: &mut R,
@@ -79,8 +82,8 @@ impl Sdirk4 {
         y: &[f64],
         f0: &[f64],
     ) -> Result<(), Singular> {
-        let cheap = if self.full_jacobian { None } else { ode.force_jacobian(t, y, &mut self.lower) };
-        self.jac_from_forces = cheap.is_some();
+        let cheap = if self.full_jacobian { None } else { ode.acceleration_jacobian(t, y, &mut self.lower) };
+        self.jac_from_forces = matches!(cheap, Some(Ok(JacobianKind::Forces)));
         match cheap {
             Some(done) => {
                 done?;
@@ -132,6 +135,7 @@ impl Sdirk4 {
         }
         let mut prev_norm = f64::INFINITY;
         for iter in 0..10 {
+            self.newton_iterations += 1;
             ode.eval(t + C[s] * h, &self.stage, &mut self.work).map_err(|Singular| StepFailure::Singular)?;
             let mut r = DVector::from_fn(n, |i, _| self.base[i] + h * GAMMA * self.work[i] - self.stage[i]);
             lu.solve_mut(&mut r);
@@ -174,6 +178,10 @@ impl<R: Rhs + ?Sized> Stepper<R> for Sdirk4 {
 
     fn jacobian_evaluations(&self) -> usize {
         self.jac_evals
+    }
+
+    fn newton_iterations(&self) -> usize {
+        self.newton_iterations
     }
 
     fn rejected(&mut self) {

@@ -48,6 +48,11 @@ pub trait Stepper<R: Rhs + ?Sized> {
     fn jacobian_evaluations(&self) -> usize {
         0
     }
+    /// Newton iterations so far (implicit methods), converged or not: each one
+    /// evaluates the right-hand side at every stage it solves.
+    fn newton_iterations(&self) -> usize {
+        0
+    }
     /// Called after a rejected step.
     fn rejected(&mut self) {}
     /// Methods that choose their own step size: `h_next / h` after the last attempt

@@ -1,15 +1,17 @@
 //! The number type the mechanics is written over. The kernels that one evaluation runs
 //! (body kinematics, constraint rows, contact geometry, force and contact laws) take any
 //! [`Real`]: `f64` for the interpreted engine, and [`Traced`], which records the
-//! evaluation as a graph that [`crate::codegen`] compiles to native code
-//! (docs/compiled.md).
+//! evaluation as a graph that [`crate::codegen`] compiles to native code and that
+//! [`Graph::jacobian`] differentiates (docs/compiled.md).
 //!
 //! A kernel written over `Real` performs, on `f64`, exactly the operations it performed
 //! before it was generic, in the same order: the compiled code repeats them operation for
 //! operation, so both paths give the same bits.
 
+mod derivative;
 mod traced;
 
+pub use derivative::Sweep;
 pub use traced::{record, Cmp, Func, Graph, Guard, Node, Traced};
 
 use std::fmt::Debug;

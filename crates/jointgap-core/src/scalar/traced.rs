@@ -154,25 +154,8 @@ impl Graph {
     /// evaluated node by node on `f64`: what the compiled function computes, for tests
     /// and checks.
     pub fn eval(&self, x: &[f64], p: &[f64]) -> (bool, Vec<f64>) {
-        let mut v = vec![0.0; self.nodes.len()];
-        for (k, node) in self.nodes.iter().enumerate() {
-            let a = |i: u32| v[i as usize];
-            v[k] = match *node {
-                Node::Const(bits) => f64::from_bits(bits),
-                Node::Input(i) => x[i as usize],
-                Node::Param(i) => p[i as usize],
-                Node::Add(p, q) => a(p) + a(q),
-                Node::Sub(p, q) => a(p) - a(q),
-                Node::Mul(p, q) => a(p) * a(q),
-                Node::Div(p, q) => a(p) / a(q),
-                Node::Neg(p) => -a(p),
-                Node::Sqrt(p) => a(p).sqrt(),
-                Node::Abs(p) => a(p).abs(),
-                Node::Call(f, p, q) => f.eval(a(p), if q == u32::MAX { 0.0 } else { a(q) }),
-            };
-        }
-        let ok = self.guards.iter().all(|g| g.op.holds(v[g.a as usize], v[g.b as usize]) == g.holds);
-        (ok, self.outputs.iter().map(|&o| v[o as usize]).collect())
+        let v = self.values(x, p);
+        (self.holds(&v), self.outputs.iter().map(|&o| v[o as usize]).collect())
     }
 }
 

@@ -7,7 +7,7 @@
 use nalgebra::{DMatrix, DMatrixViewMut};
 
 use crate::dynamics::{self, accelerations_for_integration, force_jacobian, Workspace};
-use crate::integrators::ode::{PositionRate, Rhs, Singular, StateShape, Tolerances};
+use crate::integrators::ode::{JacobianKind, PositionRate, Rhs, Singular, StateShape, Tolerances};
 use crate::mechanics::planar::Planar;
 use crate::profile::Profile;
 use crate::system::System;
@@ -103,8 +103,20 @@ impl<K: Kind> Rhs for Ode<'_, K> {
         &mut self.ws.profile
     }
 
-    fn force_jacobian(&mut self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) -> Option<Result<(), Singular>> {
+    /// Exact, from the graph of the recorded evaluation where the run records one
+    /// ([`dynamics::compiled::jacobian`]); the applied forces' part otherwise
+    /// ([`force_jacobian`]).
+    fn acceleration_jacobian(
+        &mut self,
+        t: f64,
+        y: &[f64],
+        jac: &mut DMatrix<f64>,
+    ) -> Option<Result<JacobianKind, Singular>> {
         let (q, v) = y.split_at(self.sys.layout.nq());
-        Some(force_jacobian(self.sys, t, q, v, &mut self.ws, jac).map_err(|dynamics::Singular| Singular))
+        if dynamics::compiled::jacobian(self.sys, t, q, v, &mut self.ws, jac) {
+            return Some(Ok(JacobianKind::Exact));
+        }
+        let forces = force_jacobian(self.sys, t, q, v, &mut self.ws, jac);
+        Some(forces.map(|()| JacobianKind::Forces).map_err(|dynamics::Singular| Singular))
     }
 }

@@ -220,6 +220,7 @@ pub fn integrate<K: Kind>(
         p.total = clock.started.elapsed().as_secs_f64();
     }
     stats.jacobian_evaluations += methods.stepper.jacobian_evaluations();
+    stats.newton_iterations += methods.stepper.newton_iterations();
     stats.method = if opts.method == Method::Auto {
         methods.switch.describe(methods.method, t)
     } else {
@@ -274,6 +275,7 @@ impl<'a, K: Kind> MethodInUse<'a, K> {
         if let Some(next) = next {
             self.method = next;
             stats.jacobian_evaluations += self.stepper.jacobian_evaluations();
+            stats.newton_iterations += self.stepper.newton_iterations();
             self.stepper = stepper(next, ode.shape());
         }
     }

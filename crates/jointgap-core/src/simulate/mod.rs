@@ -268,10 +268,10 @@ pub(crate) fn run_prepared<K: Kind>(
     let mut rec =
         record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(Profile::default);
-    let interpreted = if opts.compiled {
-        ode.ws.compile(system).err()
+    let interpreted = if opts.compiled || opts.exact_jacobian {
+        ode.ws.compile(system, opts.compiled, opts.exact_jacobian).err()
     } else {
-        Some("turned off by the run's options".to_string())
+        Some(crate::dynamics::compiled::TURNED_OFF.to_string())
     };
     let n = system.layout.nq();
     let mut y = [initial.q.as_slice(), initial.v.as_slice()].concat();

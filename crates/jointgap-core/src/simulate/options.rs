@@ -36,6 +36,9 @@ impl Method {
 fn default_compiled() -> bool {
     true
 }
+fn default_exact_jacobian() -> bool {
+    true
+}
 fn default_rtol() -> f64 {
     1e-8
 }
@@ -119,6 +122,12 @@ pub struct SimOptions {
     /// results are the same to the bit.
     #[serde(default = "default_compiled")]
     pub compiled: bool,
+    /// The implicit methods take the exact acceleration rows of `df/dy`, differentiated
+    /// from the recorded evaluation where the compiler covers the model
+    /// (docs/compiled.md); `false` takes the applied forces' part by forward
+    /// differences, as where it does not.
+    #[serde(default = "default_exact_jacobian")]
+    pub exact_jacobian: bool,
     /// Accumulate the Archard wear of the dry journals in their bearings (revolute and
     /// cylindrical clearance joints) on angular grids
     /// into `SimResult::wear` (docs/wear.md); none by default.
@@ -144,6 +153,7 @@ impl SimOptions {
             energy: false,
             profile: false,
             compiled: default_compiled(),
+            exact_jacobian: default_exact_jacobian(),
             wear: None,
         }
     }
