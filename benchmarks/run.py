@@ -138,6 +138,7 @@ class ClRun:
     rtol: float
     atol: float
     max_steps: int = CL_MAX_STEPS
+    compiled: bool = True  # the evaluation compiled to native code (the default)
     status: str = "not run"
     message: str = ""
     stats: dict[str, Any] = field(default_factory=dict)
@@ -179,6 +180,7 @@ def cl_pass(model: jointgap.Model, run: ClRun) -> None:
             method=run.method,
             channels=["slider.ax"],
             max_steps=run.max_steps,
+            compiled=run.compiled,
         )
         return time.process_time() - c0, res
 
@@ -222,21 +224,33 @@ def fmt(x: float, spec: str) -> str:
     return "-" if not math.isfinite(x) else format(x, spec)
 
 
-def work_precision_figure(runs: list[ClRun], path: Path) -> None:
-    """Integrate CPU time against NRMSE of slider.ax, one line per method (log-log), with
-    the hand-written C program's two figures quoted by the speed issue for scale."""
+def work_precision_figure(runs: list[ClRun], interpreted: list[ClRun], path: Path) -> None:
+    """Integrate CPU time against NRMSE of slider.ax, one line per method (log-log), the
+    evaluation compiled (the default), and auto's line interpreted (dashed), with the
+    hand-written C program's two figures quoted by the speed issue for scale."""
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(5.0, 3.6), layout="constrained")
     ax = fig.subplots()
-    for method, marker in (("dopri5", "o"), ("sdirk4", "s"), ("auto", "^"), ("radau5", "D")):
+    lines = [(m, marker, runs, "-", m) for m, marker in zip(CL_METHODS, "os^D", strict=True)]
+    lines.append(("auto", "^", interpreted, "--", "auto, interpreted"))
+    colours = {m: f"C{k}" for k, m in enumerate(CL_METHODS)}
+    for method, marker, group, style, label in lines:
         pts = sorted(
             (r.nrmse, 1e3 * r.best("cpu_int"))
-            for r in runs
+            for r in group
             if r.method == method and r.ok and math.isfinite(r.nrmse)
         )
         if pts:
-            ax.loglog(*zip(*pts, strict=True), marker=marker, linewidth=1.0, label=method)
+            ax.loglog(
+                *zip(*pts, strict=True),
+                marker=marker,
+                linestyle=style,
+                linewidth=1.0,
+                label=label,
+                color=colours[method],
+                fillstyle="none" if style == "--" else "full",
+            )
     ax.loglog(
         *zip(*C_PROGRAM_MS.items(), strict=True), "k*", markersize=9, label="C program (quoted)"
     )
@@ -301,10 +315,12 @@ def clearance_table() -> str:
     ref_ax = ref.ax
     floor = nrmse(check.ax, ref_ax)
     runs = [ClRun(m, r, cl_atol(r)) for m in CL_METHODS for r in CL_RTOLS]
-    cl_sweep(model, runs, CL_REPEATS)
-    for run in runs:
+    # auto interpreted too, in the same round-robin passes as the compiled runs.
+    interpreted = [ClRun("auto", r, cl_atol(r), compiled=False) for r in CL_RTOLS]
+    cl_sweep(model, runs + interpreted, CL_REPEATS)
+    for run in runs + interpreted:
         run.nrmse = nrmse(run.ax, ref_ax)
-    work_precision_figure(runs, OUT / "work_precision.png")
+    work_precision_figure(runs, interpreted, OUT / "work_precision.png")
     base = next(r for r in runs if r.method == "dopri5" and r.rtol == 1e-6)
     span = float(ref_ax.max() - ref_ax.min())
     spread = [max(r.cpu) / min(r.cpu) - 1 for r in runs if len(r.cpu) > 1]

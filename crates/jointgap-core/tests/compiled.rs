@@ -84,6 +84,34 @@ fn force_elements_and_tables_run_the_same_compiled() {
     same_run(&model, 0.15, Method::Radau5);
 }
 
+/// Joints with play, a revolute's (a damped stop) and a prismatic one's (a Hertz stop
+/// and gravity across the axis): a wheel and a slider, each bouncing between its stops.
+#[test]
+fn joints_with_play_run_the_same_compiled() {
+    let model = |raw: serde_json::Value| -> Model { serde_json::from_value(raw).unwrap() };
+    let wheel = model(json!({
+        "gravity": [0.0, -9.81],
+        "bodies": [{"name": "wheel", "mass": 1.0, "inertia": 2e-3, "omega": 3.0, "position": [0.01, 0.0]}],
+        "joints": [{"name": "hub", "type": "revolute_with_play", "body_i": "ground", "point_i": [0.0, 0.0],
+                    "body_j": "wheel", "point_j": [-0.01, 0.0],
+                    "play": {"play": 0.02, "stiffness": 500.0,
+                             "normal_law": {"type": "kelvin_voigt", "exponent": 1.0, "damping": 0.06}}}]
+    }));
+    let slider = model(json!({
+        "gravity": [0.0, -9.81],
+        "bodies": [{"name": "slider", "mass": 0.2, "inertia": 1e-4, "position": [0.1, 0.0], "velocity": [0.5, 0.0]}],
+        "joints": [{"name": "rail", "type": "prismatic_with_play", "body_i": "ground", "point_i": [0.0, 0.0],
+                    "body_j": "slider", "point_j": [0.0, 0.0], "axis": [1.0, 0.0],
+                    "play": {"play": 0.004, "stiffness": 1e8, "normal_law": {"type": "hertz"}}}]
+    }));
+    for m in [&wheel, &slider] {
+        for method in [Method::Auto, Method::Radau5] {
+            let run = same_run(m, 0.05, method);
+            assert!(run.stats.events > 0, "{method:?}: the stops are met");
+        }
+    }
+}
+
 /// Turned off with the exact Jacobians, nothing is recorded.
 #[test]
 fn turned_off_records_nothing() {

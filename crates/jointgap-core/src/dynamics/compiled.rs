@@ -28,7 +28,7 @@ use nalgebra::DMatrix;
 
 use crate::codegen::{compile_cached, Compiled};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
-use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ClearanceRevolute, ContactState};
+use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ContactState};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::BodyKind;
@@ -410,30 +410,26 @@ fn scatter<K: BodyKind>(out: &[f64], ws: &mut Workspace<K>) {
     ws.schur.solved_elsewhere();
 }
 
-/// The round dry revolute clearance joints of `sys`, or why a clearance joint of it is
-/// not compiled.
-fn round_revolutes(sys: &System<Planar>) -> Result<Vec<&ClearanceRevolute>, String> {
-    sys.clearances
-        .iter()
-        .map(|c| match c {
-            PlanarClearance::Revolute(r) if r.worn.is_none() => Ok(r),
-            other => {
-                let what = match other {
-                    PlanarClearance::Revolute(_) => "a worn profile",
-                    PlanarClearance::Lubricated(_) => "an oil film",
-                    PlanarClearance::Translational(_) => "a block in its guide",
-                    PlanarClearance::Play(_) => "a joint's play",
-                    PlanarClearance::Gear(_) => "a gear mesh",
-                };
-                Err(format!("joint '{}' has {what}, which is not compiled yet", other.name()))
-            }
-        })
-        .collect()
+/// Why a clearance joint of `sys` is not compiled, if one is not: compiled are the dry
+/// round journals in their bearings and the joints' play.
+fn uncompiled_joint(sys: &System<Planar>) -> Result<(), String> {
+    for c in &sys.clearances {
+        let what = match c {
+            PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
+            PlanarClearance::Play(_) => continue,
+            PlanarClearance::Revolute(_) => "a worn profile",
+            PlanarClearance::Lubricated(_) => "an oil film",
+            PlanarClearance::Translational(_) => "a block in its guide",
+            PlanarClearance::Gear(_) => "a gear mesh",
+        };
+        return Err(format!("joint '{}' has {what}, which is not compiled yet", c.name()));
+    }
+    Ok(())
 }
 
 impl Compile for Planar {
     fn recorder(sys: &System) -> Result<Recorder<Planar>, String> {
-        round_revolutes(sys)?;
+        uncompiled_joint(sys)?;
         Ok(Recorder {
             record: |sys, ws, x| record(x, |x| planar_evaluation(sys, ws, x)),
             inputs: planar_inputs,
@@ -519,16 +515,15 @@ fn planar_evaluation<T: Real>(sys: &System, ws: &Workspace, x: &[T]) -> Option<V
         };
         f.add_loads(applied, state, &mut loads);
     }
-    if let Ok(joints) = round_revolutes(sys) {
-        for ((_, _, points), c) in contact::slots(&sys.clearances).zip(joints) {
-            let s = next(2 * points.len());
-            let [i, j] = c.parts();
-            c.add_round_loads(
-                &state(i),
-                &state(j),
-                |k, rate| onset_for(s[2 * k], s[2 * k + 1], rate),
-                &mut loads,
-            );
+    for (_, c, points) in contact::slots(&sys.clearances) {
+        let s = next(2 * points.len());
+        let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
+        let [i, j] = c.parts();
+        let (i, j) = (state(i), state(j));
+        match c {
+            PlanarClearance::Revolute(r) if r.worn.is_none() => r.add_round_loads(&i, &j, onset, &mut loads),
+            PlanarClearance::Play(p) => p.add_play_loads(&i, &j, onset, &mut loads),
+            _ => return None,
         }
     }
     // The solve of [`super::accelerations_for_integration`], operation for operation.

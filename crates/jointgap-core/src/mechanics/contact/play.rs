@@ -12,6 +12,7 @@ use crate::mechanics::layout::Loads;
 use crate::mechanics::planar_body::BodyState;
 use crate::model::{Joint, Play};
 use crate::output::ClearanceData;
+use crate::scalar::Real;
 
 /// What the play acts on.
 #[derive(Debug, Clone, PartialEq)]
@@ -89,9 +90,10 @@ impl JointPlay {
     }
 
     /// The coordinate and its rate at the bodies' states, with the global point and
-    /// direction along which a travel's stop acts (the angle's: body j's origin, none).
+    /// direction along which a travel's stop acts (the angle's: body j's origin, none),
+    /// in any number type.
     #[inline]
-    pub fn coordinate(&self, i: &BodyState, j: &BodyState) -> (f64, f64, Vec2, Vec2) {
+    pub fn coordinate<T: Real>(&self, i: &BodyState<T>, j: &BodyState<T>) -> (T, T, Vec2<T>, Vec2<T>) {
         match &self.coordinate {
             PlayCoordinate::Angle => (j.phi() - i.phi(), j.omega - i.omega, j.r, Vec2::zeros()),
             PlayCoordinate::Travel { s_i, s_j, axis } => {
@@ -103,6 +105,63 @@ impl JointPlay {
                 let v_j = j.v + perp(a_j) * j.omega;
                 let v_i = i.v + perp(p_j - i.r) * i.omega;
                 ((p_j - i.r - i.rotate(*s_i)).dot(&u), (v_j - v_i).dot(&u), p_j, u)
+            }
+        }
+    }
+
+    /// The one point within `reach` ([`ClearanceJoint::contacts`]), in any number type.
+    #[inline]
+    pub fn points_at<T: Real>(&self, i: &BodyState<T>, j: &BodyState<T>, reach: f64) -> ContactPoints<T> {
+        let mut out = ContactPoints::new();
+        let (x, rate, at, _) = self.coordinate(i, j);
+        let side = if x >= self.centre { 1.0 } else { -1.0 };
+        let penetration = (x - self.centre) * side - self.half_play;
+        if penetration > -reach {
+            out.push(ContactPoint {
+                index: 0,
+                normal: Vec2::new(T::constant(side), T::constant(0.0)),
+                penetration,
+                penetration_rate: rate * side,
+                slip: Tangential::zeros(),
+                share: 1.0,
+                on_i: MaterialPoint { body: self.bodies[0], at },
+                on_j: MaterialPoint { body: self.bodies[1], at },
+            });
+        }
+        out
+    }
+
+    /// Adds the stop's loads ([`ClearanceJoint::add_to`]) in any number type: `onset(k,
+    /// rate)` is the impact onset speed of point `k` at penetration rate `rate`
+    /// ([`ContactState::onset_for`]).
+    #[inline]
+    pub fn add_play_loads<T: Real>(
+        &self,
+        i: &BodyState<T>,
+        j: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        for p in self.points_at(i, j, self.reach()).iter() {
+            let f_n =
+                self.normal.force(p.penetration, p.penetration_rate, onset(p.index, p.penetration_rate));
+            if f_n == 0.0 {
+                continue;
+            }
+            let push = -p.normal.x * f_n;
+            match &self.coordinate {
+                PlayCoordinate::Angle => {
+                    for (body, sign) in [(self.bodies[1], 1.0), (self.bodies[0], -1.0)] {
+                        if let Some(q) = qe.body(body) {
+                            q[2] += push * sign;
+                        }
+                    }
+                }
+                PlayCoordinate::Travel { .. } => {
+                    let (.., at, u) = self.coordinate(i, j);
+                    add_force_at(qe, self.bodies[1], j, at, u * push);
+                    add_force_at(qe, self.bodies[0], i, at, -u * push);
+                }
             }
         }
     }
@@ -165,23 +224,7 @@ impl ClearanceJoint for JointPlay {
     /// penetration.
     #[inline]
     fn contacts(&self, i: &BodyState, j: &BodyState, reach: f64) -> ContactPoints {
-        let mut out = ContactPoints::new();
-        let (x, rate, at, _) = self.coordinate(i, j);
-        let side = if x >= self.centre { 1.0 } else { -1.0 };
-        let penetration = side * (x - self.centre) - self.half_play;
-        if penetration > -reach {
-            out.push(ContactPoint {
-                index: 0,
-                normal: Vec2::new(side, 0.0),
-                penetration,
-                penetration_rate: side * rate,
-                slip: Tangential::zeros(),
-                share: 1.0,
-                on_i: MaterialPoint { body: self.bodies[0], at },
-                on_j: MaterialPoint { body: self.bodies[1], at },
-            });
-        }
-        out
+        self.points_at(i, j, reach)
     }
 
     #[inline]
@@ -205,26 +248,6 @@ impl ClearanceJoint for JointPlay {
     /// between them), against the side the coordinate left the play on.
     #[inline]
     fn add_to(&self, i: &BodyState, j: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        for p in self.contacts(i, j, self.reach()).iter() {
-            let (f_n, _) = self.force(p, states[0].onset_for(p.penetration_rate));
-            if f_n == 0.0 {
-                continue;
-            }
-            let push = -p.normal.x * f_n;
-            match &self.coordinate {
-                PlayCoordinate::Angle => {
-                    for (body, sign) in [(self.bodies[1], 1.0), (self.bodies[0], -1.0)] {
-                        if let Some(q) = qe.body(body) {
-                            q[2] += sign * push;
-                        }
-                    }
-                }
-                PlayCoordinate::Travel { .. } => {
-                    let (.., at, u) = self.coordinate(i, j);
-                    add_force_at(qe, self.bodies[1], j, at, u * push);
-                    add_force_at(qe, self.bodies[0], i, at, -u * push);
-                }
-            }
-        }
+        self.add_play_loads(i, j, |k, rate| states[k].onset_for(rate), qe);
     }
 }
