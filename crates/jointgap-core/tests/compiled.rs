@@ -112,6 +112,44 @@ fn joints_with_play_run_the_same_compiled() {
     }
 }
 
+/// A gear pair with backlash, its pinion driven by a torque that reverses (a table), so
+/// that the teeth cross the backlash and meet the other flank; a mesh stiffness that
+/// varies along the mesh cycle is not compiled, and says so.
+#[test]
+fn gear_meshes_run_the_same_compiled() {
+    let (r1, n) = (0.02, 2.0);
+    let gears = |stiffness: serde_json::Value| -> Model {
+        serde_json::from_value(json!({
+            "gravity": [0.0, -9.81],
+            "bodies": [
+                {"name": "pinion", "mass": 0.3, "inertia": 1e-4, "omega": 4.0},
+                {"name": "wheel", "mass": 1.2, "inertia": 2e-3, "position": [r1 * (1.0 + n), 0.0]}
+            ],
+            "joints": [
+                {"name": "pinion_pin", "type": "revolute", "body_i": "ground", "point_i": [0.0, 0.0], "body_j": "pinion", "point_j": [0.0, 0.0]},
+                {"name": "wheel_pin", "type": "revolute", "body_i": "ground", "point_i": [r1 * (1.0 + n), 0.0], "body_j": "wheel", "point_j": [0.0, 0.0]},
+                {"name": "mesh", "type": "gear_pair", "body_i": "pinion", "point_i": [0.0, 0.0], "body_j": "wheel", "point_j": [0.0, 0.0],
+                 "gear": {"ratio": n, "pitch_radius": r1, "backlash": 0.4e-3, "mesh_stiffness": stiffness,
+                          "normal_law": {"type": "kelvin_voigt", "exponent": 1.0, "damping": 2e3}}}
+            ],
+            "forces": [{"type": "applied_torque", "name": "motor", "body": "pinion",
+                        "torque": {"time": [0.0, 0.02, 0.04, 0.06], "value": [2.0, -2.0, 2.0, -2.0]}}]
+        }))
+        .unwrap()
+    };
+    let constant = gears(json!(1e8));
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_run(&constant, 0.06, method);
+        assert!(run.stats.events > 1, "{method:?}: the teeth meet both flanks");
+    }
+    let cycle = gears(json!({"angle": [0.0, 0.1, 0.2, 0.3142], "value": [1e8, 1.5e8, 1.5e8, 1e8]}));
+    let run = simulate(&cycle, &options(0.01, Method::Auto, true)).unwrap();
+    assert_eq!(
+        run.stats.compiled,
+        "interpreted: joint 'mesh' has a mesh stiffness that varies along the mesh cycle, which is not compiled yet"
+    );
+}
+
 /// Turned off with the exact Jacobians, nothing is recorded.
 #[test]
 fn turned_off_records_nothing() {

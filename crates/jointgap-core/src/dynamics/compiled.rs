@@ -411,16 +411,18 @@ fn scatter<K: BodyKind>(out: &[f64], ws: &mut Workspace<K>) {
 }
 
 /// Why a clearance joint of `sys` is not compiled, if one is not: compiled are the dry
-/// round journals in their bearings and the joints' play.
+/// round journals in their bearings, the joints' play and the gear meshes of constant
+/// stiffness.
 fn uncompiled_joint(sys: &System<Planar>) -> Result<(), String> {
     for c in &sys.clearances {
         let what = match c {
             PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
             PlanarClearance::Play(_) => continue,
+            PlanarClearance::Gear(g) if g.cycle.is_none() => continue,
             PlanarClearance::Revolute(_) => "a worn profile",
             PlanarClearance::Lubricated(_) => "an oil film",
             PlanarClearance::Translational(_) => "a block in its guide",
-            PlanarClearance::Gear(_) => "a gear mesh",
+            PlanarClearance::Gear(_) => "a mesh stiffness that varies along the mesh cycle",
         };
         return Err(format!("joint '{}' has {what}, which is not compiled yet", c.name()));
     }
@@ -523,6 +525,7 @@ fn planar_evaluation<T: Real>(sys: &System, ws: &Workspace, x: &[T]) -> Option<V
         match c {
             PlanarClearance::Revolute(r) if r.worn.is_none() => r.add_round_loads(&i, &j, onset, &mut loads),
             PlanarClearance::Play(p) => p.add_play_loads(&i, &j, onset, &mut loads),
+            PlanarClearance::Gear(g) if g.cycle.is_none() => g.add_gear_loads(&i, &j, onset, &mut loads),
             _ => return None,
         }
     }

@@ -162,6 +162,11 @@ impl Graph {
                         Func::Max | Func::Min => term(q, 1.0),
                         Func::Tanh => term(p, 1.0 - value * value),
                         Func::Cosh => term(p, x.sinh()),
+                        Func::Atan2 => {
+                            let r2 = x * x + y * y;
+                            term(p, y / r2);
+                            term(q, -x / r2);
+                        }
                     }
                 }
             }
@@ -235,6 +240,7 @@ mod tests {
                 a.powf(c::<Traced>(2.5)),
                 a.max(b) + a.min(b) * 3.0,
                 a.tanh() + b.cosh() + a.signum(),
+                a.atan2(b),
             ]
         });
         let expected = [
@@ -245,6 +251,7 @@ mod tests {
             [2.5 * x.powf(1.5), 0.0],
             [3.0, 1.0],
             [1.0 - x.tanh().powi(2), y.sinh()],
+            [y / (x * x + y * y), -x / (x * x + y * y)],
         ];
         for (got, want) in jac.iter().zip(expected) {
             for (g, w) in got.iter().zip(want) {

@@ -70,6 +70,8 @@ pub trait Real:
     fn tanh(self) -> Self;
     /// Hyperbolic cosine.
     fn cosh(self) -> Self;
+    /// The angle of the point `(x, self)`, as `f64::atan2`.
+    fn atan2(self, x: Self) -> Self;
 }
 
 impl Real for f64 {
@@ -116,6 +118,10 @@ impl Real for f64 {
     #[inline(always)]
     fn cosh(self) -> Self {
         f64::cosh(self)
+    }
+    #[inline(always)]
+    fn atan2(self, x: Self) -> Self {
+        f64::atan2(self, x)
     }
 }
 

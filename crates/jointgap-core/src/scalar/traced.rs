@@ -43,6 +43,8 @@ pub enum Func {
     Tanh,
     /// `x.cosh()`.
     Cosh,
+    /// `x.atan2(y)`.
+    Atan2,
 }
 
 impl Func {
@@ -57,6 +59,7 @@ impl Func {
             Func::Min => x.min(y),
             Func::Tanh => x.tanh(),
             Func::Cosh => x.cosh(),
+            Func::Atan2 => x.atan2(y),
         }
     }
 }
@@ -509,6 +512,9 @@ impl Real for Traced {
     }
     fn cosh(self) -> Traced {
         self.call(Func::Cosh, None)
+    }
+    fn atan2(self, x: Traced) -> Traced {
+        self.call(Func::Atan2, Some(x))
     }
 }
 

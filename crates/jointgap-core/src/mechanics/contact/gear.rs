@@ -7,11 +7,12 @@ use super::normal::NormalForce;
 use super::point::{ContactPoint, ContactPoints, MaterialPoint, Tangential};
 use super::{add_force_at, ClearanceJoint, ContactState};
 use crate::error::{Error, Named};
-use crate::math::{cross, perp, Vec2};
+use crate::math::{cross, lift, perp, Vec2};
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar_body::BodyState;
 use crate::model::{Gear, Joint, MeshStiffness};
 use crate::output::ClearanceData;
+use crate::scalar::{c, norm, Real};
 
 /// A gear mesh's stiffness against gear 1's angle to the line of centres, as a factor
 /// of the law's stiffness.
@@ -64,12 +65,12 @@ pub struct GearPair {
 
 /// The mesh at one state: the centres, the unit line of centres `u`, the pitch point,
 /// gear 1's angle to the line, the measure along the line of action and its rate.
-struct Mesh {
-    u: Vec2,
-    pitch: Vec2,
-    theta_1: f64,
-    s: f64,
-    rate: f64,
+struct Mesh<T: Real> {
+    u: Vec2<T>,
+    pitch: Vec2<T>,
+    theta_1: T,
+    s: T,
+    rate: T,
 }
 
 impl GearPair {
@@ -178,21 +179,22 @@ impl GearPair {
     /// The mesh at the gears' states: `s = r_b1 (phi_1 - psi) + r_b2 (phi_2 - psi) - s0`
     /// with `r_b = r cos(alpha)` the base radii and `psi` the line of centres' angle.
     #[inline]
-    fn mesh(&self, g1: &BodyState, g2: &BodyState) -> Mesh {
+    fn mesh<T: Real>(&self, g1: &BodyState<T>, g2: &BodyState<T>) -> Mesh<T> {
         let (c1, c2) = (g1.r + g1.rotate(self.gear_1.1), g2.r + g2.rotate(self.gear_2.1));
         let d = c2 - c1;
-        let distance = d.norm();
+        let distance = norm(&d);
         let u = d / distance;
-        let psi = f64::atan2(cross(self.u0, u), self.u0.dot(&u));
+        let u0 = lift(self.u0);
+        let psi = cross(u0, u).atan2(u0.dot(&u));
         let (v1, v2) = (g1.v + perp(c1 - g1.r) * g1.omega, g2.v + perp(c2 - g2.r) * g2.omega);
         let psi_rate = cross(u, v2 - v1) / distance;
         let (b1, b2) = (self.radii[0] * self.pressure.0, self.radii[1] * self.pressure.0);
         Mesh {
             u,
-            pitch: c1 + u * self.radii[0],
+            pitch: c1 + u * c::<T>(self.radii[0]),
             theta_1: g1.phi() - psi,
-            s: b1 * (g1.phi() - psi) + b2 * (g2.phi() - psi) - self.s0,
-            rate: b1 * (g1.omega - psi_rate) + b2 * (g2.omega - psi_rate),
+            s: (g1.phi() - psi) * b1 + (g2.phi() - psi) * b2 - self.s0,
+            rate: (g1.omega - psi_rate) * b1 + (g2.omega - psi_rate) * b2,
         }
     }
 
@@ -205,8 +207,55 @@ impl GearPair {
 
     /// The tooth force on gear 2 [N] at the pitch point for a normal force `f_n` on the
     /// flank of side `side` (+1: gear 1 drives gear 2 forwards, -1: the other flank).
-    fn tooth_force(&self, u: Vec2, side: f64, f_n: f64) -> Vec2 {
-        (perp(u) * (side * self.pressure.0) + u * self.pressure.1) * f_n
+    fn tooth_force<T: Real>(&self, u: Vec2<T>, side: f64, f_n: T) -> Vec2<T> {
+        (perp(u) * c::<T>(side * self.pressure.0) + u * c::<T>(self.pressure.1)) * f_n
+    }
+
+    /// The one point within `reach` ([`ClearanceJoint::contacts`]), in any number type.
+    /// Its share reads the mesh cycle at the angle's value: the compiled stage, which
+    /// records this, does not take a gear with a mesh cycle.
+    #[inline]
+    pub fn points_at<T: Real>(&self, g1: &BodyState<T>, g2: &BodyState<T>, reach: f64) -> ContactPoints<T> {
+        let mut out = ContactPoints::new();
+        let m = self.mesh(g1, g2);
+        let side = if m.s >= 0.0 { 1.0 } else { -1.0 };
+        let penetration = m.s * side - self.half_backlash;
+        if penetration > -reach {
+            out.push(ContactPoint {
+                index: 0,
+                normal: -self.tooth_force(m.u, side, T::constant(1.0)),
+                penetration,
+                penetration_rate: m.rate * side,
+                slip: Tangential::zeros(),
+                share: self.cycle.as_ref().map_or(1.0, |c| c.at(m.theta_1.value())),
+                on_i: MaterialPoint { body: self.gear_1.0, at: m.pitch },
+                on_j: MaterialPoint { body: self.gear_2.0, at: m.pitch },
+            });
+        }
+        out
+    }
+
+    /// Adds the tooth forces ([`ClearanceJoint::add_to`]) in any number type: `onset(k,
+    /// rate)` is the impact onset speed of point `k` at penetration rate `rate`
+    /// ([`ContactState::onset_for`]).
+    #[inline]
+    pub fn add_gear_loads<T: Real>(
+        &self,
+        g1: &BodyState<T>,
+        g2: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        for p in self.points_at(g1, g2, self.reach()).iter() {
+            let f_n =
+                self.normal.force(p.penetration, p.penetration_rate, onset(p.index, p.penetration_rate))
+                    * p.share;
+            if f_n != 0.0 {
+                let f = -p.normal * f_n;
+                add_force_at(qe, self.gear_2.0, g2, p.on_j.at, f);
+                add_force_at(qe, self.gear_1.0, g1, p.on_i.at, -f);
+            }
+        }
     }
 
     /// The tooth torques on gear 1 and gear 2 about their centres [N m] at the gears'
@@ -266,23 +315,7 @@ impl ClearanceJoint for GearPair {
     /// pushes it back), its share the stiffness factor of the mesh cycle.
     #[inline]
     fn contacts(&self, g1: &BodyState, g2: &BodyState, reach: f64) -> ContactPoints {
-        let mut out = ContactPoints::new();
-        let m = self.mesh(g1, g2);
-        let side = if m.s >= 0.0 { 1.0 } else { -1.0 };
-        let penetration = side * m.s - self.half_backlash;
-        if penetration > -reach {
-            out.push(ContactPoint {
-                index: 0,
-                normal: -self.tooth_force(m.u, side, 1.0),
-                penetration,
-                penetration_rate: side * m.rate,
-                slip: Tangential::zeros(),
-                share: self.cycle.as_ref().map_or(1.0, |c| c.at(m.theta_1)),
-                on_i: MaterialPoint { body: self.gear_1.0, at: m.pitch },
-                on_j: MaterialPoint { body: self.gear_2.0, at: m.pitch },
-            });
-        }
-        out
+        self.points_at(g1, g2, reach)
     }
 
     #[inline]
@@ -305,13 +338,6 @@ impl ClearanceJoint for GearPair {
     /// its opposite on gear 1 there.
     #[inline]
     fn add_to(&self, g1: &BodyState, g2: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        for p in self.contacts(g1, g2, self.reach()).iter() {
-            let (f_n, _) = self.force(p, states[0].onset_for(p.penetration_rate));
-            if f_n != 0.0 {
-                let f = -p.normal * f_n;
-                add_force_at(qe, self.gear_2.0, g2, p.on_j.at, f);
-                add_force_at(qe, self.gear_1.0, g1, p.on_i.at, -f);
-            }
-        }
+        self.add_gear_loads(g1, g2, |k, rate| states[k].onset_for(rate), qe);
     }
 }
