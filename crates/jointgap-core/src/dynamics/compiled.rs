@@ -13,7 +13,8 @@
 //! path computes what the interpreted kernels compute, operation for operation, so a run
 //! gives the same bits either way. An evaluation the graphs do not cover (a Schur
 //! complement that is not well conditioned, a singular prescribed block) runs
-//! interpreted.
+//! interpreted. The implicit methods' Jacobians are the paths' graphs differentiated
+//! ([`jacobian`]); a run that does not compile still records its paths for them.
 //!
 //! Inputs: `q`, `v`, the motion of each driven active row (position, speed,
 //! acceleration), the table value of each applied load (two numbers), and each contact
@@ -216,7 +217,7 @@ pub fn accelerations<K: BodyKind>(
 }
 
 /// Writes the acceleration rows of `df/dy` at `(t, q, v)`, `[dqdd/dq dqdd/dv]`, into
-/// `jac`, exactly: the forward-mode derivatives of the graph of the path that holds
+/// `jac`, exactly: the reverse-mode derivatives of the graph of the path that holds
 /// there (recorded now if none does). `false` where the run takes no exact Jacobians or
 /// no graph covers the state (the caller then takes the applied forces' differences).
 pub fn jacobian<K: BodyKind>(
