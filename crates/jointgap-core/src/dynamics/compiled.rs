@@ -162,7 +162,8 @@ impl<K: BodyKind> Stage<K> {
     pub fn summary(&self) -> String {
         let [native, interpreted] = self.evaluations;
         let mut line = if self.native {
-            let nodes: usize = self.paths.iter().map(|p| p.graph.nodes.len()).sum();
+            let nodes: usize =
+                self.paths.iter().map(|p| p.code.as_ref().map_or(p.graph.nodes.len(), |c| c.nodes)).sum();
             format!(
                 "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
                  {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
