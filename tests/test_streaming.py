@@ -165,8 +165,9 @@ def test_progress_reports_while_running(model: jointgap.Model, monkeypatch) -> N
     quiet: list[tuple[float, int, int]] = []
     model.simulate(T_END, rate=10_000, method="sdirk4", progress=lambda *p: quiet.append(p))
     assert quiet == []
+    # A check may fall on the last step, which ends at T_END.
     times = [t for t, _, _ in reports]
-    assert times == sorted(times) and all(0 < t < T_END for t in times)
+    assert times == sorted(times) and all(0 < t <= T_END for t in times)
     steps = [s for _, s, _ in reports]
     assert steps == sorted(steps)
     assert all(i <= len(result.impacts["rod_slider"]) for _, _, i in reports)
