@@ -11,33 +11,6 @@ use std::ops::Range;
 use super::traced::{Func, Graph, Node};
 
 impl Graph {
-    /// The values of every node at inputs `x` and parameters `p`, in node order.
-    pub fn values(&self, x: &[f64], p: &[f64]) -> Vec<f64> {
-        let mut v = vec![0.0; self.nodes.len()];
-        for (k, node) in self.nodes.iter().enumerate() {
-            let a = |i: u32| v[i as usize];
-            v[k] = match *node {
-                Node::Const(bits) => f64::from_bits(bits),
-                Node::Input(i) => x[i as usize],
-                Node::Param(i) => p[i as usize],
-                Node::Add(p, q) => a(p) + a(q),
-                Node::Sub(p, q) => a(p) - a(q),
-                Node::Mul(p, q) => a(p) * a(q),
-                Node::Div(p, q) => a(p) / a(q),
-                Node::Neg(p) => -a(p),
-                Node::Sqrt(p) => a(p).sqrt(),
-                Node::Abs(p) => a(p).abs(),
-                Node::Call(f, p, q) => f.eval(a(p), if q == u32::MAX { 0.0 } else { a(q) }),
-            };
-        }
-        v
-    }
-
-    /// Whether every guard holds at the node values `v` ([`Graph::values`]).
-    pub fn holds(&self, v: &[f64]) -> bool {
-        self.guards.iter().all(|g| g.op.holds(v[g.a as usize], v[g.b as usize]) == g.holds)
-    }
-
     /// What [`Graph::jacobian`] needs to know of this graph to differentiate outputs `of`
     /// with respect to inputs `wrt`, worked out once.
     pub fn sweep(&self, wrt: Range<usize>, of: Range<usize>) -> Sweep {

@@ -160,6 +160,33 @@ impl Graph {
         let v = self.values(x, p);
         (self.holds(&v), self.outputs.iter().map(|&o| v[o as usize]).collect())
     }
+
+    /// The values of every node at inputs `x` and parameters `p`, in node order.
+    pub fn values(&self, x: &[f64], p: &[f64]) -> Vec<f64> {
+        let mut v = vec![0.0; self.nodes.len()];
+        for (k, node) in self.nodes.iter().enumerate() {
+            let a = |i: u32| v[i as usize];
+            v[k] = match *node {
+                Node::Const(bits) => f64::from_bits(bits),
+                Node::Input(i) => x[i as usize],
+                Node::Param(i) => p[i as usize],
+                Node::Add(p, q) => a(p) + a(q),
+                Node::Sub(p, q) => a(p) - a(q),
+                Node::Mul(p, q) => a(p) * a(q),
+                Node::Div(p, q) => a(p) / a(q),
+                Node::Neg(p) => -a(p),
+                Node::Sqrt(p) => a(p).sqrt(),
+                Node::Abs(p) => a(p).abs(),
+                Node::Call(f, p, q) => f.eval(a(p), if q == u32::MAX { 0.0 } else { a(q) }),
+            };
+        }
+        v
+    }
+
+    /// Whether every guard holds at the node values `v` ([`Graph::values`]).
+    pub fn holds(&self, v: &[f64]) -> bool {
+        self.guards.iter().all(|g| g.op.holds(v[g.a as usize], v[g.b as usize]) == g.holds)
+    }
 }
 
 /// The graph being recorded on this thread.

@@ -235,6 +235,13 @@ impl GearPair {
         out
     }
 
+    /// The teeth's normal force at point `p` for onset speed `onset_speed`: the law's,
+    /// times the point's share of the mesh stiffness.
+    #[inline]
+    fn tooth_normal_force<T: Real>(&self, p: &ContactPoint<T>, onset_speed: T) -> T {
+        self.normal.force(p.penetration, p.penetration_rate, onset_speed) * p.share
+    }
+
     /// Adds the tooth forces ([`ClearanceJoint::add_to`]) in any number type: `onset(k,
     /// rate)` is the impact onset speed of point `k` at penetration rate `rate`
     /// ([`ContactState::onset_for`]).
@@ -247,9 +254,7 @@ impl GearPair {
         qe: &mut Loads<T>,
     ) {
         for p in self.points_at(g1, g2, self.reach()).iter() {
-            let f_n =
-                self.normal.force(p.penetration, p.penetration_rate, onset(p.index, p.penetration_rate))
-                    * p.share;
+            let f_n = self.tooth_normal_force(p, onset(p.index, p.penetration_rate));
             if f_n != 0.0 {
                 let f = -p.normal * f_n;
                 add_force_at(qe, self.gear_2.0, g2, p.on_j.at, f);
@@ -320,7 +325,7 @@ impl ClearanceJoint for GearPair {
 
     #[inline]
     fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
-        (p.share * self.normal.force(p.penetration, p.penetration_rate, onset_speed), Tangential::zeros())
+        (self.tooth_normal_force(p, onset_speed), Tangential::zeros())
     }
 
     fn losses(&self, g1: &BodyState, g2: &BodyState, states: &[ContactState]) -> (f64, f64) {
