@@ -385,7 +385,7 @@ impl Kind for Spatial {
 
     fn put_body_extra(out: &mut Cursor, b: &BodyInfo<Spatial>, q: &[f64], v: &[f64], a: &[f64]) {
         let state = BodyState::read(q, v);
-        let given = state.orientation * b.inertia.frame.inverse();
+        let given = state.orientation() * b.inertia.frame.inverse();
         let [yaw, pitch, roll] = ZYX.angles(&given);
         let (_, _, alpha) = body::read_acceleration(a, &state);
         [yaw, pitch, roll]

@@ -513,7 +513,7 @@ impl System<Spatial> {
         let layout = Layout::new(bodies.info.iter().map(|_| SPATIAL_BODY));
         let (mut q_guess, mut v_guess) = (vec![0.0; layout.nq()], vec![0.0; layout.nv()]);
         for (p, slot) in bodies.placement.iter().zip(layout.slots()) {
-            let (q, v) = body::placement_coordinates(&p.r, &p.orientation, &p.v, &p.omega_global());
+            let (q, v) = body::placement_coordinates(&p.r, &p.orientation(), &p.v, &p.omega_global());
             q_guess[slot.q()].copy_from_slice(&q);
             v_guess[slot.v()].copy_from_slice(&v);
         }

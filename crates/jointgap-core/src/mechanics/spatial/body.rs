@@ -6,9 +6,10 @@
 //! and the equations keep the planar engine's diagonal Schur solve; the gyroscopic
 //! moment `-w' x (J w')` is an applied load.
 
-use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3, Vector4};
 
 use crate::mechanics::layout::{self, BodyShape};
+use crate::scalar::{norm, Real};
 
 /// A 3-vector [m, m/s, N, rad/s, ...].
 pub type Vec3 = Vector3<f64>;
@@ -107,8 +108,8 @@ pub fn gravity_work(mass: f64, gravity: Vec3, q: &[f64]) -> f64 {
 /// Adds the weight `m g` of a body of mass `mass` [kg] to its generalized forces (at
 /// its centre of mass: no moment).
 #[inline]
-pub fn add_weight(qe: &mut [f64], mass: f64, gravity: Vec3) {
-    add_to(qe, 0, &(gravity * mass));
+pub fn add_weight<T: Real>(qe: &mut [T], mass: f64, gravity: Vec3) {
+    add_to(qe, 0, &constant(&(gravity * mass)));
 }
 
 /// Adds force `f` [N] (global axes), whose arm from the centre of mass is `arm` (global
@@ -117,7 +118,7 @@ pub fn add_weight(qe: &mut [f64], mass: f64, gravity: Vec3) {
 /// rotational coordinates are its body-frame rotations (its virtual work
 /// `f . (dr + A (dpi' x s))` with `arm = A s`).
 #[inline]
-pub fn add_force(qe: &mut [f64], state: &BodyState, arm: &Vec3, f: &Vec3) {
+pub fn add_force<T: Real>(qe: &mut [T], state: &BodyState<T>, arm: &Vector3<T>, f: &Vector3<T>) {
     add_to(qe, 0, f);
     add_to(qe, 3, &state.a.tr_mul(&arm.cross(f)));
 }
@@ -125,7 +126,7 @@ pub fn add_force(qe: &mut [f64], state: &BodyState, arm: &Vec3, f: &Vec3) {
 /// Adds torque `tau` [N m] (global axes) to a spatial body's generalized forces, turned
 /// into the body frame: `A^T tau`.
 #[inline]
-pub fn add_torque(qe: &mut [f64], state: &BodyState, tau: &Vec3) {
+pub fn add_torque<T: Real>(qe: &mut [T], state: &BodyState<T>, tau: &Vector3<T>) {
     add_to(qe, 3, &state.a.tr_mul(tau));
 }
 
@@ -134,14 +135,20 @@ pub fn add_torque(qe: &mut [f64], state: &BodyState, tau: &Vec3) {
 /// equations `J dw'/dt + w' x (J w') = M'` written as the diagonal mass times the
 /// acceleration equal to a load (Nikravesh 1988; Haug 1989).
 #[inline]
-pub fn add_gyroscopic(qe: &mut [f64], moments: Vec3, omega: &Vec3) {
-    add_to(qe, 3, &-omega.cross(&moments.component_mul(omega)));
+pub fn add_gyroscopic<T: Real>(qe: &mut [T], moments: Vec3, omega: &Vector3<T>) {
+    add_to(qe, 3, &-omega.cross(&constant(&moments).component_mul(omega)));
 }
 
 /// `x[at..at + 3] += y`.
 #[inline]
-fn add_to(x: &mut [f64], at: usize, y: &Vec3) {
-    x[at..at + 3].iter_mut().zip(y.iter()).for_each(|(x, y)| *x += y);
+fn add_to<T: Real>(x: &mut [T], at: usize, y: &Vector3<T>) {
+    x[at..at + 3].iter_mut().zip(y.iter()).for_each(|(x, y)| *x += *y);
+}
+
+/// A vector of the model (a point, an axis) as constants of the number type `T`.
+#[inline(always)]
+pub fn constant<T: Real>(v: &Vec3) -> Vector3<T> {
+    v.map(T::constant)
 }
 
 /// Whether velocity coordinate `d` of a spatial body is a rotation (`wx'`, `wy'`, `wz'`).
@@ -270,17 +277,17 @@ pub fn placement_coordinates(
 /// unturned), with its rotation matrix computed once: every row and force on the body
 /// rotates by it.
 #[derive(Debug, Clone, Copy)]
-pub struct BodyState {
+pub struct BodyState<T: Real = f64> {
     /// Centre of mass [m].
-    pub r: Vec3,
-    /// Orientation (body frame to global axes).
-    pub orientation: Orientation,
-    /// The rotation matrix `A` of `orientation`.
-    pub a: Mat3,
+    pub r: Vector3<T>,
+    /// The unit quaternion of its orientation, `(e1, e2, e3, e0)` (nalgebra's order).
+    e: Vector4<T>,
+    /// The rotation matrix `A` (body frame to global axes).
+    pub a: Matrix3<T>,
     /// Velocity of the centre of mass, global [m/s].
-    pub v: Vec3,
+    pub v: Vector3<T>,
     /// Angular velocity in the body frame `w'` [rad/s].
-    pub omega: Vec3,
+    pub omega: Vector3<T>,
 }
 
 impl BodyState {
@@ -292,39 +299,76 @@ impl BodyState {
     /// The state at centre `r`, orientation, velocity `v` and body-frame angular
     /// velocity `omega`.
     pub fn new(r: Vec3, orientation: Orientation, v: Vec3, omega: Vec3) -> Self {
-        BodyState { r, a: orientation.to_rotation_matrix().into_inner(), orientation, v, omega }
+        let e = orientation.into_inner().coords;
+        BodyState { r, e, a: rotation_matrix(&e), v, omega }
     }
 
+    /// Its orientation (body frame to global axes).
+    #[inline]
+    pub fn orientation(&self) -> Orientation {
+        Orientation::new_unchecked(Quaternion::from(self.e))
+    }
+}
+
+impl<T: Real> BodyState<T> {
     /// The state from a body's positions and velocities. The quaternion is normalised on
     /// reading: an integrator's stage states leave it off unit length by the step's error.
+    /// On `f64` it gives the bits of nalgebra's `UnitQuaternion::from_quaternion` and
+    /// `to_rotation_matrix`, which it repeats operation for operation.
     #[inline]
-    pub fn read(q: &[f64], v: &[f64]) -> Self {
-        let e = Quaternion::new(q[3], q[4], q[5], q[6]);
-        BodyState::new(
-            Vec3::new(q[0], q[1], q[2]),
-            UnitQuaternion::from_quaternion(e),
-            Vec3::new(v[0], v[1], v[2]),
-            Vec3::new(v[3], v[4], v[5]),
-        )
+    pub fn read(q: &[T], v: &[T]) -> Self {
+        let e = Vector4::new(q[4], q[5], q[6], q[3]);
+        let length = norm(&e);
+        let e = e.map(|x| x / length);
+        BodyState {
+            r: Vector3::new(q[0], q[1], q[2]),
+            e,
+            a: rotation_matrix(&e),
+            v: Vector3::new(v[0], v[1], v[2]),
+            omega: Vector3::new(v[3], v[4], v[5]),
+        }
     }
 
     /// `A s`: a body-frame vector in global axes.
     #[inline]
-    pub fn rotate(&self, s: &Vec3) -> Vec3 {
+    pub fn rotate(&self, s: &Vector3<T>) -> Vector3<T> {
         self.a * s
     }
 
     /// The angular velocity in global axes `w = A w'`.
     #[inline]
-    pub fn omega_global(&self) -> Vec3 {
+    pub fn omega_global(&self) -> Vector3<T> {
         self.a * self.omega
     }
 
     /// Global velocity of the body's point `s` (body frame): `v + A (w' x s)`.
     #[inline]
-    pub fn point_velocity(&self, s: &Vec3) -> Vec3 {
+    pub fn point_velocity(&self, s: &Vector3<T>) -> Vector3<T> {
         self.v + self.a * self.omega.cross(s)
     }
+}
+
+/// The rotation matrix of the unit quaternion `e = (e1, e2, e3, e0)`, written as
+/// nalgebra's `UnitQuaternion::to_rotation_matrix` computes it (the same operations in
+/// the same order), so that on `f64` it gives its bits.
+#[inline]
+fn rotation_matrix<T: Real>(e: &Vector4<T>) -> Matrix3<T> {
+    let (i, j, k, w) = (e[0], e[1], e[2], e[3]);
+    let (ww, ii, jj, kk) = (w * w, i * i, j * j, k * k);
+    let two = T::constant(2.0);
+    let (ij, wk, wj) = (i * j * two, w * k * two, w * j * two);
+    let (ik, jk, wi) = (i * k * two, j * k * two, w * i * two);
+    Matrix3::new(
+        ww + ii - jj - kk,
+        ij - wk,
+        wj + ik,
+        wk + ij,
+        ww - ii + jj - kk,
+        jk - wi,
+        ik - wj,
+        wi + jk,
+        ww - ii - jj + kk,
+    )
 }
 
 impl Default for BodyState {
@@ -440,7 +484,8 @@ mod tests {
             let work = f.dot(&(point(&plus, &s) - point(&minus, &s))) / (2.0 * h);
             let power: f64 = qe.iter().zip(&dv).map(|(a, b)| a * b).sum();
             assert!((work - power).abs() < 1e-8 * f.norm(), "force: f . dP {work} vs qe . dv {power}");
-            let (a, b) = (BodyState::read(&plus, &v).orientation, BodyState::read(&minus, &v).orientation);
+            let (a, b) =
+                (BodyState::read(&plus, &v).orientation(), BodyState::read(&minus, &v).orientation());
             let turn = (a * b.inverse()).scaled_axis() / (2.0 * h);
             let power: f64 = torque.iter().zip(&dv).map(|(a, b)| a * b).sum();
             assert!(
@@ -557,6 +602,26 @@ mod tests {
         let (a, alpha, alpha_global) = read_acceleration(&[1.0, 2.0, 3.0, 0.5, -0.2, 0.7], &state);
         assert_eq!((a, alpha), (Vec3::new(1.0, 2.0, 3.0), Vec3::new(0.5, -0.2, 0.7)));
         assert!((alpha_global - orientation * alpha).norm() < 1e-15);
+    }
+
+    /// Reading a state gives the bits of nalgebra's normalising and rotation matrix, for
+    /// quaternions off unit length (a stage state) in every sign pattern, as the
+    /// compiled evaluation, which repeats the generic reading, relies on.
+    #[test]
+    fn reading_gives_nalgebras_bits() {
+        let mut x = 0.3f64;
+        let mut next = || {
+            x = (x * 3.7 + 0.123).fract();
+            2.0 * x - 1.0
+        };
+        for _ in 0..1000 {
+            let q = [0.0, 0.0, 0.0, next(), next(), next(), next()];
+            let state = BodyState::read(&q, &[0.0; NV]);
+            let unit = UnitQuaternion::from_quaternion(Quaternion::new(q[3], q[4], q[5], q[6]));
+            let a = unit.to_rotation_matrix().into_inner();
+            assert!(state.a.iter().zip(a.iter()).all(|(x, y)| x.to_bits() == y.to_bits()), "{q:?}");
+            assert_eq!(state.orientation().coords.map(f64::to_bits), unit.coords.map(f64::to_bits));
+        }
     }
 
     /// Normalising brings `e` to unit length, and a second time changes nothing.

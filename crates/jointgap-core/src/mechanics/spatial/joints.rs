@@ -394,7 +394,7 @@ mod tests {
     fn moved(b: &BodyState, e: f64) -> BodyState {
         BodyState::new(
             b.r + b.v * e,
-            b.orientation * Orientation::from_scaled_axis(b.omega * e),
+            b.orientation() * Orientation::from_scaled_axis(b.omega * e),
             b.v,
             b.omega,
         )
@@ -403,7 +403,7 @@ mod tests {
     /// The body displaced along velocity coordinate `k` by `s`: `dr` for k < 3, a small
     /// rotation `dpi'` in its own frame for k >= 3.
     fn displaced(b: &BodyState, k: usize, s: f64) -> BodyState {
-        let (mut r, mut orientation) = (b.r, b.orientation);
+        let (mut r, mut orientation) = (b.r, b.orientation());
         if k < 3 {
             r[k] += s;
         } else {
@@ -506,7 +506,7 @@ mod tests {
     /// `pivot`, then shifted by `shift`.
     fn carried(bj: &BodyState, pivot: Vec3, turn: Vec3, shift: Vec3) -> BodyState {
         let rot = Orientation::from_scaled_axis(turn);
-        BodyState::new(pivot + rot * (bj.r - pivot) + shift, rot * bj.orientation, bj.v, bj.omega)
+        BodyState::new(pivot + rot * (bj.r - pivot) + shift, rot * bj.orientation(), bj.v, bj.omega)
     }
 
     /// A placement of body j that satisfies the joint: its axis along body i's (across

@@ -126,7 +126,7 @@ mod tests {
     fn point_against_placement() {
         let g = joint();
         let socket = socket_body();
-        let centre_s = Vec3::new(0.1, 0.2, 0.3) + socket.orientation * Vec3::new(0.02, -0.005, 0.01);
+        let centre_s = Vec3::new(0.1, 0.2, 0.3) + socket.orientation() * Vec3::new(0.02, -0.005, 0.01);
         for (ecc, polar, azimuth) in
             [(0.0001, 0.4, 1.0), (0.0002, 2.0, -2.0), (0.00025, 3.0, 0.3), (0.0004, 1.2, 3.1)]
         {

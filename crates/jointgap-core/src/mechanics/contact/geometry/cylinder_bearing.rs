@@ -263,8 +263,8 @@ mod tests {
     /// The bearing's centre, its axis `a`, and a unit radial direction `m` normal to it,
     /// global.
     fn frame(g: &CylinderBearing, b: &BodyState) -> (Vec3, Vec3, Vec3) {
-        let a = b.orientation * g.u_bearing;
-        (b.r + b.orientation * g.s_bearing, a, a.cross(&Vec3::new(1.0, 2.0, 3.0)).normalize())
+        let a = b.orientation() * g.u_bearing;
+        (b.r + b.orientation() * g.s_bearing, a, a.cross(&Vec3::new(1.0, 2.0, 3.0)).normalize())
     }
 
     /// The journal body with its centre at `centre` and its axis along `axis` (both

@@ -11,13 +11,18 @@ pub type Kernel<'a> = dyn Fn(&BodyState, &BodyState) -> ContactPoints3 + 'a;
 /// The body `b` after time `dt` at its constant velocities: `r + v dt`, orientation
 /// `e exp(w' dt)` (`w'` in the body frame, so it acts on the right).
 pub fn moving(b: &BodyState, dt: f64) -> BodyState {
-    BodyState::new(b.r + b.v * dt, b.orientation * Orientation::from_scaled_axis(b.omega * dt), b.v, b.omega)
+    BodyState::new(
+        b.r + b.v * dt,
+        b.orientation() * Orientation::from_scaled_axis(b.omega * dt),
+        b.v,
+        b.omega,
+    )
 }
 
 /// The body `b` displaced by `dr` (global) and turned by the small rotation `dpi` (body
 /// frame): `e exp(dpi')`.
 fn displaced(b: &BodyState, dr: Vec3, dpi: Vec3) -> BodyState {
-    BodyState::new(b.r + dr, b.orientation * Orientation::from_scaled_axis(dpi), b.v, b.omega)
+    BodyState::new(b.r + dr, b.orientation() * Orientation::from_scaled_axis(dpi), b.v, b.omega)
 }
 
 /// The point of index `k` among `points`.
