@@ -134,7 +134,7 @@ fn content_hash(graph: &Graph) -> u64 {
 }
 
 /// The functions a graph calls, by their symbol names.
-const CALLS: [(Func, &str); 7] = [
+const CALLS: [(Func, &str); 8] = [
     (Func::Powf, "jg_powf"),
     (Func::Signum, "jg_signum"),
     (Func::Max, "jg_max"),
@@ -142,6 +142,7 @@ const CALLS: [(Func, &str); 7] = [
     (Func::Tanh, "jg_tanh"),
     (Func::Cosh, "jg_cosh"),
     (Func::Atan2, "jg_atan2"),
+    (Func::RemEuclid, "jg_rem_euclid"),
 ];
 
 extern "C" fn jg_sin_cos(x: f64, cos: *mut f64) -> f64 {
@@ -160,7 +161,7 @@ macro_rules! callable {
 }
 
 callable!(jg_powf => Func::Powf, jg_signum => Func::Signum, jg_max => Func::Max,
-    jg_min => Func::Min, jg_tanh => Func::Tanh, jg_cosh => Func::Cosh, jg_atan2 => Func::Atan2);
+    jg_min => Func::Min, jg_tanh => Func::Tanh, jg_cosh => Func::Cosh, jg_atan2 => Func::Atan2, jg_rem_euclid => Func::RemEuclid);
 
 fn address(f: Func) -> *const u8 {
     match f {
@@ -172,6 +173,7 @@ fn address(f: Func) -> *const u8 {
         Func::Tanh => jg_tanh as *const u8,
         Func::Cosh => jg_cosh as *const u8,
         Func::Atan2 => jg_atan2 as *const u8,
+        Func::RemEuclid => jg_rem_euclid as *const u8,
     }
 }
 
@@ -368,6 +370,7 @@ mod tests {
             x[0].min(c(0.25)),
             c::<T>(2.0) * 0.5 + 0.25,
             x[1].atan2(x[0]),
+            x[0].rem_euclid(c(0.3)),
         ]
     }
 
@@ -376,7 +379,7 @@ mod tests {
         let at = [0.7, 1.3];
         let (graph, p) = record(&at, |x| Some(kernel::<Traced>(x))).expect("a graph");
         let f = compile(&graph).expect("compiles");
-        let mut out = vec![0.0; 8];
+        let mut out = vec![0.0; 9];
         for x in [[0.7, 1.3], [-2.1, 0.4], [3.0, -0.0], [1.0, 5e-3]] {
             let ok = f.call(&x, &p, &mut out);
             let expected = kernel::<f64>(&x);

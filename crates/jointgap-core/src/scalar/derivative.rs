@@ -140,6 +140,12 @@ impl Graph {
                             term(p, y / r2);
                             term(q, -x / r2);
                         }
+                        // x - k y, k the whole number of y's taken off: a slope of 1 in
+                        // x, -k in y (between the jumps).
+                        Func::RemEuclid => {
+                            term(p, 1.0);
+                            term(q, -((x - value) / y).round());
+                        }
                     }
                 }
             }
@@ -214,6 +220,7 @@ mod tests {
                 a.max(b) + a.min(b) * 3.0,
                 a.tanh() + b.cosh() + a.signum(),
                 a.atan2(b),
+                (a * 10.0).rem_euclid(b),
             ]
         });
         let expected = [
@@ -225,6 +232,7 @@ mod tests {
             [3.0, 1.0],
             [1.0 - x.tanh().powi(2), y.sinh()],
             [y / (x * x + y * y), -x / (x * x + y * y)],
+            [10.0, -5.0],
         ];
         for (got, want) in jac.iter().zip(expected) {
             for (g, w) in got.iter().zip(want) {

@@ -72,6 +72,8 @@ pub trait Real:
     fn cosh(self) -> Self;
     /// The angle of the point `(x, self)`, as `f64::atan2`.
     fn atan2(self, x: Self) -> Self;
+    /// The remainder in `[0, |m|)`, as `f64::rem_euclid`.
+    fn rem_euclid(self, m: Self) -> Self;
 }
 
 impl Real for f64 {
@@ -122,6 +124,10 @@ impl Real for f64 {
     #[inline(always)]
     fn atan2(self, x: Self) -> Self {
         f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn rem_euclid(self, m: Self) -> Self {
+        f64::rem_euclid(self, m)
     }
 }
 

@@ -45,6 +45,8 @@ pub enum Func {
     Cosh,
     /// `x.atan2(y)`.
     Atan2,
+    /// `x.rem_euclid(y)`.
+    RemEuclid,
 }
 
 impl Func {
@@ -60,6 +62,7 @@ impl Func {
             Func::Tanh => x.tanh(),
             Func::Cosh => x.cosh(),
             Func::Atan2 => x.atan2(y),
+            Func::RemEuclid => x.rem_euclid(y),
         }
     }
 }
@@ -542,6 +545,9 @@ impl Real for Traced {
     }
     fn atan2(self, x: Traced) -> Traced {
         self.call(Func::Atan2, Some(x))
+    }
+    fn rem_euclid(self, m: Traced) -> Traced {
+        self.call(Func::RemEuclid, Some(m))
     }
 }
 

@@ -10,31 +10,34 @@ use std::ops::Deref;
 
 use smallvec::SmallVec;
 
-use crate::mechanics::spatial::body::{BodyState, Vec3};
+use nalgebra::Vector3;
+
+use crate::mechanics::spatial::body::BodyState;
+use crate::scalar::Real;
 
 /// A point of a spatial body, in global axes.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MaterialPoint3 {
+pub struct MaterialPoint3<T: Real = f64> {
     /// The body it belongs to (`None`: the ground).
     pub body: Option<usize>,
     /// Where it is, global [m].
-    pub at: Vec3,
+    pub at: Vector3<T>,
     /// `at` from the body's centre of mass, global axes [m]: a force `f` at the point
     /// has the moment `arm x f` about the centre of mass (in the body frame, `A^T (arm x
     /// f)`, the generalized force on the body's virtual rotation `dpi'`).
-    pub arm: Vec3,
+    pub arm: Vector3<T>,
 }
 
-impl MaterialPoint3 {
+impl<T: Real> MaterialPoint3<T> {
     /// The point `at` (global) of `body`, whose state is `state`.
     #[inline]
-    pub fn of(body: Option<usize>, state: &BodyState, at: Vec3) -> Self {
+    pub fn of(body: Option<usize>, state: &BodyState<T>, at: Vector3<T>) -> Self {
         MaterialPoint3 { body, at, arm: at - state.r }
     }
 
     /// Velocity [m/s] of the point, moving with its body (state `state`): `v + w x arm`.
     #[inline]
-    pub fn velocity(&self, state: &BodyState) -> Vec3 {
+    pub fn velocity(&self, state: &BodyState<T>) -> Vector3<T> {
         state.v + state.omega_global().cross(&self.arm)
     }
 }
@@ -44,37 +47,37 @@ impl MaterialPoint3 {
 /// body j (the ball, the journal). The normal points the way body j's point moves to
 /// press deeper into body i's part, so the normal force on body j acts along `-n`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactPoint3 {
+pub struct ContactPoint3<T: Real = f64> {
     /// Which of its geometry's points this is (0 to the geometry's count - 1): each keeps
     /// its own contact state and impact list.
     pub index: usize,
     /// Unit normal `n`, global.
-    pub normal: Vec3,
+    pub normal: Vector3<T>,
     /// Penetration `delta` [m]: positive in contact, minus the gap apart.
-    pub penetration: f64,
+    pub penetration: T,
     /// Penetration rate `delta_dot = v . n` [m/s], `v` the velocity of body j's point
     /// relative to body i's: the time derivative of `penetration`.
-    pub penetration_rate: f64,
+    pub penetration_rate: T,
     /// Slip: `v - (v . n) n`, the tangential part of that relative velocity, global
     /// [m/s].
-    pub slip: Vec3,
+    pub slip: Vector3<T>,
     /// The part of the joint's normal law this point carries: its normal force is `share`
     /// times the law's force at its penetration and rate (1 for a ball in its socket;
     /// 1/2 at each end of a journal, whose two ends together carry the whole journal's
     /// law when it lies aligned).
     pub share: f64,
     /// The point of body i's part (the socket's, the bearing's wall).
-    pub on_i: MaterialPoint3,
+    pub on_i: MaterialPoint3<T>,
     /// The point of body j's part (the ball's, the journal's surface).
-    pub on_j: MaterialPoint3,
+    pub on_j: MaterialPoint3<T>,
 }
 
-impl ContactPoint3 {
+impl<T: Real> ContactPoint3<T> {
     /// The contact force on body j at [`ContactPoint3::on_j`], global [N], from a normal
     /// force `f_n` (compressive positive) and a friction force `f_t` (global, tangential):
     /// `-F_N n + F_T`. Body i takes its opposite at [`ContactPoint3::on_i`].
     #[inline]
-    pub fn force_on_j(&self, f_n: f64, f_t: &Vec3) -> Vec3 {
+    pub fn force_on_j(&self, f_n: T, f_t: &Vector3<T>) -> Vector3<T> {
         -self.normal * f_n + f_t
     }
 }
@@ -88,9 +91,9 @@ pub const INLINE_POINTS3: usize = 4;
 /// on the stack up to [`INLINE_POINTS3`] (smallvec: its free slots are left unwritten,
 /// so a joint of one point pays for one).
 #[derive(Debug, Clone, Default)]
-pub struct ContactPoints3(SmallVec<[ContactPoint3; INLINE_POINTS3]>);
+pub struct ContactPoints3<T: Real = f64>(SmallVec<[ContactPoint3<T>; INLINE_POINTS3]>);
 
-impl ContactPoints3 {
+impl<T: Real> ContactPoints3<T> {
     /// No points.
     #[inline]
     pub fn new() -> Self {
@@ -99,16 +102,16 @@ impl ContactPoints3 {
 
     /// Adds a point; a geometry adds at most the points it declares.
     #[inline]
-    pub fn push(&mut self, point: ContactPoint3) {
+    pub fn push(&mut self, point: ContactPoint3<T>) {
         self.0.push(point);
     }
 }
 
-impl Deref for ContactPoints3 {
-    type Target = [ContactPoint3];
+impl<T: Real> Deref for ContactPoints3<T> {
+    type Target = [ContactPoint3<T>];
 
     #[inline]
-    fn deref(&self) -> &[ContactPoint3] {
+    fn deref(&self) -> &[ContactPoint3<T>] {
         &self.0
     }
 }
@@ -118,14 +121,14 @@ impl Deref for ContactPoints3 {
 /// `on_j` to `on_i` (each moving with its body) split into the rate `v . n` and the slip
 /// `v - (v . n) n`. Every spatial geometry ends with it, so all of them split alike.
 #[inline]
-pub(crate) fn split(
+pub(crate) fn split<T: Real>(
     index: usize,
-    n: Vec3,
-    penetration: f64,
+    n: Vector3<T>,
+    penetration: T,
     share: f64,
-    (on_i, state_i): (MaterialPoint3, &BodyState),
-    (on_j, state_j): (MaterialPoint3, &BodyState),
-) -> ContactPoint3 {
+    (on_i, state_i): (MaterialPoint3<T>, &BodyState<T>),
+    (on_j, state_j): (MaterialPoint3<T>, &BodyState<T>),
+) -> ContactPoint3<T> {
     let v = on_j.velocity(state_j) - on_i.velocity(state_i);
     let rate = v.dot(&n);
     ContactPoint3 {

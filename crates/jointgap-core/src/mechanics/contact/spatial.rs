@@ -21,6 +21,8 @@ use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
 use crate::mechanics::spatial::joints::{row_rate, SpatialRowKind};
 use crate::model::FrictionSpec;
 use crate::output::ClearanceData;
+use crate::scalar::Real;
+use nalgebra::Vector3;
 
 /// Where a spatial clearance joint's parts are and their shape.
 #[derive(Debug, Clone, PartialEq)]
@@ -120,13 +122,67 @@ impl ContactMeasure for ContactPoint3 {
 
 /// Adds force `f` (global) at the global point `p` of a body.
 #[inline]
-fn add_force_at(loads: &mut Loads, p: &MaterialPoint3, state: &BodyState, f: &Vec3) {
+fn add_force_at<T: Real>(loads: &mut Loads<T>, p: &MaterialPoint3<T>, state: &BodyState<T>, f: &Vector3<T>) {
     if let Some(qe) = loads.body(p.body) {
         body::add_force(qe, state, &p.arm, f);
     }
 }
 
+/// Adds the force of each of `points` (`force` gives its normal and friction forces):
+/// body j's at its material point, the opposite on body i at its own.
+#[inline]
+fn apply_point_forces<T: Real>(
+    points: &[ContactPoint3<T>],
+    force: impl Fn(&ContactPoint3<T>) -> (T, Vector3<T>),
+    i: &BodyState<T>,
+    j: &BodyState<T>,
+    qe: &mut Loads<T>,
+) {
+    for p in points {
+        let (f_n, f_t) = force(p);
+        if f_n != 0.0 || f_t.iter().any(|&f| f != 0.0) {
+            let f = p.force_on_j(f_n, &f_t);
+            add_force_at(qe, &p.on_j, j, &f);
+            add_force_at(qe, &p.on_i, i, &-f);
+        }
+    }
+}
+
 impl SpatialClearance {
+    /// A contact point's normal force (its share of the normal law's) and friction
+    /// force, in any number type, for the impact onset speed `onset_speed` [m/s]:
+    /// friction acts against the slip, and only under a pressing normal force.
+    #[inline]
+    fn point_force<T: Real>(&self, p: &ContactPoint3<T>, onset_speed: T) -> (T, Vector3<T>) {
+        let f_n = self.normal.force(p.penetration, p.penetration_rate, onset_speed) * p.share;
+        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Vector3::zeros() };
+        (f_n, f_t)
+    }
+
+    /// Adds the contact loads of a ball `g` in its socket, in any number type (the
+    /// interpreted [`ClearanceJoint::add_to`] runs the same kernels): `onset(k, rate)` is
+    /// the impact onset speed of point `k` at penetration rate `rate`
+    /// ([`ContactState::onset_for`]).
+    #[inline]
+    pub fn add_socket_loads<T: Real>(
+        &self,
+        g: &BallSocket,
+        socket: &BodyState<T>,
+        ball: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints3::new();
+        contact_ball_socket(g, socket, ball, self.reach(), &mut points);
+        apply_point_forces(
+            &points,
+            |p| self.point_force(p, onset(p.index, p.penetration_rate)),
+            socket,
+            ball,
+            qe,
+        );
+    }
+
     /// The radii of the hole and the pin, and the radial clearance.
     fn radii(&self) -> (f64, f64, f64) {
         match &self.geometry {
@@ -226,9 +282,7 @@ impl ClearanceJoint for SpatialClearance {
 
     #[inline]
     fn force(&self, p: &ContactPoint3, onset_speed: f64) -> (f64, Vec3) {
-        let f_n = p.share * self.normal.force(p.penetration, p.penetration_rate, onset_speed);
-        let f_t = if f_n > 0.0 { self.friction.force_on_slip(&p.slip, f_n) } else { Vec3::zeros() };
-        (f_n, f_t)
+        self.point_force(p, onset_speed)
     }
 
     /// As the planar joint's ([`super::ClearanceRevolute`]): the law's damping and
@@ -271,14 +325,12 @@ impl ClearanceJoint for SpatialClearance {
             }
             return;
         }
-        for p in self.contacts(i, j, self.reach()).iter() {
-            let (f_n, f_t) = self.force(p, states[p.index].onset_for(p.penetration_rate));
-            if f_n != 0.0 || f_t != Vec3::zeros() {
-                let f = p.force_on_j(f_n, &f_t);
-                add_force_at(qe, &p.on_j, j, &f);
-                add_force_at(qe, &p.on_i, i, &-f);
-            }
+        let onset = |k: usize, rate| states[k].onset_for(rate);
+        if let SpatialGeometry::BallSocket(g) = &self.geometry {
+            return self.add_socket_loads(g, i, j, onset, qe);
         }
+        let points = self.contacts(i, j, self.reach());
+        apply_point_forces(&points, |p| self.point_force(p, onset(p.index, p.penetration_rate)), i, j, qe);
         if let SpatialGeometry::Lubricated(g) = &self.geometry {
             g.add_film(i, j, qe);
         }

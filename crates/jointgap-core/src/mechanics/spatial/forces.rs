@@ -3,13 +3,16 @@
 //! as generalized forces on `(v, w')`, and their power and stored energy. Gravity is the
 //! system's and the gyroscopic moment the body kind's.
 
-use super::body::{self, BodyState, Vec3};
+use nalgebra::Vector3;
+
+use super::body::{self, constant, BodyState, Vec3};
 use crate::error::{Error, Named};
 use crate::mechanics::forces::{non_negative, TimeTable};
 use crate::mechanics::kind::ForceLaw;
 use crate::mechanics::layout::Loads;
 use crate::mechanics::resolve::Resolver;
 use crate::model::spatial::{Force, LoadFrame, PointRef};
+use crate::scalar::{norm, Real};
 
 /// A checked spatial force element; bodies are `None` for the ground.
 #[derive(Debug, Clone)]
@@ -76,28 +79,35 @@ pub(crate) fn point(
 
 /// Unit vector, the line and its length and rate between point i and point j; `None`
 /// when they coincide (no direction).
-fn line(bi: &BodyState, s_i: &Vec3, bj: &BodyState, s_j: &Vec3) -> Option<(Vec3, f64, f64)> {
-    let d = bj.r + bj.rotate(s_j) - bi.r - bi.rotate(s_i);
-    let length = d.norm();
+fn line<T: Real>(bi: &BodyState<T>, s_i: &Vec3, bj: &BodyState<T>, s_j: &Vec3) -> Option<(Vector3<T>, T, T)> {
+    let (s_i, s_j) = (constant(s_i), constant(s_j));
+    let d = bj.r + bj.rotate(&s_j) - bi.r - bi.rotate(&s_i);
+    let length = norm(&d);
     if length < 1e-12 {
         return None;
     }
     let u = d / length;
-    Some((u, length, u.dot(&(bj.point_velocity(s_j) - bi.point_velocity(s_i)))))
+    Some((u, length, u.dot(&(bj.point_velocity(&s_j) - bi.point_velocity(&s_i)))))
 }
 
 /// A vector given in `frame`, in global axes.
-fn global(state: &BodyState, frame: LoadFrame, x: [f64; 3]) -> Vec3 {
+fn global<T: Real>(state: &BodyState<T>, frame: LoadFrame, x: [T; 3]) -> Vector3<T> {
     match frame {
-        LoadFrame::Ground => Vec3::from(x),
-        LoadFrame::Body => state.rotate(&Vec3::from(x)),
+        LoadFrame::Ground => Vector3::from(x),
+        LoadFrame::Body => state.rotate(&Vector3::from(x)),
     }
 }
 
 /// Adds force `f` (global) at body-frame point `s` of body `b`.
-fn add_point_force(loads: &mut Loads, b: Option<usize>, state: &BodyState, s: &Vec3, f: &Vec3) {
+fn add_point_force<T: Real>(
+    loads: &mut Loads<T>,
+    b: Option<usize>,
+    state: &BodyState<T>,
+    s: &Vec3,
+    f: &Vector3<T>,
+) {
     if let Some(qe) = loads.body(b) {
-        body::add_force(qe, state, &state.rotate(s), f);
+        body::add_force(qe, state, &state.rotate(&constant(s)), f);
     }
 }
 
@@ -148,6 +158,52 @@ impl SpatialForce {
     }
 }
 
+impl SpatialForce {
+    /// The table value of an applied force or torque at time `t` (zero for a
+    /// spring-damper).
+    pub fn applied_at(&self, t: f64) -> [f64; 3] {
+        match self {
+            SpatialForce::AppliedForce { force, .. } => force.at(t),
+            SpatialForce::AppliedTorque { torque, .. } => torque.at(t),
+            SpatialForce::SpringDamper { .. } => [0.0; 3],
+        }
+    }
+
+    /// Adds this element's generalised forces to the loads, in any number type, the
+    /// bodies' states given by `state` and an applied load's table value by `applied`
+    /// ([`Self::applied_at`]).
+    pub fn add_loads<T: Real>(
+        &self,
+        applied: [T; 3],
+        state: impl Fn(Option<usize>) -> BodyState<T>,
+        qe: &mut Loads<T>,
+    ) {
+        match self {
+            SpatialForce::SpringDamper {
+                body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
+            } => {
+                let (bi, bj) = (state(*body_i), state(*body_j));
+                let Some((u, length, rate)) = line(&bi, s_i, &bj, s_j) else {
+                    return;
+                };
+                let tension = (length - *free_length) * *stiffness + rate * *damping;
+                add_point_force(qe, *body_i, &bi, s_i, &(u * tension));
+                add_point_force(qe, *body_j, &bj, s_j, &(-u * tension));
+            }
+            SpatialForce::AppliedForce { body, s, frame, .. } => {
+                let b = state(*body);
+                add_point_force(qe, *body, &b, s, &global(&b, *frame, applied));
+            }
+            SpatialForce::AppliedTorque { body, frame, .. } => {
+                let b = state(*body);
+                if let Some(qe) = qe.body(*body) {
+                    body::add_torque(qe, &b, &global(&b, *frame, applied));
+                }
+            }
+        }
+    }
+}
+
 impl ForceLaw<BodyState> for SpatialForce {
     fn corners(&self) -> Vec<f64> {
         match self {
@@ -158,29 +214,7 @@ impl ForceLaw<BodyState> for SpatialForce {
     }
 
     fn add_to(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState, qe: &mut Loads) {
-        match self {
-            SpatialForce::SpringDamper {
-                body_i, s_i, body_j, s_j, stiffness, damping, free_length, ..
-            } => {
-                let (bi, bj) = (state(*body_i), state(*body_j));
-                let Some((u, length, rate)) = line(&bi, s_i, &bj, s_j) else {
-                    return;
-                };
-                let tension = stiffness * (length - free_length) + damping * rate;
-                add_point_force(qe, *body_i, &bi, s_i, &(u * tension));
-                add_point_force(qe, *body_j, &bj, s_j, &(-u * tension));
-            }
-            SpatialForce::AppliedForce { body, s, force, frame, .. } => {
-                let b = state(*body);
-                add_point_force(qe, *body, &b, s, &global(&b, *frame, force.at(t)));
-            }
-            SpatialForce::AppliedTorque { body, torque, frame, .. } => {
-                let b = state(*body);
-                if let Some(qe) = qe.body(*body) {
-                    body::add_torque(qe, &b, &global(&b, *frame, torque.at(t)));
-                }
-            }
-        }
+        self.add_loads(self.applied_at(t), state, qe);
     }
 
     fn power(&self, t: f64, state: impl Fn(Option<usize>) -> BodyState) -> (f64, f64) {

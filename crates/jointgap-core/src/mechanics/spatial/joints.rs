@@ -11,9 +11,12 @@
 
 use std::f64::consts::{PI, TAU};
 
+use nalgebra::Vector3;
+
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::RowEval;
-use crate::mechanics::spatial::body::{BodyRow, BodyState, Vec3};
+use crate::mechanics::spatial::body::{constant, BodyRow, BodyState, Vec3, NV};
+use crate::scalar::{c, Real};
 
 /// One scalar constraint equation between body i and body j. Vectors and points are in
 /// the frame of the body they belong to (for the ground: global).
@@ -72,32 +75,38 @@ pub enum SpatialRowKind {
 
 /// A spatial row evaluated at one state: residual, Jacobian blocks over `(v, w')` of
 /// each body, and right-hand sides.
-pub type SpatialRowEval = RowEval<BodyRow>;
+pub type SpatialRowEval<T = f64> = RowEval<[T; NV], T>;
 
 /// A Jacobian block from its translation part `t` (global) and its rotation part `b`
 /// (body frame).
 #[inline]
-fn block(t: Vec3, b: Vec3) -> BodyRow {
+fn block<T: Real>(t: Vector3<T>, b: Vector3<T>) -> [T; NV] {
     [t.x, t.y, t.z, b.x, b.y, b.z]
 }
 
 /// An angle wrapped to (-pi, pi].
 #[inline]
-fn wrap(angle: f64) -> f64 {
-    PI - (PI - angle).rem_euclid(TAU)
+fn wrap<T: Real>(angle: T) -> T {
+    c::<T>(PI) - (c::<T>(PI) - angle).rem_euclid(c(TAU))
 }
 
 impl SpatialRowKind {
-    /// Evaluates the row; `motion` is the driver's prescribed motion (zero if none; the
-    /// point and perpendicularity rows take none).
-    pub fn eval(&self, bi: &BodyState, bj: &BodyState, motion: Motion) -> SpatialRowEval {
+    /// Evaluates the row, in any number type; `motion` is the driver's prescribed motion
+    /// (zero if none; the point and perpendicularity rows take none).
+    pub fn eval<T: Real>(
+        &self,
+        bi: &BodyState<T>,
+        bj: &BodyState<T>,
+        motion: Motion<T>,
+    ) -> SpatialRowEval<T> {
         // Global angular velocities: constant along a motion at fixed (v, w'), since
         // d/dt (A w') = A (w' x w') = 0.
         let (wi, wj) = (bi.omega_global(), bj.omega_global());
+        let zero = T::constant(0.0);
         match *self {
             SpatialRowKind::Coincide { axis, s_i, s_j } => {
-                let (si, sj) = (bi.rotate(&s_i), bj.rotate(&s_j));
-                let e = Vec3::ith(axis, 1.0);
+                let (si, sj) = (bi.rotate(&constant(&s_i)), bj.rotate(&constant(&s_j)));
+                let e = Vector3::ith(axis, T::constant(1.0));
                 let c = bi.r + si - bj.r - sj;
                 // Centripetal accelerations of the two points at fixed angular velocity.
                 let g = wj.cross(&wj.cross(&sj)) - wi.cross(&wi.cross(&si));
@@ -105,32 +114,34 @@ impl SpatialRowKind {
                     c: c[axis],
                     jac_i: block(e, bi.a.tr_mul(&si.cross(&e))),
                     jac_j: block(-e, -bj.a.tr_mul(&sj.cross(&e))),
-                    ct: 0.0,
+                    ct: zero,
                     gamma: g[axis],
                 }
             }
             SpatialRowKind::Perpendicular { a_i, a_j } => {
+                let (a_i, a_j) = (constant(&a_i), constant(&a_j));
                 let (gi, gj) = (bi.rotate(&a_i), bj.rotate(&a_j));
                 let (gi_dot, gj_dot) = (wi.cross(&gi), wj.cross(&gj));
                 let quad =
-                    gj.dot(&wi.cross(&gi_dot)) + 2.0 * gi_dot.dot(&gj_dot) + gi.dot(&wj.cross(&gj_dot));
+                    gj.dot(&wi.cross(&gi_dot)) + gi_dot.dot(&gj_dot) * 2.0 + gi.dot(&wj.cross(&gj_dot));
                 SpatialRowEval {
                     c: gi.dot(&gj),
-                    jac_i: block(Vec3::zeros(), a_i.cross(&bi.a.tr_mul(&gj))),
-                    jac_j: block(Vec3::zeros(), a_j.cross(&bj.a.tr_mul(&gi))),
-                    ct: 0.0,
+                    jac_i: block(Vector3::zeros(), a_i.cross(&bi.a.tr_mul(&gj))),
+                    jac_j: block(Vector3::zeros(), a_j.cross(&bj.a.tr_mul(&gi))),
+                    ct: zero,
                     gamma: -quad,
                 }
             }
             SpatialRowKind::Along { a_i, s_i, s_j, offset } => {
+                let (a_i, s_j) = (constant(&a_i), constant(&s_j));
                 let gi = bi.rotate(&a_i);
-                let (si, sj) = (bi.rotate(&s_i), bj.rotate(&s_j));
+                let (si, sj) = (bi.rotate(&constant(&s_i)), bj.rotate(&s_j));
                 let pj = bj.r + sj;
                 let d = pj - bi.r - si;
                 let gi_dot = wi.cross(&gi);
                 let d_dot = bj.v + wj.cross(&sj) - bi.v - wi.cross(&si);
                 let d_ddot = wj.cross(&wj.cross(&sj)) - wi.cross(&wi.cross(&si));
-                let quad = wi.cross(&gi_dot).dot(&d) + 2.0 * gi_dot.dot(&d_dot) + gi.dot(&d_ddot);
+                let quad = wi.cross(&gi_dot).dot(&d) + gi_dot.dot(&d_dot) * 2.0 + gi.dot(&d_ddot);
                 SpatialRowEval {
                     c: gi.dot(&d) - offset - motion.position,
                     jac_i: block(-gi, a_i.cross(&bi.a.tr_mul(&(pj - bi.r)))),
@@ -142,10 +153,10 @@ impl SpatialRowKind {
             SpatialRowKind::Rotation { axis, ref_i, ref_j, offset } => {
                 // Body i's right-handed triad (ref, axis x ref, axis) and body j's
                 // reference vector g, in global axes: theta = atan2(g . f, g . e).
-                let u = bi.rotate(&axis);
-                let e = bi.rotate(&ref_i);
+                let u = bi.rotate(&constant(&axis));
+                let e = bi.rotate(&constant(&ref_i));
                 let f = u.cross(&e);
-                let g = bj.rotate(&ref_j);
+                let g = bj.rotate(&constant(&ref_j));
                 let (x, y, z) = (g.dot(&e), g.dot(&f), g.dot(&u));
                 // dtheta = h . (dphi_j - dphi_i) (global small rotations), with
                 // h = u - z p / rho, p = x e + y f the part of g across the axis and
@@ -159,12 +170,12 @@ impl SpatialRowKind {
                 let z_dot = rel.dot(&g.cross(&u));
                 let u_dot = wi.cross(&u);
                 let p_dot = wj.cross(&g) - u * z_dot - u_dot * z;
-                let rho_dot = -2.0 * z * z_dot;
+                let rho_dot = z * -2.0 * z_dot;
                 let h_dot = u_dot - p * (z_dot / rho) - p_dot * (z / rho) + p * (z * rho_dot / (rho * rho));
                 SpatialRowEval {
                     c: wrap(y.atan2(x) - offset - motion.position),
-                    jac_i: block(Vec3::zeros(), -bi.a.tr_mul(&h)),
-                    jac_j: block(Vec3::zeros(), bj.a.tr_mul(&h)),
+                    jac_i: block(Vector3::zeros(), -bi.a.tr_mul(&h)),
+                    jac_j: block(Vector3::zeros(), bj.a.tr_mul(&h)),
                     ct: -motion.speed,
                     gamma: motion.acceleration - h_dot.dot(&rel),
                 }

@@ -3,8 +3,11 @@
 //! (docs/spatial-clearance.md, "Ball in socket"; Flores, Ambrosio, Claro, Lankarani
 //! 2006-2008 on spherical clearance joints).
 
+use nalgebra::Vector3;
+
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
-use crate::mechanics::spatial::body::{BodyState, Vec3};
+use crate::mechanics::spatial::body::{constant, BodyState, Vec3};
+use crate::scalar::{norm, Real};
 
 /// Where a ball and its socket are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,8 +34,8 @@ impl BallSocket {
 
     /// The socket's and the ball's centres, global [m].
     #[inline]
-    fn centres(&self, socket: &BodyState, ball: &BodyState) -> (Vec3, Vec3) {
-        (socket.r + socket.rotate(&self.s_socket), ball.r + ball.rotate(&self.s_ball))
+    fn centres<T: Real>(&self, socket: &BodyState<T>, ball: &BodyState<T>) -> (Vector3<T>, Vector3<T>) {
+        (socket.r + socket.rotate(&constant(&self.s_socket)), ball.r + ball.rotate(&constant(&self.s_ball)))
     }
 
     /// Eccentricity `e = r_B - r_S`: the ball centre from the socket centre, global [m].
@@ -53,28 +56,28 @@ impl BallSocket {
 /// gap is the whole clearance and no force acts, so any unit normal gives the same (zero)
 /// loads, and a fixed one keeps every output finite.
 #[inline]
-pub fn contact_ball_socket(
+pub fn contact_ball_socket<T: Real>(
     g: &BallSocket,
-    socket: &BodyState,
-    ball: &BodyState,
+    socket: &BodyState<T>,
+    ball: &BodyState<T>,
     reach: f64,
-    out: &mut ContactPoints3,
+    out: &mut ContactPoints3<T>,
 ) {
     let (centre_s, centre_b) = g.centres(socket, ball);
     let e = centre_b - centre_s;
-    let ecc = e.norm();
+    let ecc = norm(&e);
     let penetration = ecc - g.clearance;
     if penetration <= -reach {
         return;
     }
-    let n = if ecc > 1e-15 { e / ecc } else { Vec3::x() };
+    let n = if ecc > 1e-15 { e / ecc } else { Vector3::x() };
     out.push(split(
         0,
         n,
         penetration,
         1.0,
-        (MaterialPoint3::of(g.socket, socket, centre_s + n * g.r_socket), socket),
-        (MaterialPoint3::of(g.ball, ball, centre_b + n * g.r_ball), ball),
+        (MaterialPoint3::of(g.socket, socket, centre_s + n * T::constant(g.r_socket)), socket),
+        (MaterialPoint3::of(g.ball, ball, centre_b + n * T::constant(g.r_ball)), ball),
     ));
 }
 
