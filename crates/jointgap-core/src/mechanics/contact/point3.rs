@@ -146,7 +146,7 @@ pub(crate) fn split<T: Real>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mechanics::spatial::body::Orientation;
+    use crate::mechanics::spatial::body::{Orientation, Vec3};
 
     /// A force on body j's point: its normal part is `-F_N`, the rest the friction force.
     #[test]
