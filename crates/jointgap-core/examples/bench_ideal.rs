@@ -9,7 +9,9 @@ use std::fmt::Write as _;
 use std::hint::black_box;
 use std::time::Instant;
 
-use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
+use jointgap_core::dynamics::{
+    accelerations, applied_forces, constraints, project, violation, Workspace, POSITION_TOL,
+};
 use jointgap_core::integrators::ode::hermite5;
 use jointgap_core::simulate::equations::{state_shape, Ode};
 use jointgap_core::simulate::integrate::stepper;
@@ -186,7 +188,7 @@ fn where_time_goes(model: &Model, runs: &[Run], md: &mut String) {
         qp.copy_from_slice(q);
         vp.copy_from_slice(v);
         qp[0] += 1e-9; // a drift to remove
-        project(sys, t, &mut qp, &mut vp, &mut ode.ws).unwrap();
+        project(sys, t, &mut qp, &mut vp, &mut ode.ws, POSITION_TOL).unwrap();
     });
     let mut sample = vec![0.0; 2 * n];
     let c_hermite = ns_per_call(|| hermite5(black_box(0.37), 1e-4, n, &y, &f0, &y, &f0, &mut sample));

@@ -6,7 +6,9 @@
 
 use crate::common;
 
-use jointgap_core::dynamics::{accelerations, applied_forces, constraints, project, violation, Workspace};
+use jointgap_core::dynamics::{
+    accelerations, applied_forces, constraints, project, violation, Workspace, POSITION_TOL,
+};
 use jointgap_core::simulate::prepare;
 use jointgap_core::{simulate, Model, SimOptions, Status};
 use nalgebra::{DMatrix, DVector};
@@ -152,7 +154,7 @@ fn projection_meets_the_prescribed_rows_and_the_others() {
     let mut ws = Workspace::new(sys, prepared.initial.active.clone());
     let t = 0.05;
     assert!(violation(sys, t, &q, &v, &mut ws).0 > 1e-5);
-    project(sys, t, &mut q, &mut v, &mut ws).unwrap();
+    project(sys, t, &mut q, &mut v, &mut ws, POSITION_TOL).unwrap();
     let (position, velocity) = violation(sys, t, &q, &v, &mut ws);
     assert!(position < 1e-12, "position residual {position}");
     assert!(velocity < 1e-10, "velocity residual {velocity}");

@@ -1,26 +1,22 @@
 //! One evaluation of the equations of motion compiled to native code: the bodies' states,
 //! the active constraint rows (`C`, `Cq`, `dC/dt`, `gamma`), the applied forces `Qe`
-//! (gravity, force elements, contact loads), and the accelerations and multipliers of
-//! the augmented solve (the prescribed bodies' blocks, the Schur complement's plain
-//! factor and solve), which [`super::accelerations_for_integration`] computes
-//! interpreted otherwise (docs/compiled.md).
+//! (gravity, gyroscopic moments, force elements, contact loads), and the accelerations
+//! and multipliers of the augmented solve (the prescribed bodies' blocks, the Schur
+//! complement's plain factor and solve), which [`super::accelerations_for_integration`]
+//! computes interpreted otherwise (docs/compiled.md).
 //!
-//! At the first evaluation the stage records the kernels on [`crate::scalar::Traced`]
-//! numbers, as a graph with the model's constants folded, and compiles it
-//! ([`crate::codegen`]). The graph is one path through the kernels' branches (in
-//! contact or not, a friction regime); where an evaluation finds that a guard of every
-//! path recorded so far fails, it records and compiles the path it takes there. Each
-//! path computes what the interpreted kernels compute, operation for operation, so a run
-//! gives the same bits either way. An evaluation the graphs do not cover (a Schur
+//! At the first evaluation the stage records the kernels ([`super::kernels`]) on
+//! [`crate::scalar::Traced`] numbers, as a graph with the model's constants folded, and
+//! compiles it ([`crate::codegen`]). The graph is one path through the kernels' branches
+//! (in contact or not, a friction regime); where an evaluation finds that a guard of
+//! every path recorded so far fails, it records and compiles the path it takes there.
+//! Each path computes what the interpreted kernels compute, operation for operation, so
+//! a run gives the same bits either way. An evaluation the graphs do not cover (a Schur
 //! complement that is not well conditioned, a singular prescribed block) runs
 //! interpreted. The implicit methods' Jacobians are the paths' graphs differentiated
-//! ([`jacobian`]); a run that does not compile still records its paths for them.
-//!
-//! Inputs: `q`, `v`, the motion of each driven active row (position, speed,
-//! acceleration), the table value of each applied load (two numbers), and each contact
-//! point's state (in contact, 1 or 0, and its onset speed). Outputs: per active row `C`,
-//! `dC/dt`, `gamma` and its two Jacobian blocks, then `Qe`, the accelerations, the
-//! Schur complement's multipliers and each prescribed body's inverse block.
+//! ([`jacobian`]); a run that does not compile still records its paths for them. The
+//! inputs and outputs are [`super::kernels::inputs`]' and
+//! [`super::kernels::evaluation`]'s.
 
 use std::ops::Range;
 use std::sync::Arc;
@@ -28,18 +24,14 @@ use std::sync::Arc;
 use nalgebra::DMatrix;
 
 use crate::codegen::{compile_cached, Compiled};
-use crate::mechanics::contact::planar_clearance::PlanarClearance;
-use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ContactState};
-use crate::mechanics::drivers::Motion;
-use crate::mechanics::forces::ForceElement;
+use crate::mechanics::contact::ContactState;
 use crate::mechanics::kind::BodyKind;
-use crate::mechanics::layout::{block, Loads};
 use crate::mechanics::planar::Planar;
-use crate::mechanics::planar_body::{add_weight, BodyState};
 use crate::mechanics::spatial::kind::Spatial;
-use crate::scalar::{record, Graph, Real, Sweep};
+use crate::scalar::{record, Graph, Sweep};
 use crate::system::System;
 
+use super::kernels::{evaluation, inputs, Kernels};
 use super::schur::Factorisation;
 use super::Workspace;
 
@@ -412,161 +404,25 @@ fn scatter<K: BodyKind>(out: &[f64], ws: &mut Workspace<K>) {
     ws.schur.solved_elsewhere();
 }
 
-/// Why a clearance joint of `sys` is not compiled, if one is not: compiled are the dry
-/// round journals in their bearings, the joints' play and the gear meshes of constant
-/// stiffness.
-fn uncompiled_joint(sys: &System<Planar>) -> Result<(), String> {
-    for c in &sys.clearances {
-        let what = match c {
-            PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
-            PlanarClearance::Play(_) => continue,
-            PlanarClearance::Gear(g) if g.cycle.is_none() => continue,
-            PlanarClearance::Revolute(_) => "a worn profile",
-            PlanarClearance::Lubricated(_) => "an oil film",
-            PlanarClearance::Translational(_) => "a block in its guide",
-            PlanarClearance::Gear(_) => "a mesh stiffness that varies along the mesh cycle",
-        };
-        return Err(format!("joint '{}' has {what}, which is not compiled yet", c.name()));
-    }
-    Ok(())
+/// The recorder of a body kind whose kernels are written over the number type
+/// ([`kernels`]), or why `sys` is not compiled.
+fn recorder_of<K: Kernels<N>, const N: usize>(sys: &System<K>) -> Result<Recorder<K>, String> {
+    K::uncompiled_joint(sys)?;
+    Ok(Recorder {
+        record: |sys, ws, x| record(x, |x| evaluation::<K, N, _>(sys, ws, x)),
+        inputs: inputs::<K, N>,
+    })
 }
 
 impl Compile for Planar {
     fn recorder(sys: &System) -> Result<Recorder<Planar>, String> {
-        uncompiled_joint(sys)?;
-        Ok(Recorder {
-            record: |sys, ws, x| record(x, |x| planar_evaluation(sys, ws, x)),
-            inputs: planar_inputs,
-        })
+        recorder_of(sys)
     }
-}
-
-/// The inputs of a planar system's stage after `q` and `v` ([`Recorder`]).
-fn planar_inputs(
-    sys: &System,
-    active: &[usize],
-    t: f64,
-    t_piece: f64,
-    contacts: &[ContactState],
-    x: &mut Vec<f64>,
-) {
-    for &r in active {
-        if let Some(d) = sys.rows[r].driver {
-            let m = sys.drivers[d].profile.motion_on(t, t_piece);
-            x.extend([m.position, m.speed, m.acceleration]);
-        }
-    }
-    for f in sys.forces.iter().filter(|f| has_table(f)) {
-        x.extend(f.applied_at(t));
-    }
-    for s in contacts {
-        x.extend([if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed]);
-    }
-}
-
-/// Whether a force element's load comes from a table of time (an input of the stage).
-fn has_table(f: &ForceElement) -> bool {
-    matches!(f, ForceElement::AppliedForce { .. } | ForceElement::AppliedTorque { .. })
-}
-
-/// The outputs of the stage at inputs `x`, in any number type: the sequence of
-/// [`super::accelerations_for_integration`] for a planar system, `None` where it leaves
-/// the plain solve.
-fn planar_evaluation<T: Real>(sys: &System, ws: &Workspace, x: &[T]) -> Option<Vec<T>> {
-    let active = &ws.active;
-    let (nq, nv) = (sys.layout.nq(), sys.layout.nv());
-    let (q, v) = (&x[..nq], &x[nq..nq + nv]);
-    let mut at = nq + nv;
-    let mut next = |count: usize| {
-        at += count;
-        &x[at - count..at]
-    };
-    let bodies: Vec<BodyState<T>> =
-        sys.layout.slots().iter().map(|s| BodyState::read(block(q, s.q_at), block(v, s.v_at))).collect();
-    let ground = BodyState::ground();
-    let state = |b: Option<usize>| b.map_or(ground, |k| bodies[k]);
-    let zero = T::constant(0.0);
-    let mut out = Vec::with_capacity(active.len() * 9 + 2 * nv);
-    let mut blocks: Vec<[[T; 3]; 2]> = Vec::with_capacity(active.len());
-    let mut gamma = Vec::with_capacity(active.len());
-    for &r in active {
-        let row = &sys.rows[r];
-        let motion = match row.driver {
-            Some(_) => {
-                let m = next(3);
-                Motion { position: m[0], speed: m[1], acceleration: m[2] }
-            }
-            None => Motion { position: zero, speed: zero, acceleration: zero },
-        };
-        let ev = row.kind.eval(&state(row.body_i), &state(row.body_j), motion);
-        out.extend([ev.c, ev.ct, ev.gamma]);
-        out.extend(ev.jac_i);
-        out.extend(ev.jac_j);
-        blocks.push([ev.jac_i, ev.jac_j]);
-        gamma.push(ev.gamma);
-    }
-    let mut qe = vec![zero; nv];
-    for (b, slot) in sys.bodies.iter().zip(sys.layout.slots()) {
-        add_weight(&mut qe[slot.v()], b.mass, sys.gravity);
-    }
-    let mut loads = Loads::new(&sys.layout, &mut qe);
-    for f in &sys.forces {
-        let applied = if has_table(f) {
-            let a = next(2);
-            [a[0], a[1]]
-        } else {
-            [zero; 2]
-        };
-        f.add_loads(applied, state, &mut loads);
-    }
-    for (_, c, points) in contact::slots(&sys.clearances) {
-        let s = next(2 * points.len());
-        let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
-        let [i, j] = c.parts();
-        let (i, j) = (state(i), state(j));
-        match c {
-            PlanarClearance::Revolute(r) if r.worn.is_none() => r.add_round_loads(&i, &j, onset, &mut loads),
-            PlanarClearance::Play(p) => p.add_play_loads(&i, &j, onset, &mut loads),
-            PlanarClearance::Gear(g) if g.cycle.is_none() => g.add_gear_loads(&i, &j, onset, &mut loads),
-            _ => return None,
-        }
-    }
-    // The solve of [`super::accelerations_for_integration`], operation for operation.
-    let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
-    out.extend(qe);
-    let dot = |a: usize, x: &[T]| ws.jac[a].dot_of([&blocks[a][0], &blocks[a][1]], x);
-    let mut inverses = Vec::with_capacity(ws.prescribed.len());
-    let mut lambda = Vec::with_capacity(ws.dynamic);
-    if !active.is_empty() {
-        for p in &ws.prescribed {
-            let b_inv = p.inverse_of(|a, side| blocks[a][side]).ok()?;
-            p.solve_rows_of(dot, &b_inv, |a| gamma[a], &mut qdd);
-            inverses.push(b_inv);
-        }
-        lambda.extend((0..ws.dynamic).map(|a| dot(a, &qdd) - gamma[a]));
-        if !lambda.is_empty() {
-            ws.schur
-                .solve_plain(&ws.jac[..ws.dynamic], &blocks[..ws.dynamic], &ws.m_inv, &mut lambda)?
-                .ok()?;
-        }
-        let mut correction = vec![zero; nv];
-        for ((row, block), &m) in ws.jac.iter().zip(&blocks).zip(&lambda) {
-            row.add_transposed_of([&block[0], &block[1]], m, &mut correction);
-        }
-        for ((a, c), m) in qdd.iter_mut().zip(&correction).zip(&ws.m_inv) {
-            *a -= *c * *m;
-        }
-    }
-    out.extend(qdd);
-    out.extend(lambda);
-    out.extend(inverses.iter().flatten().flatten());
-    Some(out)
 }
 
 impl Compile for Spatial {
-    fn recorder(_: &System<Spatial>) -> Result<Recorder<Spatial>, String> {
-        Err("a spatial model's kernels are not yet written over the number type that compiling records"
-            .into())
+    fn recorder(sys: &System<Spatial>) -> Result<Recorder<Spatial>, String> {
+        recorder_of(sys)
     }
 }
 

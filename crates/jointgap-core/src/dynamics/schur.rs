@@ -344,16 +344,16 @@ impl Factor<'_> {
     }
 }
 
-/// The smallest and largest squared diagonal entry of a sparse Cholesky factor (its
-/// pivots, in its fill-reducing order).
-fn sparse_pivots(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> (f64, f64) {
-    let extremes = |(l, h): (f64, f64), d: f64| (l.min(d * d), h.max(d * d));
-    let start = (f64::INFINITY, 0.0);
-    match symbolic.raw() {
+/// The pivots of a sparse Cholesky factor `values` of `S` (in its fill-reducing order),
+/// `s_diagonal(k)` the diagonal entry of `S`'s row `k` (in the rows' order).
+fn sparse_pivots(
+    symbolic: &SymbolicCholesky<usize>,
+    values: &[f64],
+    s_diagonal: impl Fn(usize) -> f64,
+) -> Pivots<f64> {
+    let diagonal: Vec<f64> = match symbolic.raw() {
         // Each column's first stored entry is its diagonal.
-        SymbolicCholeskyRaw::Simplicial(s) => {
-            s.col_ptr()[..s.nrows()].iter().map(|&p| values[p]).fold(start, extremes)
-        }
+        SymbolicCholeskyRaw::Simplicial(s) => s.col_ptr()[..s.nrows()].iter().map(|&p| values[p]).collect(),
         // Each supernode's columns start with their dense diagonal block.
         SymbolicCholeskyRaw::Supernodal(s) => {
             let factor = SupernodalLltRef::new(s, values);
@@ -362,8 +362,48 @@ fn sparse_pivots(symbolic: &SymbolicCholesky<usize>, values: &[f64]) -> (f64, f6
                     let block = factor.supernode(k).val();
                     (0..block.ncols()).map(move |j| block[(j, j)])
                 })
-                .fold(start, extremes)
+                .collect()
         }
+    };
+    // Pivot j is of the rows' row `forward[j]` (faer: permuted row j is row forward[j]).
+    let row = |j: usize| symbolic.perm().map_or(j, |p| p.arrays().0[j]);
+    Pivots::of(diagonal.iter().enumerate().map(|(j, &d)| (d * d, s_diagonal(row(j)))))
+}
+
+/// The spread of a Cholesky factor's squared pivots.
+#[derive(Debug, Clone, Copy)]
+struct Pivots<T> {
+    /// The smallest and the largest.
+    low: T,
+    high: T,
+    /// The smallest relative to its row's diagonal entry of `S`, `L_kk^2 / S_kk`: the
+    /// sine squared of the angle between that row and the rows before it, in the metric
+    /// of `M^-1`, whatever the rows' units.
+    relative: T,
+}
+
+impl<T: Real> Pivots<T> {
+    /// From each squared pivot and its row's diagonal entry of `S`.
+    fn of(pivots: impl Iterator<Item = (T, T)>) -> Self {
+        let (inf, zero) = (T::constant(f64::INFINITY), T::constant(0.0));
+        pivots.fold(Pivots { low: inf, high: zero, relative: inf }, |p, (d, s)| Pivots {
+            low: p.low.min(d),
+            high: p.high.max(d),
+            relative: p.relative.min(d / s),
+        })
+    }
+
+    /// Whether the plain factor solves accurately enough: the smallest relative pivot is
+    /// at least [`WELL_CONDITIONED`]. A Cholesky factor's accuracy is that of `S` with
+    /// its diagonal scaled to one (van der Sluis 1969), so rows in metres and rows in
+    /// radians, and light links beside heavy ones, count alike.
+    fn well_conditioned(&self) -> bool {
+        self.relative >= WELL_CONDITIONED
+    }
+
+    /// Whether `S` counts as rank deficient ([`RANK_LOSS`]).
+    fn rank_deficient(&self) -> bool {
+        self.low < self.high * RANK_LOSS
     }
 }
 
@@ -559,9 +599,7 @@ impl<R: Block> Schur<R> {
         }
         let mut dense = vec![T::constant(0.0); self.envelope.size];
         self.factor_dense_into(&scaled, &plain, 0.0, &mut dense).ok()?;
-        let (low, high) = dense_pivots(&self.envelope, &dense);
-        let well_conditioned = low >= high * WELL_CONDITIONED;
-        if !well_conditioned {
+        if !dense_pivots(&self.envelope, &dense).well_conditioned() {
             return None;
         }
         self.envelope.solve(&dense, rhs);
@@ -619,10 +657,12 @@ impl<R: Block> Schur<R> {
         })
     }
 
-    /// The smallest and largest squared pivot of the factor last computed.
-    fn squared_pivots(&self) -> (f64, f64) {
+    /// The pivots of the plain factor last computed.
+    fn pivots(&self) -> Pivots<f64> {
         match (self.factorisation, self.symbolic.as_deref()) {
-            (Factorisation::Sparse, Some(symbolic)) => sparse_pivots(symbolic, &self.sparse),
+            (Factorisation::Sparse, Some(symbolic)) => {
+                sparse_pivots(symbolic, &self.sparse, |k| self.regularised[self.diagonal[k]])
+            }
             _ => dense_pivots(&self.envelope, &self.dense),
         }
     }
@@ -659,15 +699,15 @@ impl<R: Block> Schur<R> {
         // large mechanism enters and leaves the rank-loss treatment as a small one does.
         let mut rank_deficient = true;
         if self.factor(0.0).is_ok() {
-            let (low, high) = self.squared_pivots();
-            if low >= WELL_CONDITIONED * high {
+            let pivots = self.pivots();
+            if pivots.well_conditioned() {
                 self.plain_factor = true;
                 self.ill_conditioned = false;
                 self.rank_deficient = false;
                 self.factored()?.solve_mut(rhs);
                 return if rhs.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(Singular) };
             }
-            rank_deficient = low < RANK_LOSS * high;
+            rank_deficient = pivots.rank_deficient();
         }
         self.plain_factor = false;
         self.ill_conditioned = true;
@@ -770,10 +810,16 @@ fn add_shared<T: Real, B: AsRef<[T]>>(value: &mut T, scaled: &B, plain: &B) {
     }
 }
 
-/// The smallest and largest squared pivot of the envelope factor `l`.
-fn dense_pivots<T: Real>(envelope: &Envelope, l: &[T]) -> (T, T) {
-    let pivots = envelope.diagonal.iter().map(|&d| l[d as usize] * l[d as usize]);
-    pivots.fold((T::constant(f64::INFINITY), T::constant(0.0)), |(l, h), p| (l.min(p), h.max(p)))
+/// The pivots of the envelope factor `l`. Row `k` of `S` is row `k` of `L` times
+/// itself, so its diagonal entry is that row's sum of squares (packed from the entry
+/// after the previous row's diagonal up to its own).
+fn dense_pivots<T: Real>(envelope: &Envelope, l: &[T]) -> Pivots<T> {
+    Pivots::of(envelope.diagonal.iter().enumerate().map(|(k, &d)| {
+        let first = if k == 0 { 0 } else { envelope.diagonal[k - 1] as usize + 1 };
+        let row = l[first..=d as usize].iter().fold(T::constant(0.0), |s, &x| s + x * x);
+        let pivot = l[d as usize] * l[d as usize];
+        (pivot, row)
+    }))
 }
 
 /// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).
@@ -789,9 +835,11 @@ const RANK_LOSS: f64 = 1e-8;
 /// other branch), 4e-10 to 7e-9 rad with 1e-9, up to 3e-5 rad with 1e-8 (the constraint
 /// force is released over too long a stretch).
 const RANK_LOSS_SHIFT: f64 = 1e-9;
-/// Smallest ratio of squared Cholesky pivots at which the plain factor is used
-/// without regularisation and refinement: S's condition number is then of the order of
-/// 1e4 or less, so the plain solve is accurate to about 1e-12, below any tolerance.
+/// Smallest squared Cholesky pivot, relative to its row's diagonal entry of `S`, at
+/// which the plain factor is used without regularisation and refinement: no row is then
+/// within 1e-2 rad of the others' span, the condition number of `S` scaled to a unit
+/// diagonal is of the order of 1e4 or less, and the plain solve is accurate to about
+/// 1e-12, below any tolerance.
 const WELL_CONDITIONED: f64 = 1e-4;
 /// Iterative-refinement sweeps of the regularised solve.
 const REFINEMENTS: usize = 3;

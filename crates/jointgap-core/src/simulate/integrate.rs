@@ -508,7 +508,7 @@ fn keep_on_constraints<K: Kind>(
     let projected = pos > pos_limit || vel > vel_limit;
     if projected {
         let (q, v) = y.split_at_mut(n);
-        if project(sys, t, q, v, &mut ode.ws).is_err() {
+        if project(sys, t, q, v, &mut ode.ws, pos_limit).is_err() {
             return Err(singular(t));
         }
         stats.projections += 1;

@@ -1,0 +1,368 @@
+//! One evaluation of the equations of motion in any number type, for each body kind: the
+//! bodies' states, the active constraint rows, the applied forces `Qe` (gravity, the
+//! gyroscopic moments, force elements, contact loads) and the augmented solve, in the
+//! order and with the operations of [`super::accelerations_for_integration`]. The
+//! compiled stage ([`super::compiled`]) records it on traced numbers; what it returns is
+//! the stage's outputs, what it reads its inputs (docs/compiled.md).
+
+use crate::mechanics::contact::planar_clearance::PlanarClearance;
+use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
+use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ContactState};
+use crate::mechanics::drivers::Motion;
+use crate::mechanics::forces::ForceElement;
+use crate::mechanics::kind::{BodyKind, RowEval};
+use crate::mechanics::layout::{block, Loads};
+use crate::mechanics::planar::Planar;
+use crate::mechanics::planar_body;
+use crate::mechanics::spatial::body as spatial_body;
+use crate::mechanics::spatial::forces::SpatialForce;
+use crate::mechanics::spatial::kind::Spatial;
+use crate::scalar::Real;
+use crate::system::System;
+
+use super::Workspace;
+
+/// A body kind's kernels in any number type `T`, `N` velocities per body.
+pub trait Kernels<const N: usize>: BodyKind {
+    /// A body's state in `T`.
+    type StateOf<T: Real>: Copy;
+    /// Numbers an applied load's table gives at a time.
+    const TABLE: usize;
+
+    /// A body's state from its positions and velocities.
+    fn state_of<T: Real>(q: &[T], v: &[T]) -> Self::StateOf<T>;
+    /// The ground's state.
+    fn ground_of<T: Real>() -> Self::StateOf<T>;
+    /// A constraint row at the bodies' states.
+    fn row_of<T: Real>(
+        row: &Self::RowKind,
+        bi: &Self::StateOf<T>,
+        bj: &Self::StateOf<T>,
+        motion: Motion<T>,
+    ) -> RowEval<[T; N], T>;
+    /// Adds a body's weight and the loads of its own motion to its generalised forces.
+    fn add_body_loads<T: Real>(
+        qe: &mut [T],
+        mass: f64,
+        inertia: &Self::Inertia,
+        gravity: &Self::Vector,
+        state: &Self::StateOf<T>,
+    );
+    /// Whether a force element's load comes from a table of time (an input of the
+    /// stage).
+    fn has_table(f: &Self::Force) -> bool;
+    /// Appends a force element's table value at time `t` to `x` (`Self::TABLE`
+    /// numbers).
+    fn table_at(f: &Self::Force, t: f64, x: &mut Vec<f64>);
+    /// Adds a force element's loads, `applied` its table value (`Self::TABLE` numbers,
+    /// or none).
+    fn add_force_loads<T: Real>(
+        f: &Self::Force,
+        applied: &[T],
+        state: impl Fn(Option<usize>) -> Self::StateOf<T>,
+        loads: &mut Loads<T>,
+    );
+    /// Adds a clearance joint's contact loads (`onset(k, rate)`: the impact onset speed
+    /// of its point `k`); `None` where the joint is not written over `T`.
+    fn add_clearance_loads<T: Real>(
+        c: &Self::Clearance,
+        i: &Self::StateOf<T>,
+        j: &Self::StateOf<T>,
+        onset: impl Fn(usize, T) -> T,
+        loads: &mut Loads<T>,
+    ) -> Option<()>;
+    /// Why a clearance joint of `sys` is not compiled, if one is not.
+    fn uncompiled_joint(sys: &System<Self>) -> Result<(), String>;
+}
+
+/// Appends the inputs of a stage after `q` and `v`: the motion of each driven active row
+/// (position, speed, acceleration) at time `t` (the piece of time `t_piece`), the table
+/// values of the applied loads, and each contact point's state (in contact, 1 or 0, and
+/// its onset speed).
+pub fn inputs<K: Kernels<N>, const N: usize>(
+    sys: &System<K>,
+    active: &[usize],
+    t: f64,
+    t_piece: f64,
+    contacts: &[ContactState],
+    x: &mut Vec<f64>,
+) {
+    for &r in active {
+        if let Some(d) = sys.rows[r].driver {
+            let m = sys.drivers[d].profile.motion_on(t, t_piece);
+            x.extend([m.position, m.speed, m.acceleration]);
+        }
+    }
+    for f in sys.forces.iter().filter(|f| K::has_table(f)) {
+        K::table_at(f, t, x);
+    }
+    for s in contacts {
+        x.extend([if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed]);
+    }
+}
+
+/// The outputs of the stage at inputs `x` ([`inputs`], after `q` and `v`): per active
+/// row `C`, `dC/dt`, `gamma` and its two Jacobian blocks, then `Qe`, the accelerations,
+/// the Schur complement's multipliers and each prescribed body's inverse block. The
+/// sequence of [`super::accelerations_for_integration`]; `None` where it leaves the
+/// plain solve or meets a joint not written over `T`.
+pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
+    sys: &System<K>,
+    ws: &Workspace<K>,
+    x: &[T],
+) -> Option<Vec<T>> {
+    let active = &ws.active;
+    let (nq, nv) = (sys.layout.nq(), sys.layout.nv());
+    let (q, v) = (&x[..nq], &x[nq..nq + nv]);
+    let mut at = nq + nv;
+    let mut next = |count: usize| {
+        at += count;
+        &x[at - count..at]
+    };
+    let bodies: Vec<K::StateOf<T>> =
+        sys.layout.slots().iter().map(|s| K::state_of(&q[s.q()], &v[s.v()])).collect();
+    let ground = K::ground_of::<T>();
+    let state = |b: Option<usize>| b.map_or(ground, |k| bodies[k]);
+    let zero = T::constant(0.0);
+    let mut out = Vec::with_capacity(active.len() * (3 + 2 * N) + 2 * nv);
+    let mut blocks: Vec<[[T; N]; 2]> = Vec::with_capacity(active.len());
+    let mut gamma = Vec::with_capacity(active.len());
+    for &r in active {
+        let row = &sys.rows[r];
+        let motion = match row.driver {
+            Some(_) => {
+                let m = next(3);
+                Motion { position: m[0], speed: m[1], acceleration: m[2] }
+            }
+            None => Motion { position: zero, speed: zero, acceleration: zero },
+        };
+        let ev = K::row_of(&row.kind, &state(row.body_i), &state(row.body_j), motion);
+        out.extend([ev.c, ev.ct, ev.gamma]);
+        out.extend(ev.jac_i);
+        out.extend(ev.jac_j);
+        blocks.push([ev.jac_i, ev.jac_j]);
+        gamma.push(ev.gamma);
+    }
+    let mut qe = vec![zero; nv];
+    for ((b, slot), s) in sys.bodies.iter().zip(sys.layout.slots()).zip(&bodies) {
+        K::add_body_loads(&mut qe[slot.v()], b.mass, &b.inertia, &sys.gravity, s);
+    }
+    let mut loads = Loads::new(&sys.layout, &mut qe);
+    for f in &sys.forces {
+        let applied = if K::has_table(f) { next(K::TABLE) } else { &[] };
+        K::add_force_loads(f, applied, state, &mut loads);
+    }
+    for (_, c, points) in contact::slots(&sys.clearances) {
+        let s = next(2 * points.len());
+        let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
+        let [i, j] = c.parts();
+        K::add_clearance_loads(c, &state(i), &state(j), onset, &mut loads)?;
+    }
+    // The solve of [`super::accelerations_for_integration`], operation for operation.
+    let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
+    out.extend(qe);
+    let dot = |a: usize, x: &[T]| ws.jac[a].dot_of([&blocks[a][0], &blocks[a][1]], x);
+    let mut inverses = Vec::with_capacity(ws.prescribed.len());
+    let mut lambda = Vec::with_capacity(ws.dynamic);
+    if !active.is_empty() {
+        for p in &ws.prescribed {
+            let b_inv = p.inverse_of(|a, side| planar_block(&blocks[a][side])).ok()?;
+            p.solve_rows_of(dot, &b_inv, |a| gamma[a], &mut qdd);
+            inverses.push(b_inv);
+        }
+        lambda.extend((0..ws.dynamic).map(|a| dot(a, &qdd) - gamma[a]));
+        if !lambda.is_empty() {
+            ws.schur
+                .solve_plain(&ws.jac[..ws.dynamic], &blocks[..ws.dynamic], &ws.m_inv, &mut lambda)?
+                .ok()?;
+        }
+        let mut correction = vec![zero; nv];
+        for ((row, block), &m) in ws.jac.iter().zip(&blocks).zip(&lambda) {
+            row.add_transposed_of([&block[0], &block[1]], m, &mut correction);
+        }
+        for ((a, c), m) in qdd.iter_mut().zip(&correction).zip(&ws.m_inv) {
+            *a -= *c * *m;
+        }
+    }
+    out.extend(qdd);
+    out.extend(lambda);
+    out.extend(inverses.iter().flatten().flatten());
+    Some(out)
+}
+
+/// A row's block on a prescribed body, which is planar ([`super::prescribed::split`]).
+fn planar_block<T: Real, const N: usize>(b: &[T; N]) -> [T; planar_body::NV] {
+    std::array::from_fn(|d| b[d])
+}
+
+impl Kernels<{ planar_body::NV }> for Planar {
+    type StateOf<T: Real> = planar_body::BodyState<T>;
+    const TABLE: usize = 2;
+
+    fn state_of<T: Real>(q: &[T], v: &[T]) -> planar_body::BodyState<T> {
+        planar_body::BodyState::read(block(q, 0), block(v, 0))
+    }
+
+    fn ground_of<T: Real>() -> planar_body::BodyState<T> {
+        planar_body::BodyState::ground()
+    }
+
+    fn row_of<T: Real>(
+        row: &Self::RowKind,
+        bi: &planar_body::BodyState<T>,
+        bj: &planar_body::BodyState<T>,
+        motion: Motion<T>,
+    ) -> RowEval<[T; planar_body::NV], T> {
+        row.eval(bi, bj, motion)
+    }
+
+    fn add_body_loads<T: Real>(
+        qe: &mut [T],
+        mass: f64,
+        _: &f64,
+        gravity: &Self::Vector,
+        _: &planar_body::BodyState<T>,
+    ) {
+        planar_body::add_weight(qe, mass, *gravity);
+    }
+
+    fn has_table(f: &ForceElement) -> bool {
+        matches!(f, ForceElement::AppliedForce { .. } | ForceElement::AppliedTorque { .. })
+    }
+
+    fn table_at(f: &ForceElement, t: f64, x: &mut Vec<f64>) {
+        x.extend(f.applied_at(t));
+    }
+
+    fn add_force_loads<T: Real>(
+        f: &ForceElement,
+        applied: &[T],
+        state: impl Fn(Option<usize>) -> planar_body::BodyState<T>,
+        loads: &mut Loads<T>,
+    ) {
+        let zero = T::constant(0.0);
+        f.add_loads([0, 1].map(|k| applied.get(k).copied().unwrap_or(zero)), state, loads);
+    }
+
+    fn add_clearance_loads<T: Real>(
+        c: &PlanarClearance,
+        i: &planar_body::BodyState<T>,
+        j: &planar_body::BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        loads: &mut Loads<T>,
+    ) -> Option<()> {
+        match c {
+            PlanarClearance::Revolute(r) if r.worn.is_none() => r.add_round_loads(i, j, onset, loads),
+            PlanarClearance::Play(p) => p.add_play_loads(i, j, onset, loads),
+            PlanarClearance::Gear(g) if g.cycle.is_none() => g.add_gear_loads(i, j, onset, loads),
+            _ => return None,
+        }
+        Some(())
+    }
+
+    /// Compiled are the dry round journals in their bearings, the joints' play and the
+    /// gear meshes of constant stiffness.
+    fn uncompiled_joint(sys: &System) -> Result<(), String> {
+        for c in &sys.clearances {
+            let what = match c {
+                PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
+                PlanarClearance::Play(_) => continue,
+                PlanarClearance::Gear(g) if g.cycle.is_none() => continue,
+                PlanarClearance::Revolute(_) => "a worn profile",
+                PlanarClearance::Lubricated(_) => "an oil film",
+                PlanarClearance::Translational(_) => "a block in its guide",
+                PlanarClearance::Gear(_) => "a mesh stiffness that varies along the mesh cycle",
+            };
+            return Err(not_compiled(c.name(), what));
+        }
+        Ok(())
+    }
+}
+
+/// Why joint `name`, which has `what`, runs interpreted.
+fn not_compiled(name: &str, what: &str) -> String {
+    format!("joint '{name}' has {what}, which is not compiled yet")
+}
+
+impl Kernels<{ spatial_body::NV }> for Spatial {
+    type StateOf<T: Real> = spatial_body::BodyState<T>;
+    const TABLE: usize = 3;
+
+    fn state_of<T: Real>(q: &[T], v: &[T]) -> spatial_body::BodyState<T> {
+        spatial_body::BodyState::read(q, v)
+    }
+
+    fn ground_of<T: Real>() -> spatial_body::BodyState<T> {
+        spatial_body::BodyState::read(
+            &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0].map(T::constant),
+            &[T::constant(0.0); 6],
+        )
+    }
+
+    fn row_of<T: Real>(
+        row: &Self::RowKind,
+        bi: &spatial_body::BodyState<T>,
+        bj: &spatial_body::BodyState<T>,
+        motion: Motion<T>,
+    ) -> RowEval<[T; spatial_body::NV], T> {
+        row.eval(bi, bj, motion)
+    }
+
+    fn add_body_loads<T: Real>(
+        qe: &mut [T],
+        mass: f64,
+        inertia: &Self::Inertia,
+        gravity: &Self::Vector,
+        state: &spatial_body::BodyState<T>,
+    ) {
+        spatial_body::add_weight(qe, mass, *gravity);
+        spatial_body::add_gyroscopic(qe, inertia.moments, &state.omega);
+    }
+
+    fn has_table(f: &SpatialForce) -> bool {
+        matches!(f, SpatialForce::AppliedForce { .. } | SpatialForce::AppliedTorque { .. })
+    }
+
+    fn table_at(f: &SpatialForce, t: f64, x: &mut Vec<f64>) {
+        x.extend(f.applied_at(t));
+    }
+
+    fn add_force_loads<T: Real>(
+        f: &SpatialForce,
+        applied: &[T],
+        state: impl Fn(Option<usize>) -> spatial_body::BodyState<T>,
+        loads: &mut Loads<T>,
+    ) {
+        let zero = T::constant(0.0);
+        f.add_loads([0, 1, 2].map(|k| applied.get(k).copied().unwrap_or(zero)), state, loads);
+    }
+
+    fn add_clearance_loads<T: Real>(
+        c: &SpatialClearance,
+        i: &spatial_body::BodyState<T>,
+        j: &spatial_body::BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        loads: &mut Loads<T>,
+    ) -> Option<()> {
+        match &c.geometry {
+            SpatialGeometry::BallSocket(g) => c.add_socket_loads(g, i, j, onset, loads),
+            _ => return None,
+        }
+        Some(())
+    }
+
+    /// Compiled is the ball in its socket.
+    fn uncompiled_joint(sys: &System<Spatial>) -> Result<(), String> {
+        for c in &sys.clearances {
+            let what = match &c.geometry {
+                SpatialGeometry::BallSocket(_) => continue,
+                SpatialGeometry::Cylinder(_) => "a journal that may tilt in its bearing",
+                SpatialGeometry::Play(_) => "play about or along its axis",
+                SpatialGeometry::Block(_) => "a block in its guide",
+                SpatialGeometry::Lubricated(_) => "an oil film",
+            };
+            return Err(not_compiled(&c.name, what));
+        }
+        Ok(())
+    }
+}
