@@ -2,7 +2,7 @@
 #![allow(dead_code)]
 
 use jointgap_core::Model;
-use serde_json::json;
+use serde_json::{json, Value};
 
 pub const R: f64 = 0.08;
 pub const L: f64 = 0.32;
@@ -76,4 +76,42 @@ pub fn slider_closed_form(t: f64) -> (f64, f64, f64) {
     let dx = -R * s - R * R * s * c / root; // dx/dtheta
     let d2x = -R * c - R * R * (c * c - s * s) / root - R.powi(4) * s * s * c * c / root.powi(3);
     (x, dx * w, d2x * w * w + dx * al)
+}
+
+/// The spatial four-bar (RSSR) of examples/spatial_four_bar_clearance.toml: a driven
+/// crank about z, a rocker about x, and a coupler between a ball joint and a ball in its
+/// socket with 0.1 mm clearance (Lankarani-Nikravesh contact and Coulomb friction).
+pub fn spatial_four_bar_clearance() -> Value {
+    json!({
+        "dimension": 3, "name": "spatial_four_bar_clearance", "gravity": [0.0, 0.0, -9.81],
+        "bodies": [
+            {"name": "crank", "mass": 0.157, "inertia": {"principal": {"moments": [6.5e-06, 0.000132, 0.000136]}},
+             "position": [0.05, 0.0, 0.0], "points": {"O": [-0.05, 0.0, 0.0], "A": [0.05, 0.0, 0.0]}},
+            {"name": "coupler", "mass": 0.628,
+             "inertia": {"principal": {"moments": [2.6e-05, 0.00837, 0.00839],
+                         "frame": {"axis_angle": {"axis": [0.0, -0.625, 0.73951], "angle": 1.3181162843374175}}}},
+             "position": [0.15, 0.147902, 0.125],
+             "points": {"A": [-0.05, -0.147902, -0.125], "B": [0.05, 0.147902, 0.125]}},
+            {"name": "rocker", "mass": 0.471, "inertia": {"principal": {"moments": [2e-05, 0.00353, 0.00355]}},
+             "position": [0.2, 0.147902, 0.225],
+             "orientation": {"euler": {"convention": "XYZ", "angles": [0.16744807526022734, 0.0, 1.5707963267948966]}},
+             "points": {"D": [-0.15, 0.0, 0.0], "B": [0.15, 0.0, 0.0]}}
+        ],
+        "joints": [
+            {"name": "ground_crank", "type": "revolute", "body_i": "ground", "point_i": "O", "body_j": "crank",
+             "point_j": "O", "axis": [0.0, 0.0, 1.0]},
+            {"name": "crank_coupler", "type": "spherical", "body_i": "crank", "point_i": "A", "body_j": "coupler",
+             "point_j": "A"},
+            {"name": "coupler_rocker", "type": "clearance_spherical", "body_i": "rocker", "point_i": "B",
+             "body_j": "coupler", "point_j": "B",
+             "clearance": {"bearing_radius": 0.01, "clearance": 0.0001, "bearing_material": "steel",
+                           "journal_material": "steel",
+                           "normal_law": {"type": "lankarani_nikravesh", "exponent": 1.5, "restitution": 0.9, "clip": true},
+                           "friction": {"type": "coulomb", "mu_s": 0.1, "mu_d": 0.08, "v_s": 0.0001, "v_d": 0.01}}},
+            {"name": "ground_rocker", "type": "revolute", "body_i": "ground", "point_i": "D", "body_j": "rocker",
+             "point_j": "D", "axis": [1.0, 0.0, 0.0]}
+        ],
+        "drivers": [{"name": "motor", "joint": "ground_crank", "profile": {"type": "constant_speed", "speed": 6.283185307179586}}],
+        "ground_points": {"O": [0.0, 0.0, 0.0], "D": [0.2, 0.0, 0.2]}
+    })
 }

@@ -3,8 +3,10 @@
 //! was compiled and why not.
 
 use crate::common::*;
+use jointgap_core::model::spatial::SpatialModel;
+use jointgap_core::simulate::{simulate_spatial, Silent};
 use jointgap_core::{simulate, Method, Model, SimOptions, SimResult, Status};
-use serde_json::json;
+use serde_json::{json, Value};
 
 fn options(t_end: f64, method: Method, compiled: bool) -> SimOptions {
     SimOptions {
@@ -19,8 +21,19 @@ fn options(t_end: f64, method: Method, compiled: bool) -> SimOptions {
 
 /// Runs `model` compiled and interpreted and asserts the two results are the same bits.
 fn same_run(model: &Model, t_end: f64, method: Method) -> SimResult {
-    let native = simulate(model, &options(t_end, method, true)).unwrap();
-    let plain = simulate(model, &options(t_end, method, false)).unwrap();
+    same_run_of(|o| simulate(model, o).unwrap(), t_end, method)
+}
+
+/// [`same_run`] for a spatial model (JSON, SI units).
+fn same_spatial_run(model: &Value, t_end: f64, method: Method) -> SimResult {
+    let model = SpatialModel::from_json(&model.to_string()).expect("a valid model");
+    same_run_of(|o| simulate_spatial(&model, o, &mut Silent).unwrap(), t_end, method)
+}
+
+/// [`same_run`] of the runs that `run` makes with the options it is given.
+fn same_run_of(run: impl Fn(&SimOptions) -> SimResult, t_end: f64, method: Method) -> SimResult {
+    let native = run(&options(t_end, method, true));
+    let plain = run(&options(t_end, method, false));
     assert_eq!(native.status, Status::Finished, "{method:?}: {:?}", native.status);
     assert!(native.stats.compiled.starts_with("native code"), "{}", native.stats.compiled);
     assert!(native.stats.compiled.contains(" 0 interpreted"), "{}", native.stats.compiled);
@@ -196,4 +209,35 @@ fn variants_share_their_code() {
     same_run(&model, 0.08, Method::Dopri5);
     let run = same_run(&variant, 0.08, Method::Dopri5);
     assert!(from_cache(&run) > 0, "{}", run.stats.compiled);
+}
+
+/// The spatial four-bar with a spherical clearance joint with each method: the
+/// quaternions' normalising and rotation matrices, the five rows of the revolute joints
+/// and the rotation driver's angle row (its `atan2` and wrap), the ball joint, the ball in
+/// its socket with its friction, gravity and the gyroscopic moments.
+#[test]
+fn spatial_four_bar_runs_the_same_compiled() {
+    let model = spatial_four_bar_clearance();
+    for method in [Method::Auto, Method::Dopri5, Method::Sdirk4, Method::Radau5] {
+        let run = same_spatial_run(&model, 0.06, method);
+        assert!(run.stats.events > 0, "{method:?}: the ball hits its socket");
+    }
+}
+
+/// The spatial force elements: a spring-damper, and a force and a torque from tables in
+/// body axes, on the spatial four-bar.
+#[test]
+fn spatial_force_elements_run_the_same_compiled() {
+    let mut model = spatial_four_bar_clearance();
+    let table = |values: Value| json!({"time": [0.0, 0.02, 0.05], "value": values});
+    model["forces"] = json!([
+        {"name": "spring", "type": "spring_damper", "body_i": "ground", "point_i": [0.2, 0.1, 0.3],
+         "body_j": "rocker", "point_j": "B", "stiffness": 800.0, "damping": 2.0, "free_length": 0.05},
+        {"name": "push", "type": "applied_force", "body": "coupler", "point": [0.01, 0.0, 0.0], "frame": "body",
+         "force": table(json!([[0.0, 0.0, 0.0], [3.0, -2.0, 1.0], [0.0, 1.0, 0.0]]))},
+        {"name": "twist", "type": "applied_torque", "body": "rocker", "frame": "body",
+         "torque": table(json!([[0.0, 0.0, 0.0], [0.0, 0.05, 0.02], [0.1, 0.0, 0.0]]))}
+    ]);
+    same_spatial_run(&model, 0.06, Method::Auto);
+    same_spatial_run(&model, 0.06, Method::Radau5);
 }
