@@ -94,7 +94,7 @@ pub fn spatial_four_bar_clearance() -> Value {
              "points": {"A": [-0.05, -0.147902, -0.125], "B": [0.05, 0.147902, 0.125]}},
             {"name": "rocker", "mass": 0.471, "inertia": {"principal": {"moments": [2e-05, 0.00353, 0.00355]}},
              "position": [0.2, 0.147902, 0.225],
-             "orientation": {"euler": {"convention": "XYZ", "angles": [0.16744807526022734, 0.0, 1.5707963267948966]}},
+             "orientation": {"euler": {"convention": "XYZ", "angles": [0.16744807526022734, 0.0, std::f64::consts::FRAC_PI_2]}},
              "points": {"D": [-0.15, 0.0, 0.0], "B": [0.15, 0.0, 0.0]}}
         ],
         "joints": [
@@ -111,7 +111,7 @@ pub fn spatial_four_bar_clearance() -> Value {
             {"name": "ground_rocker", "type": "revolute", "body_i": "ground", "point_i": "D", "body_j": "rocker",
              "point_j": "D", "axis": [1.0, 0.0, 0.0]}
         ],
-        "drivers": [{"name": "motor", "joint": "ground_crank", "profile": {"type": "constant_speed", "speed": 6.283185307179586}}],
+        "drivers": [{"name": "motor", "joint": "ground_crank", "profile": {"type": "constant_speed", "speed": std::f64::consts::TAU}}],
         "ground_points": {"O": [0.0, 0.0, 0.0], "D": [0.2, 0.0, 0.2]}
     })
 }
