@@ -515,7 +515,7 @@ use crate::common;
 /// slider a prismatic joint along x, the rod-slider joint a cylindrical clearance joint
 /// with the same radii, materials, laws and friction and a journal 20 mm long, gravity
 /// along -y. The out-of-plane inertias are made up: nothing turns out of the plane.
-fn slider_crank_clearance_3d() -> Value {
+pub(crate) fn slider_crank_clearance_3d() -> Value {
     use common::{L, R, T_RAMP, W};
     let planar = serde_json::to_value(common::slider_crank_clearance()).unwrap();
     let rod_slider = planar["joints"].as_array().unwrap().iter().find(|j| j["name"] == "rod_slider").unwrap();

@@ -162,6 +162,8 @@ pub struct Schur<R: Block = BodyRow> {
     sparse: Vec<f64>,
     /// Lower factor of the dense path, row by row over the envelope.
     dense: Vec<f64>,
+    /// The diagonal of the matrix the dense path factored last (its pivots' measure).
+    dense_diagonal: Vec<f64>,
     /// `dense` or `sparse` holds the plain factor of the current values (see
     /// [`Schur::solve_again`]).
     plain_factor: bool,
@@ -501,6 +503,7 @@ impl<R: Block> Schur<R> {
             symbolic,
             sparse,
             dense: vec![0.0; dense_size],
+            dense_diagonal: Vec::with_capacity(m),
             plain_factor: false,
             ill_conditioned: false,
             rank_deficient: false,
@@ -549,19 +552,23 @@ impl<R: Block> Schur<R> {
     /// Factors `S + shift I` into the dense buffer, summing `S` straight into it.
     fn factor_dense(&mut self, shift: f64) -> Result<(), Singular> {
         let mut dense = std::mem::take(&mut self.dense);
-        let factored = self.factor_dense_into(&self.scaled, &self.plain, shift, &mut dense);
+        let mut diagonal = std::mem::take(&mut self.dense_diagonal);
+        let factored = self.factor_dense_into(&self.scaled, &self.plain, shift, &mut dense, &mut diagonal);
+        self.dense_diagonal = diagonal;
         self.dense = dense;
         factored
     }
 
     /// Factors `S + shift I` of the rows' Jacobian blocks `plain` and their products with
-    /// `M^-1`, `scaled` (two per row), into `dense`, in any number type.
+    /// `M^-1`, `scaled` (two per row), into `dense`, in any number type, its diagonal
+    /// kept in `diagonal`.
     fn factor_dense_into<T: Real, B: AsRef<[T]>>(
         &self,
         scaled: &[B],
         plain: &[B],
         shift: f64,
         dense: &mut [T],
+        diagonal: &mut Vec<T>,
     ) -> Result<(), Singular> {
         dense.fill(T::constant(0.0));
         for s in &self.shared {
@@ -570,6 +577,8 @@ impl<R: Block> Schur<R> {
         for &d in &self.envelope.diagonal {
             dense[d as usize] += T::constant(shift);
         }
+        diagonal.clear();
+        diagonal.extend(self.envelope.diagonal.iter().map(|&d| dense[d as usize]));
         self.envelope.factor(dense)
     }
 
@@ -598,8 +607,9 @@ impl<R: Block> Schur<R> {
             }
         }
         let mut dense = vec![T::constant(0.0); self.envelope.size];
-        self.factor_dense_into(&scaled, &plain, 0.0, &mut dense).ok()?;
-        if !dense_pivots(&self.envelope, &dense).well_conditioned() {
+        let mut diagonal = Vec::with_capacity(jac.len());
+        self.factor_dense_into(&scaled, &plain, 0.0, &mut dense, &mut diagonal).ok()?;
+        if !dense_pivots(&self.envelope, &dense, &diagonal).well_conditioned() {
             return None;
         }
         self.envelope.solve(&dense, rhs);
@@ -663,7 +673,7 @@ impl<R: Block> Schur<R> {
             (Factorisation::Sparse, Some(symbolic)) => {
                 sparse_pivots(symbolic, &self.sparse, |k| self.regularised[self.diagonal[k]])
             }
-            _ => dense_pivots(&self.envelope, &self.dense),
+            _ => dense_pivots(&self.envelope, &self.dense, &self.dense_diagonal),
         }
     }
 
@@ -810,16 +820,9 @@ fn add_shared<T: Real, B: AsRef<[T]>>(value: &mut T, scaled: &B, plain: &B) {
     }
 }
 
-/// The pivots of the envelope factor `l`. Row `k` of `S` is row `k` of `L` times
-/// itself, so its diagonal entry is that row's sum of squares (packed from the entry
-/// after the previous row's diagonal up to its own).
-fn dense_pivots<T: Real>(envelope: &Envelope, l: &[T]) -> Pivots<T> {
-    Pivots::of(envelope.diagonal.iter().enumerate().map(|(k, &d)| {
-        let first = if k == 0 { 0 } else { envelope.diagonal[k - 1] as usize + 1 };
-        let row = l[first..=d as usize].iter().fold(T::constant(0.0), |s, &x| s + x * x);
-        let pivot = l[d as usize] * l[d as usize];
-        (pivot, row)
-    }))
+/// The pivots of the envelope factor `l` of a matrix of diagonal `diagonal`.
+fn dense_pivots<T: Real>(envelope: &Envelope, l: &[T], diagonal: &[T]) -> Pivots<T> {
+    Pivots::of(envelope.diagonal.iter().zip(diagonal).map(|(&d, &s)| (l[d as usize] * l[d as usize], s)))
 }
 
 /// Relative diagonal shift of the Schur complement (see [`Schur::solve`]).
