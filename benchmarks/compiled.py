@@ -195,6 +195,21 @@ def count_table(counted: dict[str, float] | None) -> list[str]:
     return [*lines, ""]
 
 
+def wall_rows(timed: dict[str, Any]) -> list[str]:
+    """The account of a model's first run and its wall times, the head of a table."""
+    return [
+        f"Account of the first run: {timed['account']}",
+        "",
+        "| wall time (this process) | seconds | ratio |",
+        "|---|---:|---:|",
+        f"| first compiled run | {timed['first_compiled']:.4f} | "
+        f"compile {timed['compile_time']:.4f} s |",
+        f"| compiled, median of {REPEATS} | {timed['compiled']:.4f} | "
+        f"{timed['interpreted'] / timed['compiled']:.2f}x |",
+        f"| interpreted, median of {REPEATS} | {timed['interpreted']:.4f} | 1 |",
+    ]
+
+
 def spatial_lines(spatial: dict[str, Any]) -> list[str]:
     """The spatial four-bar's counts, wall times and profile."""
     timed, profile = spatial["timings"], spatial["profile"]
@@ -209,15 +224,7 @@ def spatial_lines(spatial: dict[str, Any]) -> list[str]:
         "(examples/spatial_four_bar_clearance.toml), 0.5 s, 1 kHz, auto at rtol 1e-8",
         "",
         *count_table(spatial["counts"]),
-        f"Account of the first run: {timed['account']}",
-        "",
-        "| wall time (this process) | seconds | ratio |",
-        "|---|---:|---:|",
-        f"| first compiled run | {timed['first_compiled']:.4f} | "
-        f"compile {timed['compile_time']:.4f} s |",
-        f"| compiled, median of {REPEATS} | {timed['compiled']:.4f} | "
-        f"{timed['interpreted'] / timed['compiled']:.2f}x |",
-        f"| interpreted, median of {REPEATS} | {timed['interpreted']:.4f} | 1 |",
+        *wall_rows(timed),
         "",
         "Where the time goes (the run's profile, fastest of 3):",
         "",
@@ -253,15 +260,7 @@ def main() -> int:
     ]
     lines += count_table(counted)
     lines += [
-        f"Account of the first run: {timed['account']}",
-        "",
-        "| wall time (this process) | seconds | ratio |",
-        "|---|---:|---:|",
-        f"| first compiled run | {timed['first_compiled']:.4f} | "
-        f"compile {timed['compile_time']:.4f} s |",
-        f"| compiled, median of {REPEATS} | {timed['compiled']:.4f} | "
-        f"{timed['interpreted'] / timed['compiled']:.2f}x |",
-        f"| interpreted, median of {REPEATS} | {timed['interpreted']:.4f} | 1 |",
+        *wall_rows(timed),
         f"| batch of {BATCH} clearance variants (0.2 s each, 2 threads), compiled | "
         f"{batched['compiled']:.3f} | {batched['interpreted'] / batched['compiled']:.2f}x "
         f"(compiling {batched['compile_time']:.3f} s of thread time) |",
