@@ -184,7 +184,8 @@ fn what_is_not_compiled_says_why() {
         run.stats.compiled,
         "interpreted: joint 'rod_slider' has an oil film, which is not compiled yet"
     );
-    assert_eq!(run.stats.compile_time, 0.0);    let spatial = SpatialModel::from_json(&crate::spatial_clearance::slider_crank_clearance_3d().to_string());
+    assert_eq!(run.stats.compile_time, 0.0);
+    let spatial = SpatialModel::from_json(&crate::spatial_clearance::slider_crank_clearance_3d().to_string());
     let run = simulate_spatial(&spatial.unwrap(), &options(0.01, Method::Auto, true), &mut Silent).unwrap();
     assert_eq!(
         run.stats.compiled,
