@@ -247,3 +247,28 @@ fn spatial_force_elements_run_the_same_compiled() {
     same_spatial_run(&model, 0.06, Method::Auto);
     same_spatial_run(&model, 0.06, Method::Radau5);
 }
+
+/// Spatial joints with play: a wheel on a slanted axle between its angular stops, and a
+/// part on a slanted rail between its stops, with gravity across the axis (damped and
+/// Hertz stops).
+#[test]
+fn spatial_joints_with_play_run_the_same_compiled() {
+    let damped = json!({"type": "kelvin_voigt", "exponent": 1.0, "damping": 0.06});
+    for (kind, law, stiffness, turning, velocity) in [
+        ("revolute_with_play", damped, 500.0, [0.0, 1.8, 2.4], [0.0; 3]),
+        ("prismatic_with_play", json!({"type": "hertz"}), 1e8, [0.0; 3], [0.0, 0.3, 0.4]),
+    ] {
+        let model = json!({
+            "dimension": 3, "gravity": [0.0, -9.81, 0.0],
+            "bodies": [{"name": "part", "mass": 0.2, "inertia": {"principal": {"moments": [2e-3, 3e-3, 4e-3]}},
+                        "position": [0.01, 0.0, 0.0], "angular_velocity": turning, "velocity": velocity}],
+            "joints": [{"name": "stop", "type": kind, "body_i": "ground", "point_i": [0.01, 0.0, 0.0],
+                        "body_j": "part", "point_j": [0.0, 0.0, 0.0], "axis": [0.0, 0.6, 0.8],
+                        "play": {"play": 0.02, "stiffness": stiffness, "normal_law": law}}]
+        });
+        for method in [Method::Auto, Method::Radau5] {
+            let run = same_spatial_run(&model, 0.05, method);
+            assert!(run.stats.events > 0, "{kind} {method:?}: the stops are met");
+        }
+    }
+}

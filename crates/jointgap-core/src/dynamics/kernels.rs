@@ -346,18 +346,18 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
     ) -> Option<()> {
         match &c.geometry {
             SpatialGeometry::BallSocket(g) => c.add_socket_loads(g, i, j, onset, loads),
+            SpatialGeometry::Play(g) => c.add_play_loads(g, i, j, onset, loads),
             _ => return None,
         }
         Some(())
     }
 
-    /// Compiled is the ball in its socket.
+    /// Compiled are the ball in its socket and the joints' play.
     fn uncompiled_joint(sys: &System<Spatial>) -> Result<(), String> {
         for c in &sys.clearances {
             let what = match &c.geometry {
-                SpatialGeometry::BallSocket(_) => continue,
+                SpatialGeometry::BallSocket(_) | SpatialGeometry::Play(_) => continue,
                 SpatialGeometry::Cylinder(_) => "a journal that may tilt in its bearing",
-                SpatialGeometry::Play(_) => "play about or along its axis",
                 SpatialGeometry::Block(_) => "a block in its guide",
                 SpatialGeometry::Lubricated(_) => "an oil film",
             };

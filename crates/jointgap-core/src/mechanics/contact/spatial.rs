@@ -15,10 +15,9 @@ use super::point3::{ContactPoint3, ContactPoints3, MaterialPoint3};
 use super::{ClearanceJoint, ContactMeasure, ContactState, WearContact, MAX_INITIAL_CONTACT_FORCE};
 use crate::error::{Error, Named};
 use crate::mechanics::drivers::Motion;
-use crate::mechanics::kind::RowEval;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::spatial::body::{self, BodyRow, BodyState, Vec3};
-use crate::mechanics::spatial::joints::{row_rate, SpatialRowKind};
+use crate::mechanics::spatial::body::{self, constant, BodyState, Vec3};
+use crate::mechanics::spatial::joints::{row_rate, SpatialRowEval, SpatialRowKind};
 use crate::model::FrictionSpec;
 use crate::output::ClearanceData;
 use crate::scalar::Real;
@@ -53,32 +52,33 @@ pub struct SpatialPlay {
     pub half_play: f64,
 }
 
-const NO_MOTION: Motion = Motion { position: 0.0, speed: 0.0, acceleration: 0.0 };
-
 impl SpatialPlay {
     /// The coordinate from the middle of the play, its rate, and the row's Jacobian
-    /// blocks (the coordinate's gradient over each body's velocity coordinates).
+    /// blocks (the coordinate's gradient over each body's velocity coordinates), in any
+    /// number type.
     #[inline]
-    pub fn measure(&self, i: &BodyState, j: &BodyState) -> (f64, f64, RowEval<BodyRow>) {
-        let ev = self.row.eval(i, j, NO_MOTION);
+    pub fn measure<T: Real>(&self, i: &BodyState<T>, j: &BodyState<T>) -> (T, T, SpatialRowEval<T>) {
+        let zero = T::constant(0.0);
+        let ev = self.row.eval(i, j, Motion { position: zero, speed: zero, acceleration: zero });
         (ev.c, row_rate(&ev, i, j), ev)
     }
 
     /// The one point: penetration `|x| - play/2`, its normal's first component the side.
-    fn contact(&self, i: &BodyState, j: &BodyState, reach: f64, out: &mut ContactPoints3) {
+    fn contact<T: Real>(&self, i: &BodyState<T>, j: &BodyState<T>, reach: f64, out: &mut ContactPoints3<T>) {
         let (x, rate, _) = self.measure(i, j);
-        let side = if x >= 0.0 { 1.0 } else { -1.0 };
+        let side = T::constant(if x >= 0.0 { 1.0 } else { -1.0 });
         let penetration = side * x - self.half_play;
         if penetration > -reach {
+            let zero = T::constant(0.0);
             out.push(ContactPoint3 {
                 index: 0,
-                normal: Vec3::new(side, 0.0, 0.0),
+                normal: Vector3::new(side, zero, zero),
                 penetration,
                 penetration_rate: side * rate,
-                slip: Vec3::zeros(),
+                slip: Vector3::zeros(),
                 share: 1.0,
-                on_i: MaterialPoint3::of(self.bodies[0], i, i.r + i.rotate(&self.points[0])),
-                on_j: MaterialPoint3::of(self.bodies[1], j, j.r + j.rotate(&self.points[1])),
+                on_i: MaterialPoint3::of(self.bodies[0], i, i.r + i.rotate(&constant(&self.points[0]))),
+                on_j: MaterialPoint3::of(self.bodies[1], j, j.r + j.rotate(&constant(&self.points[1]))),
             });
         }
     }
@@ -181,6 +181,35 @@ impl SpatialClearance {
             ball,
             qe,
         );
+    }
+
+    /// Adds the loads of a joint's play `g` at its stops, in any number type: the
+    /// generalized force `-side F` along its coordinate's gradient (a torque about the
+    /// axis, a force along it), minus the derivative of its energy. `onset(k, rate)` as
+    /// for [`Self::add_socket_loads`].
+    #[inline]
+    pub fn add_play_loads<T: Real>(
+        &self,
+        g: &SpatialPlay,
+        i: &BodyState<T>,
+        j: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints3::new();
+        g.contact(i, j, self.reach(), &mut points);
+        for p in points.iter() {
+            let (f_n, _) = self.point_force(p, onset(0, p.penetration_rate));
+            if f_n == 0.0 {
+                continue;
+            }
+            let (_, _, ev) = g.measure(i, j);
+            for (body, jac) in [(g.bodies[0], &ev.jac_i), (g.bodies[1], &ev.jac_j)] {
+                if let Some(q) = qe.body(body) {
+                    q.iter_mut().zip(jac.iter()).for_each(|(q, d)| *q -= p.normal.x * f_n * *d);
+                }
+            }
+        }
     }
 
     /// The radii of the hole and the pin, and the radial clearance.
@@ -305,29 +334,14 @@ impl ClearanceJoint for SpatialClearance {
     }
 
     /// Each point's force on body j at its point and the opposite on body i at its own, and
-    /// a film's loads;
-    /// a play's stop as the generalized force `-side F` along its coordinate's gradient
-    /// (a torque about the axis, a force along it), minus the derivative of its energy.
+    /// a film's loads; a play's stop by [`SpatialClearance::add_play_loads`].
     #[inline]
     fn add_to(&self, i: &BodyState, j: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        if let SpatialGeometry::Play(g) = &self.geometry {
-            for p in self.contacts(i, j, self.reach()).iter() {
-                let (f_n, _) = self.force(p, states[0].onset_for(p.penetration_rate));
-                if f_n == 0.0 {
-                    continue;
-                }
-                let (_, _, ev) = g.measure(i, j);
-                for (body, jac) in [(g.bodies[0], &ev.jac_i), (g.bodies[1], &ev.jac_j)] {
-                    if let Some(q) = qe.body(body) {
-                        q.iter_mut().zip(jac.iter()).for_each(|(q, d)| *q -= p.normal.x * f_n * d);
-                    }
-                }
-            }
-            return;
-        }
         let onset = |k: usize, rate| states[k].onset_for(rate);
-        if let SpatialGeometry::BallSocket(g) = &self.geometry {
-            return self.add_socket_loads(g, i, j, onset, qe);
+        match &self.geometry {
+            SpatialGeometry::Play(g) => return self.add_play_loads(g, i, j, onset, qe),
+            SpatialGeometry::BallSocket(g) => return self.add_socket_loads(g, i, j, onset, qe),
+            _ => {}
         }
         let points = self.contacts(i, j, self.reach());
         apply_point_forces(&points, |p| self.point_force(p, onset(p.index, p.penetration_rate)), i, j, qe);

@@ -15,7 +15,7 @@ use nalgebra::Vector3;
 
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::RowEval;
-use crate::mechanics::spatial::body::{constant, BodyRow, BodyState, Vec3, NV};
+use crate::mechanics::spatial::body::{constant, BodyState, Vec3, NV};
 use crate::scalar::{c, Real};
 
 /// One scalar constraint equation between body i and body j. Vectors and points are in
@@ -341,9 +341,11 @@ pub fn joint_rows(
 /// The rate of an evaluated row's value, `Cq v` over the two bodies (velocities and
 /// body-frame angular velocities).
 #[inline]
-pub fn row_rate(ev: &SpatialRowEval, bi: &BodyState, bj: &BodyState) -> f64 {
-    let part =
-        |jac: &BodyRow, b: &BodyState| (0..3).map(|k| jac[k] * b.v[k] + jac[k + 3] * b.omega[k]).sum::<f64>();
+pub fn row_rate<T: Real>(ev: &SpatialRowEval<T>, bi: &BodyState<T>, bj: &BodyState<T>) -> T {
+    // As `Iterator::sum` of f64, from -0.
+    let part = |jac: &[T; NV], b: &BodyState<T>| {
+        (0..3).fold(T::constant(-0.0), |s, k| s + (jac[k] * b.v[k] + jac[k + 3] * b.omega[k]))
+    };
     part(&ev.jac_i, bi) + part(&ev.jac_j, bj)
 }
 
