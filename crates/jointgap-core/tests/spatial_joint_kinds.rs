@@ -32,7 +32,7 @@ fn channel<'a>(res: &'a SimResult, name: &str) -> &'a [f64] {
 
 /// A free block (0.5 kg) in a ground channel along x, its height across y, moving at `v`
 /// and turning at `w`.
-fn block_in_channel(v: [f64; 3], w: [f64; 3]) -> Value {
+pub(crate) fn block_in_channel(v: [f64; 3], w: [f64; 3]) -> Value {
     json!({
         "dimension": 3, "gravity": [0.0, 0.0, 0.0],
         "bodies": [{"name": "block", "mass": 0.5,

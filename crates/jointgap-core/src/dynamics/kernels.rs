@@ -347,17 +347,20 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
         match &c.geometry {
             SpatialGeometry::BallSocket(g) => c.add_socket_loads(g, i, j, onset, loads),
             SpatialGeometry::Play(g) => c.add_play_loads(g, i, j, onset, loads),
+            SpatialGeometry::Cylinder(g) if g.worn.is_none() => c.add_cylinder_loads(g, i, j, onset, loads),
             _ => return None,
         }
         Some(())
     }
 
-    /// Compiled are the ball in its socket and the joints' play.
+    /// Compiled are the ball in its socket, the round journal in its bearing and the
+    /// joints' play.
     fn uncompiled_joint(sys: &System<Spatial>) -> Result<(), String> {
         for c in &sys.clearances {
             let what = match &c.geometry {
                 SpatialGeometry::BallSocket(_) | SpatialGeometry::Play(_) => continue,
-                SpatialGeometry::Cylinder(_) => "a journal that may tilt in its bearing",
+                SpatialGeometry::Cylinder(g) if g.worn.is_none() => continue,
+                SpatialGeometry::Cylinder(_) => "a worn profile",
                 SpatialGeometry::Block(_) => "a block in its guide",
                 SpatialGeometry::Lubricated(_) => "an oil film",
             };

@@ -6,8 +6,8 @@
 //! slip vector.
 
 use super::geometry::{
-    contact_ball_socket, contact_block_channel, contact_cylinder_bearing, BallSocket, BlockChannel,
-    CylinderBearing,
+    contact_ball_socket, contact_block_channel, contact_cylinder_bearing, contact_round_cylinder, BallSocket,
+    BlockChannel, CylinderBearing,
 };
 use super::lubricated_cylinder::LubricatedCylinder;
 use super::normal::NormalForce;
@@ -181,6 +181,23 @@ impl SpatialClearance {
             ball,
             qe,
         );
+    }
+
+    /// Adds the contact loads of a round journal in its bearing `g` (no wear), in any
+    /// number type; `onset(k, rate)` as for [`Self::add_socket_loads`].
+    #[inline]
+    pub fn add_cylinder_loads<T: Real>(
+        &self,
+        g: &CylinderBearing,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints3::new();
+        contact_round_cylinder(g, bearing, journal, self.reach(), &mut points);
+        let force = |p: &ContactPoint3<T>| self.point_force(p, onset(p.index, p.penetration_rate));
+        apply_point_forces(&points, force, bearing, journal, qe);
     }
 
     /// Adds the loads of a joint's play `g` at its stops, in any number type: the

@@ -8,8 +8,11 @@
 
 use super::cylinder_section::{worn_end, Section};
 use super::worn::Worn;
+use nalgebra::Vector3;
+
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
-use crate::mechanics::spatial::body::{BodyState, Vec3};
+use crate::mechanics::spatial::body::{constant, BodyState, Vec3};
+use crate::scalar::{norm, Real};
 
 /// Where a journal and its bearing are, their sizes, and their axial play.
 #[derive(Debug, Clone, PartialEq)]
@@ -47,11 +50,11 @@ pub struct CylinderBearing {
 
 /// A journal's and its bearing's centres and unit axes, global.
 #[derive(Debug, Clone, Copy)]
-struct Axes {
-    centre_b: Vec3,
-    axis_b: Vec3,
-    centre_j: Vec3,
-    axis_j: Vec3,
+struct Axes<T: Real = f64> {
+    centre_b: Vector3<T>,
+    axis_b: Vector3<T>,
+    centre_j: Vector3<T>,
+    axis_j: Vector3<T>,
 }
 
 impl CylinderBearing {
@@ -73,12 +76,12 @@ impl CylinderBearing {
     }
 
     #[inline]
-    fn axes(&self, bearing: &BodyState, journal: &BodyState) -> Axes {
+    fn axes<T: Real>(&self, bearing: &BodyState<T>, journal: &BodyState<T>) -> Axes<T> {
         Axes {
-            centre_b: bearing.r + bearing.rotate(&self.s_bearing),
-            axis_b: bearing.rotate(&self.u_bearing),
-            centre_j: journal.r + journal.rotate(&self.s_journal),
-            axis_j: journal.rotate(&self.u_journal),
+            centre_b: bearing.r + bearing.rotate(&constant(&self.s_bearing)),
+            axis_b: bearing.rotate(&constant(&self.u_bearing)),
+            centre_j: journal.r + journal.rotate(&constant(&self.s_journal)),
+            axis_j: journal.rotate(&constant(&self.u_journal)),
         }
     }
 
@@ -104,8 +107,8 @@ impl CylinderBearing {
     /// The journal end at `side` (-1: point 0, +1: point 1): its centre `E`, its station
     /// `a_B . (E - r_B)` along the bearing axis, and its radial offset `d` from that axis.
     #[inline]
-    fn end(&self, x: &Axes, side: f64) -> (Vec3, f64, Vec3) {
-        let end = x.centre_j + x.axis_j * (side * 0.5 * self.length);
+    fn end<T: Real>(&self, x: &Axes<T>, side: f64) -> (Vector3<T>, T, Vector3<T>) {
+        let end = x.centre_j + x.axis_j * T::constant(side * 0.5 * self.length);
         let w = end - x.centre_b;
         let station = x.axis_b.dot(&w);
         (end, station, w - x.axis_b * station)
@@ -117,17 +120,21 @@ impl CylinderBearing {
 /// perpendicular to `a` (nalgebra's first basis vector of the plane normal to `a`): the
 /// end's gap is then the whole clearance and no force acts, so any normal in the plane
 /// gives the same (zero) loads, and a fixed one keeps every output finite.
+///
+/// In any number type, the fixed vector is a constant of the recording: where it is
+/// taken, the end is a whole clearance off the wall and its loads are zero whatever the
+/// normal, so no output depends on it.
 #[inline]
-pub fn radial_normal(d: Vec3, len: f64, a: Vec3) -> Vec3 {
+pub fn radial_normal<T: Real>(d: Vector3<T>, len: T, a: Vector3<T>) -> Vector3<T> {
     if len > 1e-15 {
         return d / len;
     }
     let mut n = Vec3::x();
-    Vec3::orthonormal_subspace_basis(&[a], |v| {
+    Vec3::orthonormal_subspace_basis(&[a.map(T::value)], |v| {
         n = *v;
         false
     });
-    n
+    constant(&n)
 }
 
 /// The contact points of journal and bearing whose gap is below `reach` [m], pushed onto
@@ -168,32 +175,76 @@ pub fn contact_cylinder_bearing(
     let x = g.axes(bearing, journal);
     let worn = g.worn.as_deref().map(|w| (w, g.section(bearing, journal)));
     for (index, side) in [(0, -1.0), (1, 1.0)] {
-        let (end, station, d) = g.end(&x, side);
         if let Some((w, section)) = &worn {
+            let (_, station, d) = g.end(&x, side);
             let parts = ([g.bearing, g.journal], (g.r_bearing, g.r_journal), g.clearance);
             let ends = (index, CylinderBearing::END_SHARE);
             let at = (x.centre_b, x.axis_b, station);
             worn_end((w, section), parts, (bearing, journal), ends, at, d, reach, out);
             continue;
         }
-        let len = d.norm();
-        let penetration = len - g.clearance;
-        if penetration <= -reach {
-            continue;
-        }
-        let n = radial_normal(d, len, x.axis_b);
-        out.push(split(
-            index,
-            n,
-            penetration,
-            CylinderBearing::END_SHARE,
-            (
-                MaterialPoint3::of(g.bearing, bearing, x.centre_b + x.axis_b * station + n * g.r_bearing),
-                bearing,
-            ),
-            (MaterialPoint3::of(g.journal, journal, end + n * g.r_journal), journal),
-        ));
+        round_end(g, &x, (index, side), bearing, journal, reach, out);
     }
+    thrust_faces(g, &x, bearing, journal, reach, out);
+}
+
+/// [`contact_cylinder_bearing`] of round parts (no wear), in any number type.
+#[inline]
+pub fn contact_round_cylinder<T: Real>(
+    g: &CylinderBearing,
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
+    reach: f64,
+    out: &mut ContactPoints3<T>,
+) {
+    let x = g.axes(bearing, journal);
+    for end in [(0, -1.0), (1, 1.0)] {
+        round_end(g, &x, end, bearing, journal, reach, out);
+    }
+    thrust_faces(g, &x, bearing, journal, reach, out);
+}
+
+/// The contact point of the round journal's end `(index, side)` against the round
+/// bearing ([`contact_cylinder_bearing`]).
+#[inline]
+fn round_end<T: Real>(
+    g: &CylinderBearing,
+    x: &Axes<T>,
+    (index, side): (usize, f64),
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
+    reach: f64,
+    out: &mut ContactPoints3<T>,
+) {
+    let (end, station, d) = g.end(x, side);
+    let len = norm(&d);
+    let penetration = len - g.clearance;
+    if penetration <= -reach {
+        return;
+    }
+    let n = radial_normal(d, len, x.axis_b);
+    let wall = x.centre_b + x.axis_b * station + n * T::constant(g.r_bearing);
+    out.push(split(
+        index,
+        n,
+        penetration,
+        CylinderBearing::END_SHARE,
+        (MaterialPoint3::of(g.bearing, bearing, wall), bearing),
+        (MaterialPoint3::of(g.journal, journal, end + n * T::constant(g.r_journal)), journal),
+    ));
+}
+
+/// The contact points of the journal's end faces against the bearing's thrust faces,
+/// where it has them ([`contact_cylinder_bearing`]).
+#[inline]
+fn thrust_faces<T: Real>(
+    g: &CylinderBearing,
+    x: &Axes<T>,
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
+    reach: f64,
+    out: &mut ContactPoints3<T>,
+) {
     let Some(c_a) = g.axial_clearance else { return };
     let half = 0.5 * g.length;
     let h = half + c_a;
@@ -201,11 +252,11 @@ pub fn contact_cylinder_bearing(
     // rim point farthest along the bearing axis.
     let facing = if x.axis_b.dot(&x.axis_j) >= 0.0 { 1.0 } else { -1.0 };
     let lean = x.axis_b - x.axis_j * x.axis_b.dot(&x.axis_j);
-    let lean_len = lean.norm();
-    let rim = if lean_len > 1e-15 { lean * (g.r_journal / lean_len) } else { Vec3::zeros() };
+    let lean_len = norm(&lean);
+    let rim = if lean_len > 1e-15 { lean * (T::constant(g.r_journal) / lean_len) } else { Vector3::zeros() };
     for (index, side) in [(2, -1.0), (3, 1.0)] {
-        let n = x.axis_b * side;
-        let point_j = x.centre_j + x.axis_j * (side * facing * half) + rim * side;
+        let n = x.axis_b * T::constant(side);
+        let point_j = x.centre_j + x.axis_j * T::constant(side * facing * half) + rim * T::constant(side);
         let penetration = n.dot(&(point_j - x.centre_b)) - h;
         if penetration <= -reach {
             continue;
