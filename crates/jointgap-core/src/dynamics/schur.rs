@@ -738,10 +738,10 @@ impl<R: Block> Schur<R> {
         }
     }
 
-    /// Whether the last [`Schur::solve`] found `S` ill-conditioned (its plain factor's
-    /// squared pivots spread over more than 1/[`WELL_CONDITIONED`]): the mechanism is
-    /// near a singular position, where the projection takes its residual down further
-    /// ([`super::project`]).
+    /// Whether the last [`Schur::solve`] found `S` ill-conditioned (a squared pivot of
+    /// its plain factor below [`WELL_CONDITIONED`] of its row's diagonal entry): the
+    /// mechanism is near a singular position, where the projection takes its residual
+    /// down further ([`super::project`]).
     pub fn ill_conditioned(&self) -> bool {
         self.ill_conditioned
     }
