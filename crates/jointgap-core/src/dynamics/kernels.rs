@@ -345,12 +345,12 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
         loads: &mut Loads<T>,
     ) -> Option<()> {
         match &c.geometry {
-            SpatialGeometry::BallSocket(g) => c.add_socket_loads(g, i, j, onset, loads),
-            SpatialGeometry::Play(g) => c.add_play_loads(g, i, j, onset, loads),
-            SpatialGeometry::Cylinder(g) if g.worn.is_none() => c.add_cylinder_loads(g, i, j, onset, loads),
-            _ => return None,
+            SpatialGeometry::Play(g) => {
+                c.add_play_loads(g, i, j, onset, loads);
+                Some(())
+            }
+            _ => c.add_dry_loads(i, j, onset, loads),
         }
-        Some(())
     }
 
     /// Compiled are the ball in its socket, the round journal in its bearing and the

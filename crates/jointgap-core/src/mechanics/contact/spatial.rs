@@ -159,51 +159,36 @@ impl SpatialClearance {
         (f_n, f_t)
     }
 
-    /// Adds the contact loads of a ball `g` in its socket, in any number type (the
-    /// interpreted [`ClearanceJoint::add_to`] runs the same kernels): `onset(k, rate)` is
-    /// the impact onset speed of point `k` at penetration rate `rate`
-    /// ([`ContactState::onset_for`]).
+    /// Adds the contact loads of a ball in its socket or a round journal in its bearing
+    /// (no wear), in any number type (the interpreted [`ClearanceJoint::add_to`] runs the
+    /// same kernels): `onset(k, rate)` is the impact onset speed of point `k` at
+    /// penetration rate `rate` ([`ContactState::onset_for`]). `None` for the other
+    /// geometries, which add nothing here.
     #[inline]
-    pub fn add_socket_loads<T: Real>(
+    pub fn add_dry_loads<T: Real>(
         &self,
-        g: &BallSocket,
-        socket: &BodyState<T>,
-        ball: &BodyState<T>,
+        i: &BodyState<T>,
+        j: &BodyState<T>,
         onset: impl Fn(usize, T) -> T,
         qe: &mut Loads<T>,
-    ) {
+    ) -> Option<()> {
         let mut points = ContactPoints3::new();
-        contact_ball_socket(g, socket, ball, self.reach(), &mut points);
-        apply_point_forces(
-            &points,
-            |p| self.point_force(p, onset(p.index, p.penetration_rate)),
-            socket,
-            ball,
-            qe,
-        );
-    }
-
-    /// Adds the contact loads of a round journal in its bearing `g` (no wear), in any
-    /// number type; `onset(k, rate)` as for [`Self::add_socket_loads`].
-    #[inline]
-    pub fn add_cylinder_loads<T: Real>(
-        &self,
-        g: &CylinderBearing,
-        bearing: &BodyState<T>,
-        journal: &BodyState<T>,
-        onset: impl Fn(usize, T) -> T,
-        qe: &mut Loads<T>,
-    ) {
-        let mut points = ContactPoints3::new();
-        contact_round_cylinder(g, bearing, journal, self.reach(), &mut points);
+        match &self.geometry {
+            SpatialGeometry::BallSocket(g) => contact_ball_socket(g, i, j, self.reach(), &mut points),
+            SpatialGeometry::Cylinder(g) if g.worn.is_none() => {
+                contact_round_cylinder(g, i, j, self.reach(), &mut points)
+            }
+            _ => return None,
+        }
         let force = |p: &ContactPoint3<T>| self.point_force(p, onset(p.index, p.penetration_rate));
-        apply_point_forces(&points, force, bearing, journal, qe);
+        apply_point_forces(&points, force, i, j, qe);
+        Some(())
     }
 
     /// Adds the loads of a joint's play `g` at its stops, in any number type: the
     /// generalized force `-side F` along its coordinate's gradient (a torque about the
     /// axis, a force along it), minus the derivative of its energy. `onset(k, rate)` as
-    /// for [`Self::add_socket_loads`].
+    /// for [`Self::add_dry_loads`].
     #[inline]
     pub fn add_play_loads<T: Real>(
         &self,
@@ -355,10 +340,11 @@ impl ClearanceJoint for SpatialClearance {
     #[inline]
     fn add_to(&self, i: &BodyState, j: &BodyState, states: &[ContactState], qe: &mut Loads) {
         let onset = |k: usize, rate| states[k].onset_for(rate);
-        match &self.geometry {
-            SpatialGeometry::Play(g) => return self.add_play_loads(g, i, j, onset, qe),
-            SpatialGeometry::BallSocket(g) => return self.add_socket_loads(g, i, j, onset, qe),
-            _ => {}
+        if let SpatialGeometry::Play(g) = &self.geometry {
+            return self.add_play_loads(g, i, j, onset, qe);
+        }
+        if self.add_dry_loads(i, j, onset, qe).is_some() {
+            return;
         }
         let points = self.contacts(i, j, self.reach());
         apply_point_forces(&points, |p| self.point_force(p, onset(p.index, p.penetration_rate)), i, j, qe);
