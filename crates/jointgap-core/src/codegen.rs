@@ -1,7 +1,9 @@
 //! A recorded [`Graph`] compiled to native code in the running process, by Cranelift:
 //! one straight-line function that reads the inputs and the parameters, computes every
 //! node that an output or a guard needs, stores the outputs and returns whether every
-//! guard held. The
+//! guard held. A graph's blocks are compiled apart, each of their ways a function of its
+//! own: the graph's code calls [`BlockCode`], which runs the way that held last, then
+//! the others, and returns at once where none holds. The
 //! arithmetic is the processor's own (add, subtract, multiply, divide, square root,
 //! absolute value, negation: exact IEEE operations, as Rust's); the other functions are
 //! calls to the very functions the interpreted engine calls, so both give the same bits.
@@ -24,11 +26,59 @@ use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
 use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module};
 
-use crate::scalar::{Cmp, Func, Graph, Node};
+use crate::scalar::{Block, Cmp, Func, Graph, Node};
 
-/// The native function of a graph: reads `inputs` and `params`, writes `outputs`, returns
-/// 1 where every guard held and 0 where one did not (its outputs then mean nothing).
-type NativeFn = unsafe extern "C" fn(*const f64, *const f64, *mut f64) -> u8;
+/// The native function of a graph: reads `inputs` and `params`, writes `outputs`, calls
+/// its blocks' ways (the fourth argument, its [`BlockCode`]s), returns 1 where every guard
+/// held and 0 where one did not (its outputs then mean nothing).
+type NativeFn = unsafe extern "C" fn(*const f64, *const f64, *mut f64, *mut BlockCode) -> u8;
+
+/// The compiled ways of one of a graph's blocks, which the graph's code calls.
+#[derive(Debug, Clone, Default)]
+pub struct BlockCode {
+    /// Each way's code and the values of its parameters.
+    pub ways: Vec<(Arc<Compiled>, Vec<f64>)>,
+    /// The way that held last, tried first.
+    pub last: usize,
+}
+
+/// Runs the ways of block `b` of `blocks` on the `n_args` numbers at `args`, the way that
+/// held last first; writes the first that holds' `n_outs` outputs at `outs` and returns 1,
+/// or 0 where none holds.
+///
+/// # Safety
+/// `blocks` points to more than `b` [`BlockCode`]s that nothing else uses during the
+/// call, `args` to `n_args` numbers and `outs` to `n_outs`: as the graph's code calls it.
+unsafe extern "C" fn jg_block(
+    blocks: *mut BlockCode,
+    b: u64,
+    args: *const f64,
+    n_args: u64,
+    outs: *mut f64,
+    n_outs: u64,
+) -> u8 {
+    // Safety: as the caller promises.
+    let (block, args, outs) = unsafe {
+        (
+            &mut *blocks.add(b as usize),
+            std::slice::from_raw_parts(args, n_args as usize),
+            std::slice::from_raw_parts_mut(outs, n_outs as usize),
+        )
+    };
+    let n = block.ways.len();
+    for k in (0..n).map(|k| (block.last + k) % n) {
+        let (code, params) = &block.ways[k];
+        // A way reads a prefix of the block's inputs: those known when it was recorded.
+        if code.inputs <= args.len()
+            && code.outputs == outs.len()
+            && code.call(&args[..code.inputs], params, outs)
+        {
+            block.last = k;
+            return 1;
+        }
+    }
+    0
+}
 
 /// A graph's compiled code.
 pub struct Compiled {
@@ -36,6 +86,8 @@ pub struct Compiled {
     inputs: usize,
     params: usize,
     outputs: usize,
+    /// Blocks its code calls.
+    blocks: usize,
     /// Owns the code's memory.
     _code: CodeMemory,
     /// Seconds it took to compile.
@@ -75,17 +127,35 @@ impl Compiled {
         self.outputs
     }
 
-    /// Runs the code at `inputs` with parameters `params`: `outputs` filled and `true`
-    /// where every guard held.
+    /// Runs the code of a graph without blocks at `inputs` with parameters `params`:
+    /// `outputs` filled and `true` where every guard held.
     #[inline]
     pub fn call(&self, inputs: &[f64], params: &[f64], outputs: &mut [f64]) -> bool {
+        self.call_with(inputs, params, outputs, &mut [])
+    }
+
+    /// [`Compiled::call`] for a graph whose blocks' ways are `blocks`.
+    #[inline]
+    pub fn call_with(
+        &self,
+        inputs: &[f64],
+        params: &[f64],
+        outputs: &mut [f64],
+        blocks: &mut [BlockCode],
+    ) -> bool {
         assert!(
-            inputs.len() == self.inputs && params.len() == self.params && outputs.len() == self.outputs,
+            inputs.len() == self.inputs
+                && params.len() == self.params
+                && outputs.len() == self.outputs
+                && blocks.len() == self.blocks,
             "compiled function's sizes"
         );
-        // Safety: the function reads `inputs` and `params` entries and writes `outputs`
-        // entries, whose lengths are checked above; its code lives as long as `self`.
-        unsafe { (self.function)(inputs.as_ptr(), params.as_ptr(), outputs.as_mut_ptr()) == 1 }
+        // Safety: the function reads `inputs` and `params` entries, writes `outputs`
+        // entries and calls `blocks`' ways, whose lengths are checked above; its code
+        // lives as long as `self`.
+        unsafe {
+            (self.function)(inputs.as_ptr(), params.as_ptr(), outputs.as_mut_ptr(), blocks.as_mut_ptr()) == 1
+        }
     }
 }
 
@@ -98,11 +168,12 @@ pub struct CodegenError(pub String);
 pub fn compile_cached(graph: &Graph) -> Result<(Arc<Compiled>, bool), CodegenError> {
     static CACHE: OnceLock<Mutex<Cache>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
-    let key = content_hash(graph);
+    let code = code_of(graph);
+    let key = content_hash(&code);
     if let Some(found) = cache
         .lock()
         .ok()
-        .and_then(|c| c.get(&key).and_then(|v| v.iter().find(|(g, _)| g == graph).map(|(_, f)| f.clone())))
+        .and_then(|c| c.get(&key).and_then(|v| v.iter().find(|(g, _)| *g == code).map(|(_, f)| f.clone())))
     {
         return Ok((found, false));
     }
@@ -111,7 +182,7 @@ pub fn compile_cached(graph: &Graph) -> Result<(Arc<Compiled>, bool), CodegenErr
         if c.len() >= CACHE_CAPACITY {
             c.clear();
         }
-        c.entry(key).or_default().push((graph.clone(), compiled.clone()));
+        c.entry(key).or_default().push((code, compiled.clone()));
     }
     Ok((compiled, true))
 }
@@ -123,6 +194,14 @@ type Cache = HashMap<u64, Vec<(Graph, Arc<Compiled>)>>;
 /// parameter set it tries).
 const CACHE_CAPACITY: usize = 512;
 
+/// What a graph's code depends on: the graph without its blocks' ways, which are
+/// compiled apart.
+fn code_of(graph: &Graph) -> Graph {
+    let mut code = Graph { blocks: Vec::new(), ..graph.clone() };
+    code.blocks = graph.blocks.iter().map(|b| Block { ways: Vec::new(), ..b.clone() }).collect();
+    code
+}
+
 fn content_hash(graph: &Graph) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     graph.nodes.hash(&mut h);
@@ -130,6 +209,10 @@ fn content_hash(graph: &Graph) -> u64 {
     graph.outputs.hash(&mut h);
     graph.inputs.hash(&mut h);
     graph.params.hash(&mut h);
+    for b in &graph.blocks {
+        b.args.hash(&mut h);
+        b.outputs.hash(&mut h);
+    }
     h.finish()
 }
 
@@ -177,10 +260,11 @@ fn address(f: Func) -> *const u8 {
     }
 }
 
-/// Nodes an output or a guard needs.
+/// Nodes an output, a guard or a block (which every run calls) needs.
 fn live(graph: &Graph) -> Vec<bool> {
     let mut live = vec![false; graph.nodes.len()];
     graph.outputs.iter().for_each(|&o| live[o as usize] = true);
+    graph.blocks.iter().flat_map(|b| &b.args).for_each(|&a| live[a as usize] = true);
     for g in &graph.guards {
         live[g.a as usize] = true;
         live[g.b as usize] = true;
@@ -190,7 +274,7 @@ fn live(graph: &Graph) -> Vec<bool> {
             continue;
         }
         match graph.nodes[k] {
-            Node::Const(_) | Node::Input(_) | Node::Param(_) => {}
+            Node::Const(_) | Node::Input(_) | Node::Param(_) | Node::Out(..) => {}
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => {
                 live[a as usize] = true;
                 live[b as usize] = true;
@@ -231,6 +315,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
         .map_err(codegen_error)?;
     let mut jit = JITBuilder::with_isa(isa, default_libcall_names());
     jit.symbol("jg_sin_cos", address(Func::Sin));
+    jit.symbol("jg_block", jg_block as *const u8);
     for (f, name) in CALLS {
         jit.symbol(name, address(f));
     }
@@ -248,9 +333,15 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     for (f, name) in CALLS {
         calls.insert(f, declare(name, &[types::F64, types::F64])?);
     }
+    let block_call = {
+        let mut sig = cranelift_codegen::ir::Signature::new(call_conv);
+        sig.params.extend([ptr, types::I64, ptr, types::I64, ptr, types::I64].map(AbiParam::new));
+        sig.returns.push(AbiParam::new(types::I8));
+        module.declare_function("jg_block", Linkage::Import, &sig).map_err(codegen_error)?
+    };
 
     let mut ctx = module.make_context();
-    for _ in 0..3 {
+    for _ in 0..4 {
         ctx.func.signature.params.push(AbiParam::new(ptr));
     }
     ctx.func.signature.returns.push(AbiParam::new(types::I8));
@@ -262,8 +353,23 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
         b.append_block_params_for_function_params(block);
         b.switch_to_block(block);
         b.seal_block(block);
-        let [input, param, output] = [0, 1, 2].map(|k| b.block_params(block)[k]);
+        let [input, param, output, blocks] = [0, 1, 2, 3].map(|k| b.block_params(block)[k]);
         let sin_cos_ref = module.declare_func_in_func(sin_cos, b.func);
+        let block_ref = module.declare_func_in_func(block_call, b.func);
+        // Where a block's inputs are put and its outputs come back.
+        let widest = |f: fn(&Block) -> usize| 8 * graph.blocks.iter().map(f).max().unwrap_or(0) as u32;
+        let args_slot = b.create_sized_stack_slot(StackSlotData::new(
+            StackSlotKind::ExplicitSlot,
+            widest(|k| k.args.len()),
+            3,
+        ));
+        let outs_slot = b.create_sized_stack_slot(StackSlotData::new(
+            StackSlotKind::ExplicitSlot,
+            widest(|k| k.outputs),
+            3,
+        ));
+        let fail = b.create_block();
+        let mut outs: Vec<Value> = Vec::new();
         let call_refs: HashMap<Func, _> =
             calls.iter().map(|(&f, &id)| (f, module.declare_func_in_func(id, b.func))).collect();
         let slot = b.create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 8, 3));
@@ -272,6 +378,27 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
         // The sine and cosine of one call, by the angle's node.
         let mut pairs: HashMap<u32, (Value, Value)> = HashMap::new();
         for (k, node) in graph.nodes.iter().enumerate() {
+            if let Node::Out(at, 0) = *node {
+                let site = &graph.blocks[at as usize];
+                let args_at = b.ins().stack_addr(ptr, args_slot, 0);
+                let outs_at = b.ins().stack_addr(ptr, outs_slot, 0);
+                for (i, &a) in site.args.iter().enumerate() {
+                    let value = v[a as usize].expect("a block's input computed before it");
+                    b.ins().store(flags, value, args_at, (8 * i) as i32);
+                }
+                let numbers = [at as usize, site.args.len(), site.outputs]
+                    .map(|n| b.ins().iconst(types::I64, n as i64));
+                let call =
+                    b.ins().call(block_ref, &[blocks, numbers[0], args_at, numbers[1], outs_at, numbers[2]]);
+                let held = b.inst_results(call)[0];
+                let next = b.create_block();
+                b.ins().brif(held, next, &[], fail, &[]);
+                b.switch_to_block(next);
+                b.seal_block(next);
+                outs = (0..site.outputs)
+                    .map(|o| b.ins().load(types::F64, flags, outs_at, (8 * o) as i32))
+                    .collect();
+            }
             if !live[k] {
                 continue;
             }
@@ -306,6 +433,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
                     let call = b.ins().call(call_refs[&f], &[a(p), y]);
                     b.inst_results(call)[0]
                 }
+                Node::Out(_, o) => outs[o as usize],
             };
             v[k] = Some(value);
         }
@@ -329,6 +457,10 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
             b.ins().store(flags, value, output, (8 * k) as i32);
         }
         b.ins().return_(&[ok]);
+        b.switch_to_block(fail);
+        b.seal_block(fail);
+        let none = b.ins().iconst(types::I8, 0);
+        b.ins().return_(&[none]);
         b.finalize(module.isa().frontend_config());
     }
     let id =
@@ -344,6 +476,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
         inputs: graph.inputs,
         params: graph.params,
         outputs: graph.outputs.len(),
+        blocks: graph.blocks.len(),
         _code: CodeMemory { module: Some(module) },
         compile_seconds: started.elapsed().as_secs_f64(),
         nodes: live.iter().filter(|&&l| l).count(),
@@ -395,6 +528,38 @@ mod tests {
             if ok {
                 assert_eq!(graph_out, out);
             }
+        }
+    }
+
+    /// A graph's code calls its blocks' ways, the one that holds: where none does it
+    /// returns at once, and with the way of the other branch added it runs the kernel's
+    /// bits there too.
+    #[test]
+    fn blocks_run_the_way_that_holds() {
+        use crate::scalar::traced_tests::blocked;
+        let (graph, p) = record(&[0.5, 2.0, 3.0], blocked::<Traced>).expect("a graph");
+        let outer = compile(&graph).expect("compiles");
+        let mut blocks: Vec<BlockCode> = graph
+            .blocks
+            .iter()
+            .map(|b| BlockCode {
+                ways: vec![(Arc::new(compile(&b.ways[0].0).expect("compiles")), b.ways[0].1.clone())],
+                last: 0,
+            })
+            .collect();
+        let mut out = [0.0];
+        let x = [0.5, 2.0, 3.0];
+        assert!(outer.call_with(&x, &p, &mut out, &mut blocks));
+        assert_eq!(out[0].to_bits(), blocked::<f64>(&x).expect("a value")[0].to_bits());
+        let other = [0.5, -2.0, 3.0];
+        assert!(!outer.call_with(&other, &p, &mut out, &mut blocks));
+        let (again, _) = record(&other, blocked::<Traced>).expect("a graph");
+        let (way, q) = &again.blocks[0].ways[0];
+        assert_eq!(again.blocks[0].args, graph.blocks[0].args);
+        blocks[0].ways.push((Arc::new(compile(way).expect("compiles")), q.clone()));
+        for x in [other, x] {
+            assert!(outer.call_with(&x, &p, &mut out, &mut blocks));
+            assert_eq!(out[0].to_bits(), blocked::<f64>(&x).expect("a value")[0].to_bits());
         }
     }
 

@@ -194,6 +194,38 @@ fn what_is_not_compiled_says_why() {
     );
 }
 
+/// Two clearance joints (crank-rod and rod-slider): each joint's contact is a block with
+/// its own ways, so one path covers every combination of the two joints' branches and
+/// every evaluation runs compiled (with whole-evaluation paths the combinations
+/// multiplied past the paths' limit).
+#[test]
+fn two_clearance_joints_add_their_ways() {
+    let model = slider_crank_clearance();
+    let mut raw = serde_json::to_value(&model).unwrap();
+    let joints = raw["joints"].as_array_mut().unwrap();
+    let clearance = joints.iter().find(|j| j["name"] == "rod_slider").unwrap().clone();
+    let k = joints.iter().position(|j| j["name"] == "crank_rod").unwrap();
+    joints[k] = json!({"name": "crank_rod", "type": "clearance_revolute", "body_i": "crank", "point_i": "A",
+                       "body_j": "rod", "point_j": "A", "clearance": clearance["clearance"]});
+    let model: Model = serde_json::from_value(raw).unwrap();
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_run(&model, 0.1, method);
+        let account = &run.stats.compiled;
+        assert!(account.starts_with("native code: 1 paths and "), "{method:?}: {account}");
+        let ways: usize = account["native code: 1 paths and ".len()..]
+            .split(' ')
+            .next()
+            .and_then(|n| n.parse().ok())
+            .expect("a count of ways");
+        // Free flight and contact at least, at each joint.
+        assert!(ways >= 4, "{method:?}: {account}");
+        assert!(
+            run.impacts.iter().all(|j| !j.impacts.is_empty()),
+            "{method:?}: both journals hit their bearings"
+        );
+    }
+}
+
 /// The paths a run took from the process's cache, read from its account.
 fn from_cache(run: &SimResult) -> usize {
     let account = &run.stats.compiled;

@@ -7,38 +7,43 @@
 //!
 //! At the first evaluation the stage records the kernels ([`super::kernels`]) on
 //! [`crate::scalar::Traced`] numbers, as a graph with the model's constants folded, and
-//! compiles it ([`crate::codegen`]). The graph is one path through the kernels' branches
-//! (in contact or not, a friction regime); where an evaluation finds that a guard of
-//! every path recorded so far fails, it records and compiles the path it takes there.
-//! Each path computes what the interpreted kernels compute, operation for operation, so
-//! a run gives the same bits either way. An evaluation the graphs do not cover (a Schur
+//! compiles it ([`crate::codegen`]). Each clearance joint's contact loads are a block of
+//! the graph, recorded apart with the way it took through its branches (in contact or
+//! not, a friction regime); the rest is a path. Where an evaluation finds that no way of
+//! a block holds, it records the evaluation again and adds the block's new way to its
+//! path (compiling only that way), so that the ways of several joints add up instead of
+//! multiplying; where a guard of the path itself fails, the new recording is a path of
+//! its own. Each path and way computes what the interpreted kernels compute, operation
+//! for operation, so a run gives the same bits either way. An evaluation the graphs do not cover (a Schur
 //! complement that is not well conditioned, a singular prescribed block) runs
 //! interpreted. The implicit methods' Jacobians are the paths' graphs differentiated
 //! ([`jacobian`]); a run that does not compile still records its paths for them. The
 //! inputs and outputs are [`super::kernels::inputs`]' and
 //! [`super::kernels::evaluation`]'s.
 
+use std::collections::HashMap;
 use std::ops::Range;
 use std::sync::Arc;
 
 use nalgebra::DMatrix;
 
-use crate::codegen::{compile_cached, Compiled};
+use crate::codegen::{compile_cached, BlockCode, Compiled};
 use crate::mechanics::contact::ContactState;
 use crate::mechanics::kind::BodyKind;
 use crate::mechanics::planar::Planar;
 use crate::mechanics::spatial::kind::Spatial;
-use crate::scalar::{record, Graph, Sweep};
+use crate::scalar::{record, Graph, Node, Sweep};
 use crate::system::System;
 
 use super::kernels::{evaluation, inputs, Kernels};
 use super::schur::Factorisation;
 use super::Workspace;
 
-/// Paths a run compiles at most; past them, an evaluation that the last path used does
-/// not cover runs interpreted (a mechanism with several clearance joints has as many
-/// combinations of their branches as it meets).
+/// Paths a run compiles at most; past them, or past [`MAX_WAYS`] in a block, an
+/// evaluation that the last path used does not cover runs interpreted.
 pub const MAX_PATHS: usize = 16;
+/// Ways through one block (a clearance joint's contact) a path compiles at most.
+pub const MAX_WAYS: usize = 16;
 /// Operations of a recorded evaluation above which it is not compiled: compiling takes
 /// about 10 us per operation, which a long run of a large mechanism repays, but a short
 /// one does not (docs/compiled.md).
@@ -106,22 +111,63 @@ pub struct Stage<K: BodyKind> {
     uncovered: usize,
     /// Evaluations left before the next recording after an uncovered one.
     back_off: usize,
+    /// Whether a recording found no room for its path or a block's way (then nothing
+    /// more is recorded).
+    full: bool,
     /// Calls of a path whose guards failed (the next path was tried).
     pub misses: usize,
     /// Why the stage stopped compiling (a code generation error), if it did.
     pub stopped: Option<String>,
 }
 
-/// One path through the kernels' branches: its graph, its native code where the stage
-/// runs native code, and the values of its parameters.
+/// One path through the kernels' branches: its graph (with its blocks' ways), its native
+/// code and its blocks' where the stage runs native code, and the values of its
+/// parameters.
 #[derive(Debug, Clone)]
 struct Path {
     graph: Graph,
     code: Option<Arc<Compiled>>,
+    /// The compiled ways of each block, in the graph's order of them.
+    blocks: Vec<BlockCode>,
     params: Vec<f64>,
-    /// The nodes between the state and the accelerations, once the path has served a
-    /// Jacobian.
-    sweep: Option<Sweep>,
+    /// For each combination of its blocks' ways that has served a Jacobian: the graph
+    /// with those ways in line, its parameters, and the nodes between the state and the
+    /// accelerations.
+    flat: HashMap<Vec<usize>, (Graph, Vec<f64>, Sweep)>,
+    /// The combination that served the last Jacobian.
+    served: Option<Vec<usize>>,
+}
+
+impl Path {
+    /// Whether the path holds at `inputs` (its outputs then in `outputs`).
+    fn call(&mut self, inputs: &[f64], outputs: &mut [f64]) -> bool {
+        self.code.as_ref().is_some_and(|code| code.call_with(inputs, &self.params, outputs, &mut self.blocks))
+    }
+
+    /// The way each block takes at `inputs`, where the path holds there.
+    fn ways_at(&mut self, inputs: &[f64], outputs: &mut [f64]) -> Option<Vec<usize>> {
+        if self.code.is_some() {
+            return self.call(inputs, outputs).then(|| self.blocks.iter().map(|b| b.last).collect());
+        }
+        let (values, ways) = self.graph.run(inputs, &self.params);
+        ways.filter(|_| self.graph.holds(&values))
+    }
+}
+
+/// Whether two recordings took the same path outside their blocks.
+fn same_path(a: &Graph, b: &Graph) -> bool {
+    a.nodes == b.nodes
+        && a.guards == b.guards
+        && a.outputs == b.outputs
+        && a.inputs == b.inputs
+        && a.params == b.params
+        && a.blocks.len() == b.blocks.len()
+        && a.blocks.iter().zip(&b.blocks).all(|(x, y)| x.outputs == y.outputs)
+}
+
+/// The operations of a graph and of its blocks' ways.
+fn operations(graph: &Graph) -> usize {
+    graph.nodes.len() + graph.blocks.iter().flat_map(|b| &b.ways).map(|(g, _)| g.nodes.len()).sum::<usize>()
 }
 
 impl<K: BodyKind> Stage<K> {
@@ -145,6 +191,7 @@ impl<K: BodyKind> Stage<K> {
             jacobians: [0; 2],
             uncovered: 0,
             back_off: 0,
+            full: false,
             misses: 0,
             stopped: None,
         }
@@ -154,10 +201,11 @@ impl<K: BodyKind> Stage<K> {
     pub fn summary(&self) -> String {
         let [native, interpreted] = self.evaluations;
         let mut line = if self.native {
-            let nodes: usize =
-                self.paths.iter().map(|p| p.code.as_ref().map_or(p.graph.nodes.len(), |c| c.nodes)).sum();
+            let nodes: usize = self.paths.iter().map(|p| operations(&p.graph)).sum();
+            let ways: usize = self.paths.iter().flat_map(|p| &p.graph.blocks).map(|b| b.ways.len()).sum();
             format!(
-                "native code: {} paths of {nodes} operations ({} compiled in {:.1} ms, {} from the cache), \
+                "native code: {} paths and {ways} ways through their blocks, of {nodes} operations \
+                 ({} compiled in {:.1} ms, {} from the cache), \
                  {native} evaluations compiled, {interpreted} interpreted, {} calls of a path that did not hold",
                 self.paths.len(),
                 self.compiled_now,
@@ -244,21 +292,20 @@ impl<K: BodyKind> Stage<K> {
     fn run(&mut self, sys: &System<K>, t: f64, q: &[f64], v: &[f64], ws: &Workspace<K>) -> bool {
         self.gather(sys, t, q, v, ws);
         let n = self.paths.len();
-        // At capacity only the last path is tried: the others cost a whole evaluation
-        // each to fail.
-        let tries = if n >= MAX_PATHS { n.min(1) } else { n };
+        // Once full only the last path is tried: the others cost a whole evaluation each
+        // to fail.
+        let tries = if self.full { n.min(1) } else { n };
         let mut tried = 0;
         let covered = (0..tries).map(|k| (self.last + k) % n).find(|&k| {
             tried += 1;
-            let path = &self.paths[k];
-            path.code.as_ref().is_some_and(|code| code.call(&self.inputs, &path.params, &mut self.outputs))
+            self.paths[k].call(&self.inputs, &mut self.outputs)
         });
         self.misses += tried - usize::from(covered.is_some());
         if let Some(k) = covered {
             self.last = k;
             return true;
         }
-        if n >= MAX_PATHS || self.stopped.is_some() {
+        if self.full || self.stopped.is_some() {
             return false;
         }
         if self.back_off > 0 {
@@ -270,12 +317,12 @@ impl<K: BodyKind> Stage<K> {
             self.back_off = BACK_OFF;
             return false;
         };
-        if !self.add(graph, params) {
+        let Some(k) = self.admit(&graph, &params) else {
             return false;
-        }
+        };
         // A path holds where it was recorded.
-        let path = &self.paths[self.last];
-        path.code.as_ref().is_some_and(|code| code.call(&self.inputs, &path.params, &mut self.outputs))
+        self.last = k;
+        self.paths[k].call(&self.inputs, &mut self.outputs)
     }
 
     /// The graph of the evaluation at the gathered inputs and its parameters; `None`
@@ -286,42 +333,120 @@ impl<K: BodyKind> Stage<K> {
             return None;
         }
         let (graph, params) = (self.recorder.record)(sys, ws, &self.inputs)?;
-        if graph.nodes.len() > MAX_OPERATIONS {
+        let count = operations(&graph);
+        if count > MAX_OPERATIONS {
             self.stopped = Some(format!(
-                "an evaluation of {} operations is more than the {MAX_OPERATIONS} compiled",
-                graph.nodes.len()
+                "an evaluation of {count} operations is more than the {MAX_OPERATIONS} compiled"
             ));
             return None;
         }
         Some((graph, params))
     }
 
-    /// Keeps a recorded path as the last, compiled where the stage runs native code;
-    /// `false` where compiling it failed (which stops the stage).
-    fn add(&mut self, graph: Graph, params: Vec<f64>) -> bool {
-        let code = if self.native {
-            match compile_cached(&graph) {
-                Ok((code, fresh)) => {
-                    if fresh {
-                        self.compile_seconds += code.compile_seconds;
-                        self.compiled_now += 1;
-                    } else {
-                        self.from_cache += 1;
-                    }
-                    self.outputs.resize(code.outputs(), 0.0);
-                    Some(code)
-                }
-                Err(e) => {
-                    self.stopped = Some(e.0);
-                    return false;
+    /// Keeps a recording: its blocks' ways added to the path it took, or a path of its
+    /// own; each compiled where the stage runs native code. The path's index, or `None`
+    /// where there was no room (the stage is then full) or compiling failed (which stops
+    /// the stage).
+    fn admit(&mut self, graph: &Graph, params: &[f64]) -> Option<usize> {
+        if let Some(k) = self.paths.iter().position(|p| p.params == params && same_path(&p.graph, graph)) {
+            return self.add_ways(k, graph).then_some(k);
+        }
+        if self.paths.len() >= MAX_PATHS {
+            self.full = true;
+            return None;
+        }
+        let mut path = Path {
+            graph: graph.clone(),
+            code: None,
+            blocks: vec![BlockCode::default(); graph.blocks.len()],
+            params: params.to_vec(),
+            flat: HashMap::new(),
+            served: None,
+        };
+        if self.native {
+            let code = self.compiled(&path.graph)?;
+            self.outputs.resize(code.outputs(), 0.0);
+            path.code = Some(code);
+            for (code, block) in path.blocks.iter_mut().zip(&path.graph.blocks) {
+                let (way, q) = &block.ways[0];
+                code.ways.push((self.compiled(way)?, q.clone()));
+            }
+        }
+        self.paths.push(path);
+        Some(self.paths.len() - 1)
+    }
+
+    /// Adds the ways of `graph`'s blocks that path `k` lacks; `false` where a block has
+    /// no room (the stage is then full) or compiling failed.
+    fn add_ways(&mut self, k: usize, graph: &Graph) -> bool {
+        let mut inputs_grew = false;
+        for (b, block) in graph.blocks.iter().enumerate() {
+            let (way, q) = &block.ways[0];
+            let site = &mut self.paths[k].graph.blocks[b];
+            // The way's inputs numbered as the path's block numbers them.
+            let index: Vec<u32> = block
+                .args
+                .iter()
+                .map(|a| {
+                    let at = site.args.iter().position(|s| s == a).unwrap_or_else(|| {
+                        site.args.push(*a);
+                        inputs_grew = true;
+                        site.args.len() - 1
+                    });
+                    at as u32
+                })
+                .collect();
+            let mut way = way.clone();
+            for node in &mut way.nodes {
+                if let Node::Input(i) = node {
+                    *i = index[*i as usize];
                 }
             }
-        } else {
-            None
-        };
-        self.paths.push(Path { graph, code, params, sweep: None });
-        self.last = self.paths.len() - 1;
+            way.inputs = site.args.len();
+            if site.ways.iter().any(|(g, p)| g.nodes == way.nodes && g.guards == way.guards && p == q) {
+                continue;
+            }
+            if site.ways.len() >= MAX_WAYS {
+                self.full = true;
+                return false;
+            }
+            if self.native {
+                let Some(code) = self.compiled(&way) else {
+                    return false;
+                };
+                self.paths[k].blocks[b].ways.push((code, q.clone()));
+            }
+            self.paths[k].graph.blocks[b].ways.push((way, q.clone()));
+        }
+        if inputs_grew && self.native {
+            // The path's code passes its blocks more inputs now.
+            let graph = self.paths[k].graph.clone();
+            let Some(code) = self.compiled(&graph) else {
+                return false;
+            };
+            self.paths[k].code = Some(code);
+        }
         true
+    }
+
+    /// The native code of `graph`, from the process's cache or compiled now; `None`
+    /// where compiling failed (which stops the stage).
+    fn compiled(&mut self, graph: &Graph) -> Option<Arc<Compiled>> {
+        match compile_cached(graph) {
+            Ok((code, fresh)) => {
+                if fresh {
+                    self.compile_seconds += code.compile_seconds;
+                    self.compiled_now += 1;
+                } else {
+                    self.from_cache += 1;
+                }
+                Some(code)
+            }
+            Err(e) => {
+                self.stopped = Some(e.0);
+                None
+            }
+        }
     }
 
     /// [`jacobian`]'s work: the derivatives from the path that holds at `(t, q, v)`, or
@@ -340,30 +465,55 @@ impl<K: BodyKind> Stage<K> {
         let mut put = |i: usize, j: usize, d: f64| jac[(i, j)] = d;
         let n = self.paths.len();
         for k in (0..n).map(|k| (self.last + k) % n) {
-            let path = &mut self.paths[k];
-            // Native code tells a path that does not hold faster than the graph's values.
-            if path
-                .code
-                .as_ref()
-                .is_some_and(|code| !code.call(&self.inputs, &path.params, &mut self.outputs))
-            {
-                continue;
-            }
-            let sweep = path.sweep.get_or_insert_with(|| path.graph.sweep(wrt.clone(), of.clone()));
-            if path.graph.jacobian(&self.inputs, &path.params, sweep, &mut self.adjoints, &mut put) {
+            let path = &self.paths[k];
+            // Without native code, the combination that served last is tried first: its
+            // graph's own guards say whether it holds, for one evaluation of it.
+            let served = path.served.as_ref().filter(|_| path.code.is_none()).map(|w| &path.flat[w]);
+            if served.is_some_and(|(flat, p, sweep)| {
+                flat.jacobian(&self.inputs, p, sweep, &mut self.adjoints, &mut put)
+            }) {
                 self.last = k;
                 return true;
+            }
+            if let Some(ways) = self.paths[k].ways_at(&self.inputs, &mut self.outputs) {
+                self.last = k;
+                return self.differentiate(k, ways, (wrt, of), &mut put);
             }
         }
         let Some((graph, params)) = self.record(sys, ws) else {
             return false;
         };
-        let sweep = graph.sweep(wrt, of);
-        let held = graph.jacobian(&self.inputs, &params, &sweep, &mut self.adjoints, put);
-        if n < MAX_PATHS && self.add(graph, params) {
-            self.paths[self.last].sweep = Some(sweep);
+        if let Some(k) = self.admit(&graph, &params) {
+            if let Some(ways) = self.paths[k].ways_at(&self.inputs, &mut self.outputs) {
+                self.last = k;
+                return self.differentiate(k, ways, (wrt, of), &mut put);
+            }
         }
-        held
+        // Not kept: the recording itself, differentiated once.
+        let (wrt, of) = (0..q.len() + v.len(), accelerations_in_outputs(ws));
+        let (flat, p) = graph.flattened(&vec![0; graph.blocks.len()], &params);
+        let sweep = flat.sweep(wrt, of);
+        flat.jacobian(&self.inputs, &p, &sweep, &mut self.adjoints, put)
+    }
+
+    /// The derivatives from path `k` with its blocks' `ways` (which hold at the gathered
+    /// inputs), each handed to `put`.
+    fn differentiate(
+        &mut self,
+        k: usize,
+        ways: Vec<usize>,
+        (wrt, of): (Range<usize>, Range<usize>),
+        put: &mut impl FnMut(usize, usize, f64),
+    ) -> bool {
+        let path = &mut self.paths[k];
+        path.served = Some(ways.clone());
+        let (graph, params) = (&path.graph, &path.params);
+        let (flat, p, sweep) = path.flat.entry(ways).or_insert_with_key(|ways| {
+            let (flat, p) = graph.flattened(ways, params);
+            let sweep = flat.sweep(wrt, of);
+            (flat, p, sweep)
+        });
+        flat.jacobian(&self.inputs, p, sweep, &mut self.adjoints, put)
     }
 }
 

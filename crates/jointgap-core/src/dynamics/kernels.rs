@@ -152,11 +152,17 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
         let applied = if K::has_table(f) { next(K::TABLE) } else { &[] };
         K::add_force_loads(f, applied, state, &mut loads);
     }
+    // Each joint's contact is a block: its branches are its own.
     for (_, c, points) in contact::slots(&sys.clearances) {
         let s = next(2 * points.len());
         let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
         let [i, j] = c.parts();
-        K::add_clearance_loads(c, &state(i), &state(j), onset, &mut loads)?;
+        let (i, j) = (state(i), state(j));
+        qe = T::block(&qe, |before| {
+            let mut qe = before.to_vec();
+            K::add_clearance_loads(c, &i, &j, onset, &mut Loads::new(&sys.layout, &mut qe))?;
+            Some(qe)
+        })?;
     }
     // The solve of [`super::accelerations_for_integration`], operation for operation.
     let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();

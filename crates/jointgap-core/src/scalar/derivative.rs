@@ -14,6 +14,7 @@ impl Graph {
     /// What [`Graph::jacobian`] needs to know of this graph to differentiate outputs `of`
     /// with respect to inputs `wrt`, worked out once.
     pub fn sweep(&self, wrt: Range<usize>, of: Range<usize>) -> Sweep {
+        assert!(self.blocks.is_empty(), "a graph with blocks is differentiated flattened");
         let count = self.nodes.len();
         let mut reaches = vec![false; count];
         for (k, &node) in self.nodes.iter().enumerate() {
@@ -94,7 +95,7 @@ impl Graph {
             let value = v[k];
             let a = |i: u32| v[i as usize];
             match self.nodes[k] {
-                Node::Const(_) | Node::Param(_) => {}
+                Node::Const(_) | Node::Param(_) | Node::Out(..) => {}
                 Node::Input(i) => {
                     let j = i as usize - wrt.start;
                     row.iter().enumerate().for_each(|(o, &d)| put(o, j, d));
@@ -170,7 +171,7 @@ pub struct Sweep {
 /// The nodes an operation reads.
 fn arguments(node: Node) -> impl Iterator<Item = u32> {
     let (a, b) = match node {
-        Node::Const(_) | Node::Param(_) | Node::Input(_) => (None, None),
+        Node::Const(_) | Node::Param(_) | Node::Input(_) | Node::Out(..) => (None, None),
         Node::Add(p, q) | Node::Sub(p, q) | Node::Mul(p, q) | Node::Div(p, q) => (Some(p), Some(q)),
         Node::Neg(p) | Node::Sqrt(p) | Node::Abs(p) => (Some(p), None),
         Node::Call(_, p, q) => (Some(p), (q != u32::MAX).then_some(q)),

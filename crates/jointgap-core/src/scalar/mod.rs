@@ -12,7 +12,9 @@ mod derivative;
 mod traced;
 
 pub use derivative::Sweep;
-pub use traced::{record, Cmp, Func, Graph, Guard, Node, Traced};
+#[cfg(test)]
+pub(crate) use traced::tests as traced_tests;
+pub use traced::{record, Block, Cmp, Func, Graph, Guard, Node, Traced};
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -74,6 +76,13 @@ pub trait Real:
     fn atan2(self, x: Self) -> Self;
     /// The remainder in `[0, |m|)`, as `f64::rem_euclid`.
     fn rem_euclid(self, m: Self) -> Self;
+    /// `f(values)`, a part of the evaluation with branches of its own (a clearance
+    /// joint's contact): [`Traced`] records it as a block, whose ways through its
+    /// branches add to the evaluation's instead of multiplying them.
+    #[inline(always)]
+    fn block(values: &[Self], f: impl FnOnce(&[Self]) -> Option<Vec<Self>>) -> Option<Vec<Self>> {
+        f(values)
+    }
 }
 
 impl Real for f64 {

@@ -14,7 +14,7 @@
 //! would run, and the only other simplifications (`x * 1`, `x / 1`, `x - 0`, `x + (-0)`)
 //! give `x`'s bits exactly.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::cmp::Ordering;
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
@@ -92,6 +92,25 @@ pub enum Node {
     Abs(u32),
     /// A called function of one argument (the second is unused, `u32::MAX`) or two.
     Call(Func, u32, u32),
+    /// Output `k` of block `b`: `Out(b, k)`.
+    Out(u32, u32),
+}
+
+impl Node {
+    /// The node with each argument `a` replaced by `f(a)`.
+    pub fn remapped(self, f: impl Fn(u32) -> u32) -> Node {
+        match self {
+            Node::Add(a, b) => Node::Add(f(a), f(b)),
+            Node::Sub(a, b) => Node::Sub(f(a), f(b)),
+            Node::Mul(a, b) => Node::Mul(f(a), f(b)),
+            Node::Div(a, b) => Node::Div(f(a), f(b)),
+            Node::Neg(a) => Node::Neg(f(a)),
+            Node::Sqrt(a) => Node::Sqrt(f(a)),
+            Node::Abs(a) => Node::Abs(f(a)),
+            Node::Call(g, a, b) => Node::Call(g, f(a), if b == u32::MAX { b } else { f(b) }),
+            Node::Const(_) | Node::Param(_) | Node::Input(_) | Node::Out(..) => self,
+        }
+    }
 }
 
 /// A comparison a kernel branched on.
@@ -140,7 +159,7 @@ pub struct Guard {
 }
 
 /// A recorded evaluation: nodes in the order they were computed (every argument before
-/// its use), the guards of its path and the nodes of its outputs.
+/// its use), the guards of its path, the nodes of its outputs and the blocks it calls.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Graph {
     /// Operations.
@@ -153,6 +172,23 @@ pub struct Graph {
     pub inputs: usize,
     /// Number of parameters.
     pub params: usize,
+    /// Parts recorded apart (a clearance joint's contact loads), each with its own ways
+    /// through its branches; [`Node::Out`] reads their outputs.
+    pub blocks: Vec<Block>,
+}
+
+/// A part of an evaluation recorded apart, with the ways through its branches found so
+/// far: an evaluation takes the first whose guards hold, so that a mechanism's
+/// clearance joints each add their own ways instead of multiplying them.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Block {
+    /// Input `k` of every way is the graph's node `args[k]`.
+    pub args: Vec<u32>,
+    /// Number of outputs.
+    pub outputs: usize,
+    /// Its ways, each a graph of its own (its inputs being `args`) with the values of its
+    /// parameters.
+    pub ways: Vec<(Graph, Vec<f64>)>,
 }
 
 impl Graph {
@@ -160,14 +196,35 @@ impl Graph {
     /// evaluated node by node on `f64`: what the compiled function computes, for tests
     /// and checks.
     pub fn eval(&self, x: &[f64], p: &[f64]) -> (bool, Vec<f64>) {
-        let v = self.values(x, p);
-        (self.holds(&v), self.outputs.iter().map(|&o| v[o as usize]).collect())
+        let (v, ways) = self.run(x, p);
+        (ways.is_some() && self.holds(&v), self.outputs.iter().map(|&o| v[o as usize]).collect())
     }
 
     /// The values of every node at inputs `x` and parameters `p`, in node order.
     pub fn values(&self, x: &[f64], p: &[f64]) -> Vec<f64> {
+        self.run(x, p).0
+    }
+
+    /// The values of every node at inputs `x` and parameters `p`, and the way each block
+    /// took (`None` where one has no way whose guards hold; its outputs are then NaN).
+    pub fn run(&self, x: &[f64], p: &[f64]) -> (Vec<f64>, Option<Vec<usize>>) {
         let mut v = vec![0.0; self.nodes.len()];
+        let mut taken = Some(Vec::with_capacity(self.blocks.len()));
+        let mut outs: Vec<f64> = Vec::new();
         for (k, node) in self.nodes.iter().enumerate() {
+            if let Node::Out(b, 0) = *node {
+                let block = &self.blocks[b as usize];
+                let args: Vec<f64> = block.args.iter().map(|&a| v[a as usize]).collect();
+                let way = block.ways.iter().map(|(g, q)| g.eval(&args[..g.inputs], q)).position(|(ok, _)| ok);
+                outs = match way {
+                    Some(w) => block.ways[w].0.eval(&args[..block.ways[w].0.inputs], &block.ways[w].1).1,
+                    None => vec![f64::NAN; block.outputs],
+                };
+                taken = taken.zip(way).map(|(mut t, w)| {
+                    t.push(w);
+                    t
+                });
+            }
             let a = |i: u32| v[i as usize];
             v[k] = match *node {
                 Node::Const(bits) => f64::from_bits(bits),
@@ -181,9 +238,62 @@ impl Graph {
                 Node::Sqrt(p) => a(p).sqrt(),
                 Node::Abs(p) => a(p).abs(),
                 Node::Call(f, p, q) => f.eval(a(p), if q == u32::MAX { 0.0 } else { a(q) }),
+                Node::Out(_, o) => outs[o as usize],
             };
         }
-        v
+        (v, taken)
+    }
+
+    /// The graph with the ways `taken` of its blocks written in line (no blocks left),
+    /// and its parameters, `p` followed by theirs: what a recording that took those ways
+    /// without blocks gives, for the derivatives.
+    pub fn flattened(&self, taken: &[usize], p: &[f64]) -> (Graph, Vec<f64>) {
+        let mut flat = Graph { inputs: self.inputs, ..Graph::default() };
+        let mut params = p.to_vec();
+        let mut map = vec![u32::MAX; self.nodes.len()];
+        let mut outs: Vec<u32> = Vec::new();
+        let push = |flat: &mut Graph, node: Node| {
+            flat.nodes.push(node);
+            flat.nodes.len() as u32 - 1
+        };
+        for (k, &node) in self.nodes.iter().enumerate() {
+            map[k] = match node {
+                Node::Out(b, o) => {
+                    if o == 0 {
+                        let block = &self.blocks[b as usize];
+                        let (way, q) = &block.ways[taken[b as usize]];
+                        let base = params.len() as u32;
+                        params.extend(q);
+                        let mut local: Vec<u32> = Vec::with_capacity(way.nodes.len());
+                        for &n in &way.nodes {
+                            let id = match n {
+                                Node::Input(i) => map[block.args[i as usize] as usize],
+                                Node::Param(i) => push(&mut flat, Node::Param(base + i)),
+                                n => push(&mut flat, n.remapped(|a| local[a as usize])),
+                            };
+                            local.push(id);
+                        }
+                        flat.guards.extend(way.guards.iter().map(|g| Guard {
+                            a: local[g.a as usize],
+                            b: local[g.b as usize],
+                            ..*g
+                        }));
+                        outs = way.outputs.iter().map(|&o| local[o as usize]).collect();
+                    }
+                    outs[o as usize]
+                }
+                Node::Const(_) | Node::Param(_) | Node::Input(_) => push(&mut flat, node),
+                n => push(&mut flat, n.remapped(|a| map[a as usize])),
+            };
+        }
+        flat.guards.extend(self.guards.iter().map(|g| Guard {
+            a: map[g.a as usize],
+            b: map[g.b as usize],
+            ..*g
+        }));
+        flat.outputs = self.outputs.iter().map(|&o| map[o as usize]).collect();
+        flat.params = params.len();
+        (flat, params)
     }
 
     /// Whether every guard holds at the node values `v` ([`Graph::values`]).
@@ -192,7 +302,8 @@ impl Graph {
     }
 }
 
-/// The graph being recorded on this thread.
+/// The graph being recorded on this thread at one level: the evaluation, or a block
+/// within it.
 #[derive(Default)]
 struct Tape {
     graph: Graph,
@@ -201,6 +312,12 @@ struct Tape {
     param_of: HashMap<u64, u32, Quick>,
     merged: HashMap<Node, u32, Quick>,
     guarded: HashMap<(u32, u32, Cmp), bool, Quick>,
+    /// Which recording or block it is, for the numbers computed in it.
+    scope: u32,
+    /// A block's inputs: the node of the evaluation each one is.
+    args: Vec<u32>,
+    /// A block's input node for each node of the evaluation it read.
+    imported: HashMap<u32, u32, Quick>,
 }
 
 /// The tape's maps hash node indices and bits, which need no defence against chosen
@@ -236,7 +353,28 @@ impl Hasher for QuickHasher {
 }
 
 thread_local! {
-    static TAPE: RefCell<Option<Tape>> = const { RefCell::new(None) };
+    /// The evaluation being recorded, and the block being recorded within it.
+    static TAPES: RefCell<Vec<Tape>> = const { RefCell::new(Vec::new()) };
+    /// Scopes handed out on this thread.
+    static SCOPES: Cell<u32> = const { Cell::new(0) };
+}
+
+/// A tape of a scope of its own.
+fn new_tape() -> Tape {
+    let scope = SCOPES.with(|s| {
+        s.set(s.get().wrapping_add(1));
+        s.get()
+    });
+    Tape { scope, ..Tape::default() }
+}
+
+/// `f` on the tapes of the recording running on this thread.
+fn with_tapes<R>(f: impl FnOnce(&mut Vec<Tape>) -> R) -> R {
+    TAPES.with(|t| {
+        let mut tapes = t.borrow_mut();
+        assert!(!tapes.is_empty(), "a traced number is used outside a recording");
+        f(&mut tapes)
+    })
 }
 
 /// Runs `f` on `inputs.len()` traced inputs holding `inputs` and returns the graph of
@@ -244,16 +382,53 @@ thread_local! {
 /// of its parameters; `None` where `f` returns none (it took a way the graph does not
 /// cover).
 pub fn record(inputs: &[f64], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<(Graph, Vec<f64>)> {
-    let previous = TAPE.with(|t| t.borrow_mut().replace(Tape::default()));
-    assert!(previous.is_none(), "a recording is already running on this thread");
+    TAPES.with(|t| {
+        let mut tapes = t.borrow_mut();
+        assert!(tapes.is_empty(), "a recording is already running on this thread");
+        tapes.push(new_tape());
+    });
     let traced: Vec<Traced> =
         inputs.iter().enumerate().map(|(k, &x)| push(Node::Input(k as u32), x)).collect();
     let outputs = f(&traced);
-    let mut tape = TAPE.with(|t| t.borrow_mut().take()).expect("the recording's tape");
-    tape.graph.outputs = outputs?.iter().map(|o| o.id).collect();
-    tape.graph.inputs = inputs.len();
+    let tape = TAPES.with(|t| t.borrow_mut().pop()).expect("the recording's tape");
+    let mut graph = tape.graph;
+    graph.outputs = outputs?
+        .iter()
+        .map(|o| {
+            assert_eq!(o.scope, tape.scope, "an output of the recording computed inside a block");
+            o.id
+        })
+        .collect();
+    graph.inputs = inputs.len();
+    graph.params = tape.params.len();
+    Some((graph, tape.params))
+}
+
+/// Runs `f` on `values` as a block of the recording: a graph of its own, whose inputs
+/// are the recording's numbers it reads, whose outputs are the values it returns, and
+/// whose guards are its own. The recording reads the outputs ([`Node::Out`]).
+fn block(values: &[Traced], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<Vec<Traced>> {
+    with_tapes(|t| {
+        assert_eq!(t.len(), 1, "a block is recorded in an evaluation, not in another block");
+        t.push(new_tape());
+    });
+    let out = f(values);
+    let (mut tape, ids) = with_tapes(|t| {
+        let ids: Option<Vec<u32>> = out.map(|o| o.iter().map(|&x| here(t, x)).collect());
+        (t.pop().expect("the block's tape"), ids)
+    });
+    let ids = ids?;
+    let values: Vec<f64> = ids.iter().map(|&i| tape.values[i as usize]).collect();
+    tape.graph.outputs = ids;
+    tape.graph.inputs = tape.args.len();
     tape.graph.params = tape.params.len();
-    Some((tape.graph, tape.params))
+    with_tapes(|t| {
+        let outer = t.last_mut().expect("the recording's tape");
+        let b = outer.graph.blocks.len() as u32;
+        let way = (tape.graph, tape.params);
+        outer.graph.blocks.push(Block { args: tape.args, outputs: values.len(), ways: vec![way] });
+        Some(values.iter().enumerate().map(|(k, &x)| insert(outer, Node::Out(b, k as u32), x)).collect())
+    })
 }
 
 /// The constant an operation on constants gives.
@@ -267,50 +442,80 @@ fn literal(x: f64) -> bool {
     a == 0.0 || a == 1.0 || a == 2.0 || a == 3.0 || a == 0.5 || a.is_infinite()
 }
 
-/// Adds node `node` of value `value` to the tape, or finds the equal one recorded before.
+/// Adds node `node` of value `value` to the innermost tape, or finds the equal one
+/// recorded before.
 fn push(node: Node, value: f64) -> Traced {
-    TAPE.with(|t| {
-        let mut guard = t.borrow_mut();
-        let tape = guard.as_mut().expect("a traced number is used outside a recording");
-        if let Some(&id) = tape.merged.get(&node) {
-            return Traced { id, value: tape.values[id as usize] };
+    with_tapes(|t| insert(t.last_mut().expect("a tape"), node, value))
+}
+
+/// Adds node `node` of value `value` to `tape`, or finds the equal one recorded before.
+fn insert(tape: &mut Tape, node: Node, value: f64) -> Traced {
+    let scope = tape.scope;
+    if let Some(&id) = tape.merged.get(&node) {
+        return Traced { id, scope, value: tape.values[id as usize] };
+    }
+    let id = tape.graph.nodes.len() as u32;
+    tape.graph.nodes.push(node);
+    tape.values.push(value);
+    tape.merged.insert(node, id);
+    Traced { id, scope, value }
+}
+
+/// `x`'s node in the innermost tape: a block reads a number of the recording around it
+/// as an input of its own (a constant as the same constant).
+fn here(tapes: &mut [Tape], x: Traced) -> u32 {
+    let (top, below) = tapes.split_last_mut().expect("a tape");
+    if x.scope == top.scope {
+        return x.id;
+    }
+    let outer = below
+        .last()
+        .filter(|o| o.scope == x.scope)
+        .expect("a traced number is used outside the block it was computed in");
+    if let Some(&id) = top.imported.get(&x.id) {
+        return id;
+    }
+    let node = match outer.graph.nodes[x.id as usize] {
+        Node::Const(bits) => Node::Const(bits),
+        _ => {
+            top.args.push(x.id);
+            Node::Input(top.args.len() as u32 - 1)
         }
-        let id = tape.graph.nodes.len() as u32;
-        tape.graph.nodes.push(node);
-        tape.values.push(value);
-        tape.merged.insert(node, id);
-        Traced { id, value }
-    })
+    };
+    let id = insert(top, node, x.value).id;
+    top.imported.insert(x.id, id);
+    id
 }
 
 /// Records that the kernel branched on `a op b`, unless both are constants.
 fn guard(a: Traced, b: Traced, op: Cmp) -> bool {
     let holds = op.holds(a.value, b.value);
     if !(a.is_constant() && b.is_constant()) {
-        TAPE.with(|t| {
-            let mut guard = t.borrow_mut();
-            let tape = guard.as_mut().expect("a traced number is used outside a recording");
-            if tape.guarded.insert((a.id, b.id, op), holds).is_none() {
-                tape.graph.guards.push(Guard { a: a.id, b: b.id, op, holds });
+        with_tapes(|t| {
+            let (a, b) = (here(t, a), here(t, b));
+            let tape = t.last_mut().expect("a tape");
+            if tape.guarded.insert((a, b, op), holds).is_none() {
+                tape.graph.guards.push(Guard { a, b, op, holds });
             }
         });
     }
     holds
 }
 
-/// A number of a recording: its node and the value it holds.
+/// A number of a recording: its node, the tape it is a node of, and the value it holds.
 #[derive(Debug, Clone, Copy)]
 pub struct Traced {
     id: u32,
+    scope: u32,
     value: f64,
 }
 
 impl Traced {
     /// Whether it is a constant of the graph.
     fn is_constant(self) -> bool {
-        TAPE.with(|t| {
-            let guard = t.borrow();
-            let tape = guard.as_ref().expect("a traced number is used outside a recording");
+        with_tapes(|t| {
+            let tape = t.iter().rev().find(|tape| tape.scope == self.scope);
+            let tape = tape.expect("a traced number is used outside the block it was computed in");
             matches!(tape.graph.nodes[self.id as usize], Node::Const(_))
         })
     }
@@ -320,29 +525,33 @@ impl Traced {
         self.is_constant().then_some(self.value)
     }
 
-    /// `f(self, other)` of value `value`: a constant where both are.
-    fn binary(self, other: Traced, node: Node, value: f64) -> Traced {
+    /// `node(self, other)` of value `value`: a constant where both are.
+    fn binary(self, other: Traced, node: impl Fn(u32, u32) -> Node, value: f64) -> Traced {
         if self.is_constant() && other.is_constant() {
-            folded(value)
-        } else {
-            push(node, value)
+            return folded(value);
         }
+        with_tapes(|t| {
+            let (a, b) = (here(t, self), here(t, other));
+            insert(t.last_mut().expect("a tape"), node(a, b), value)
+        })
     }
 
-    fn unary(self, node: Node, value: f64) -> Traced {
+    fn unary(self, node: impl Fn(u32) -> Node, value: f64) -> Traced {
         if self.is_constant() {
-            folded(value)
-        } else {
-            push(node, value)
+            return folded(value);
         }
+        with_tapes(|t| {
+            let a = here(t, self);
+            insert(t.last_mut().expect("a tape"), node(a), value)
+        })
     }
 
     fn call(self, f: Func, other: Option<Traced>) -> Traced {
         let y = other.map_or(0.0, |o| o.value);
         let value = f.eval(self.value, y);
         match other {
-            None => self.unary(Node::Call(f, self.id, u32::MAX), value),
-            Some(o) => self.binary(o, Node::Call(f, self.id, o.id), value),
+            None => self.unary(|a| Node::Call(f, a, u32::MAX), value),
+            Some(o) => self.binary(o, |a, b| Node::Call(f, a, b), value),
         }
     }
 }
@@ -418,7 +627,7 @@ impl Add for Traced {
         if negative_zero(self) {
             return o;
         }
-        self.binary(o, Node::Add(self.id, o.id), self.value + o.value)
+        self.binary(o, Node::Add, self.value + o.value)
     }
 }
 
@@ -428,7 +637,7 @@ impl Sub for Traced {
         if o.known().is_some_and(|z| z == 0.0 && z.is_sign_positive()) {
             return self;
         }
-        self.binary(o, Node::Sub(self.id, o.id), self.value - o.value)
+        self.binary(o, Node::Sub, self.value - o.value)
     }
 }
 
@@ -441,7 +650,7 @@ impl Mul for Traced {
         if self.known() == Some(1.0) {
             return o;
         }
-        self.binary(o, Node::Mul(self.id, o.id), self.value * o.value)
+        self.binary(o, Node::Mul, self.value * o.value)
     }
 }
 
@@ -451,14 +660,14 @@ impl Div for Traced {
         if o.known() == Some(1.0) {
             return self;
         }
-        self.binary(o, Node::Div(self.id, o.id), self.value / o.value)
+        self.binary(o, Node::Div, self.value / o.value)
     }
 }
 
 impl Neg for Traced {
     type Output = Traced;
     fn neg(self) -> Traced {
-        self.unary(Node::Neg(self.id), -self.value)
+        self.unary(Node::Neg, -self.value)
     }
 }
 
@@ -501,23 +710,21 @@ impl Real for Traced {
         if literal(x) {
             return folded(x);
         }
-        let k = TAPE.with(|t| {
-            let mut guard = t.borrow_mut();
-            let tape = guard.as_mut().expect("a traced number is used outside a recording");
+        with_tapes(|t| {
+            let tape = t.last_mut().expect("a tape");
             let next = tape.params.len() as u32;
             let k = *tape.param_of.entry(x.to_bits()).or_insert(next);
             if k == next {
                 tape.params.push(x);
             }
-            k
-        });
-        push(Node::Param(k), x)
+            insert(tape, Node::Param(k), x)
+        })
     }
     fn value(self) -> f64 {
         self.value
     }
     fn sqrt(self) -> Traced {
-        self.unary(Node::Sqrt(self.id), self.value.sqrt())
+        self.unary(Node::Sqrt, self.value.sqrt())
     }
     fn sin_cos(self) -> (Traced, Traced) {
         (self.call(Func::Sin, None), self.call(Func::Cos, None))
@@ -526,7 +733,7 @@ impl Real for Traced {
         self.call(Func::Powf, Some(n))
     }
     fn abs(self) -> Traced {
-        self.unary(Node::Abs(self.id), self.value.abs())
+        self.unary(Node::Abs, self.value.abs())
     }
     fn signum(self) -> Traced {
         self.call(Func::Signum, None)
@@ -549,10 +756,13 @@ impl Real for Traced {
     fn rem_euclid(self, m: Traced) -> Traced {
         self.call(Func::RemEuclid, Some(m))
     }
+    fn block(values: &[Traced], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<Vec<Traced>> {
+        block(values, f)
+    }
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A kernel with a branch: `sqrt(x^2 + y^2) - 1` where positive, else `2 y`.
@@ -601,6 +811,46 @@ mod tests {
         let (other, q) = record(&[0.5], kernel(0.3)).expect("a graph");
         assert_eq!(other, g);
         assert_eq!(g.eval(&[0.5], &q).1[3].to_bits(), (0.5f64 * 0.3).to_bits());
+    }
+
+    /// Two blocks, each with a branch of its own, reading the numbers around them.
+    pub(crate) fn blocked<T: Real>(x: &[T]) -> Option<Vec<T>> {
+        let mut out = vec![x[0] * x[1]];
+        for k in 1..3 {
+            let r = T::block(&out, |before| {
+                let y = x[k];
+                let v = if y > 0.0 { before[0] + y * c::<T>(1.5) } else { before[0] - y.abs() };
+                Some(vec![v, y * 2.0])
+            })?;
+            out = vec![r[0] + r[1]];
+        }
+        Some(out)
+    }
+
+    /// A block is a graph of its own: its inputs are the numbers it reads, its guards are
+    /// its own, and the evaluation reads its outputs; where no way of a block holds the
+    /// evaluation does not; written in line, the ways give the kernel's bits.
+    #[test]
+    fn blocks_record_their_own_branches() {
+        let (g, p) = record(&[0.5, 2.0, 3.0], blocked).expect("a graph");
+        assert!(g.guards.is_empty());
+        assert_eq!(g.blocks.len(), 2);
+        for block in &g.blocks {
+            assert_eq!((block.args.len(), block.outputs, block.ways.len()), (2, 2, 1));
+            assert_eq!(block.ways[0].0.guards.len(), 1);
+        }
+        for x in [[0.5, 2.0, 3.0], [-1.5, 0.25, 7.0]] {
+            let expected = blocked::<f64>(&x).expect("a value")[0];
+            let (ok, out) = g.eval(&x, &p);
+            assert!(ok);
+            assert_eq!(out[0].to_bits(), expected.to_bits());
+            let (flat, q) = g.flattened(&[0, 0], &p);
+            assert!(flat.blocks.is_empty());
+            assert_eq!(flat.eval(&x, &q), (true, vec![expected]));
+        }
+        let (_, ways) = g.run(&[0.5, -2.0, 3.0], &p);
+        assert!(ways.is_none());
+        assert!(!g.eval(&[0.5, 2.0, -3.0], &p).0);
     }
 
     /// `x + 0` is kept (it turns -0 into +0); `x - 0` is dropped (it never changes x).
