@@ -125,6 +125,28 @@ fn joints_with_play_run_the_same_compiled() {
     }
 }
 
+/// The founding slider-crank whose slider has play in its guide (a block 50 x 50 mm in a
+/// guide 50.5 mm wide, damped linear corners and Coulomb friction): each of the four
+/// corners is a block with its own ways.
+#[test]
+fn block_in_its_guide_runs_the_same_compiled() {
+    let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
+    let joints = raw["joints"].as_array_mut().unwrap();
+    let k = joints.iter().position(|j| j["name"] == "slider_guide").unwrap();
+    joints[k] = json!({"name": "slider_guide", "type": "clearance_translational", "body_i": "ground",
+        "point_i": [0.0, 0.0], "body_j": "slider", "point_j": [0.0, 0.0], "axis": [1.0, 0.0],
+        "clearance": {"block_length": 0.05, "block_height": 0.05, "clearance": 0.5e-3, "stiffness": 2e9,
+                      "normal_law": {"type": "lankarani_nikravesh", "exponent": 1.0, "restitution": 0.7},
+                      "friction": {"type": "coulomb", "mu_s": 0.08, "mu_d": 0.05, "v_s": 1e-4, "v_d": 0.01016}}});
+    let model: Model = serde_json::from_value(raw).unwrap();
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_run(&model, 0.1, method);
+        let corners =
+            run.impacts.iter().filter(|j| j.joint == "slider_guide" && !j.impacts.is_empty()).count();
+        assert!(corners >= 2, "{method:?}: corners that hit the guide: {corners}");
+    }
+}
+
 /// A gear pair with backlash, its pinion driven by a torque that reverses (a table), so
 /// that the teeth cross the backlash and meet the other flank; a mesh stiffness that
 /// varies along the mesh cycle is not compiled, and says so.
@@ -185,13 +207,22 @@ fn what_is_not_compiled_says_why() {
         "interpreted: joint 'rod_slider' has an oil film, which is not compiled yet"
     );
     assert_eq!(run.stats.compile_time, 0.0);
-    let block = crate::spatial_joint_kinds::block_in_channel([0.1, 0.0, 0.0], [0.0; 3]);
-    let spatial = SpatialModel::from_json(&block.to_string()).unwrap();
+    let film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
+    let spatial = SpatialModel::from_json(&film.to_string()).unwrap();
     let run = simulate_spatial(&spatial, &options(0.01, Method::Auto, true), &mut Silent).unwrap();
-    assert_eq!(
-        run.stats.compiled,
-        "interpreted: joint 'guide' has a block in its guide, which is not compiled yet"
-    );
+    assert_eq!(run.stats.compiled, "interpreted: joint 'bearing' has an oil film, which is not compiled yet");
+}
+
+/// A box in its channel, thrown across it and spinning: each of its sixteen points (a
+/// corner against a wall) is a block with its own ways.
+#[test]
+fn spatial_block_in_its_channel_runs_the_same_compiled() {
+    let block = crate::spatial_joint_kinds::block_in_channel([0.2, 0.05, -0.04], [3.0, 2.0, -4.0]);
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_spatial_run(&block, 0.05, method);
+        let points = run.impacts.iter().filter(|p| !p.impacts.is_empty()).count();
+        assert!(points >= 3, "{method:?}: points that hit a wall: {points}");
+    }
 }
 
 /// Two clearance joints (crank-rod and rod-slider): each joint's contact is a block with

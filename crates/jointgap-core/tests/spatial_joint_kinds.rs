@@ -154,7 +154,7 @@ const FLYWHEEL: [f64; 3] = [25.0, 25.0, 50.0];
 /// A journal spinning at `omega` in a ground bearing along z, carried by a short film,
 /// under a load `load` along -y at its centre; turned by `tilt` about x and moving at `v`
 /// at the start; its principal moments `moments` (a heavy flywheel keeps its spin).
-fn lubricated_journal(load: f64, omega: f64, tilt: f64, v: [f64; 3], moments: [f64; 3]) -> Value {
+pub(crate) fn lubricated_journal(load: f64, omega: f64, tilt: f64, v: [f64; 3], moments: [f64; 3]) -> Value {
     json!({
         "dimension": 3, "gravity": [0.0, 0.0, 0.0],
         "bodies": [{"name": "journal", "mass": 1.0, "inertia": {"principal": {"moments": moments}},

@@ -5,13 +5,14 @@
 //! compiled stage ([`super::compiled`]) records it on traced numbers; what it returns is
 //! the stage's outputs, what it reads its inputs (docs/compiled.md).
 
+use crate::mechanics::contact::geometry::{SliderGuide, CORNERS3};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
 use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ContactState};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{BodyKind, RowEval};
-use crate::mechanics::layout::{block, Loads};
+use crate::mechanics::layout::{block, Layout, Loads};
 use crate::mechanics::planar::Planar;
 use crate::mechanics::planar_body;
 use crate::mechanics::spatial::body as spatial_body;
@@ -62,15 +63,18 @@ pub trait Kernels<const N: usize>: BodyKind {
         state: impl Fn(Option<usize>) -> Self::StateOf<T>,
         loads: &mut Loads<T>,
     );
-    /// Adds a clearance joint's contact loads (`onset(k, rate)`: the impact onset speed
-    /// of its point `k`); `None` where the joint is not written over `T`.
+    /// `qe` (laid out by `layout`) with a clearance joint's contact loads added
+    /// (`onset(k, rate)`: the impact onset speed of its point `k`), each part with
+    /// branches of its own (the joint, or each of its points) a block ([`in_block`]);
+    /// `None` where the joint is not written over `T`.
     fn add_clearance_loads<T: Real>(
         c: &Self::Clearance,
         i: &Self::StateOf<T>,
         j: &Self::StateOf<T>,
         onset: impl Fn(usize, T) -> T,
-        loads: &mut Loads<T>,
-    ) -> Option<()>;
+        layout: &Layout,
+        qe: Vec<T>,
+    ) -> Option<Vec<T>>;
     /// Why a clearance joint of `sys` is not compiled, if one is not.
     fn uncompiled_joint(sys: &System<Self>) -> Result<(), String>;
 }
@@ -152,17 +156,11 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
         let applied = if K::has_table(f) { next(K::TABLE) } else { &[] };
         K::add_force_loads(f, applied, state, &mut loads);
     }
-    // Each joint's contact is a block: its branches are its own.
     for (_, c, points) in contact::slots(&sys.clearances) {
         let s = next(2 * points.len());
         let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
         let [i, j] = c.parts();
-        let (i, j) = (state(i), state(j));
-        qe = T::block(&qe, |before| {
-            let mut qe = before.to_vec();
-            K::add_clearance_loads(c, &i, &j, onset, &mut Loads::new(&sys.layout, &mut qe))?;
-            Some(qe)
-        })?;
+        qe = K::add_clearance_loads(c, &state(i), &state(j), onset, &sys.layout, qe)?;
     }
     // The solve of [`super::accelerations_for_integration`], operation for operation.
     let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
@@ -194,6 +192,21 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
     out.extend(lambda);
     out.extend(inverses.iter().flatten().flatten());
     Some(out)
+}
+
+/// `qe` with the loads that `add` adds, recorded as a block of their own: a part of the
+/// evaluation whose branches (in contact or not, a friction regime) are its own
+/// ([`Real::block`]); `None` where `add` gives none.
+fn in_block<T: Real>(
+    layout: &Layout,
+    qe: Vec<T>,
+    add: impl FnOnce(&mut Loads<T>) -> Option<()>,
+) -> Option<Vec<T>> {
+    T::block(&qe, |before| {
+        let mut qe = before.to_vec();
+        add(&mut Loads::new(layout, &mut qe))?;
+        Some(qe)
+    })
 }
 
 /// A row's block on a prescribed body, which is planar ([`super::prescribed::split`]).
@@ -250,33 +263,53 @@ impl Kernels<{ planar_body::NV }> for Planar {
         f.add_loads([0, 1].map(|k| applied.get(k).copied().unwrap_or(zero)), state, loads);
     }
 
+    /// A block in its guide adds each corner as a block of its own: its four corners'
+    /// branches would otherwise multiply.
     fn add_clearance_loads<T: Real>(
         c: &PlanarClearance,
         i: &planar_body::BodyState<T>,
         j: &planar_body::BodyState<T>,
         onset: impl Fn(usize, T) -> T,
-        loads: &mut Loads<T>,
-    ) -> Option<()> {
+        layout: &Layout,
+        qe: Vec<T>,
+    ) -> Option<Vec<T>> {
+        let whole = |qe, add: &dyn Fn(&mut Loads<T>)| {
+            in_block(layout, qe, |loads| {
+                add(loads);
+                Some(())
+            })
+        };
         match c {
-            PlanarClearance::Revolute(r) if r.worn.is_none() => r.add_round_loads(i, j, onset, loads),
-            PlanarClearance::Play(p) => p.add_play_loads(i, j, onset, loads),
-            PlanarClearance::Gear(g) if g.cycle.is_none() => g.add_gear_loads(i, j, onset, loads),
-            _ => return None,
+            PlanarClearance::Revolute(r) if r.worn.is_none() => {
+                whole(qe, &|loads| r.add_round_loads(i, j, &onset, loads))
+            }
+            PlanarClearance::Play(p) => whole(qe, &|loads| p.add_play_loads(i, j, &onset, loads)),
+            PlanarClearance::Gear(g) if g.cycle.is_none() => {
+                whole(qe, &|loads| g.add_gear_loads(i, j, &onset, loads))
+            }
+            PlanarClearance::Translational(t) => {
+                let frames = t.geometry.frames(i, j);
+                (0..SliderGuide::POINTS).try_fold(qe, |qe, k| {
+                    in_block(layout, qe, |loads| {
+                        t.add_corner_loads(frames, (i, j), k, &onset, loads);
+                        Some(())
+                    })
+                })
+            }
+            _ => None,
         }
-        Some(())
     }
 
-    /// Compiled are the dry round journals in their bearings, the joints' play and the
-    /// gear meshes of constant stiffness.
+    /// Compiled are the dry round journals in their bearings, the joints' play, the
+    /// gear meshes of constant stiffness and the blocks in their guides.
     fn uncompiled_joint(sys: &System) -> Result<(), String> {
         for c in &sys.clearances {
             let what = match c {
                 PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
-                PlanarClearance::Play(_) => continue,
+                PlanarClearance::Play(_) | PlanarClearance::Translational(_) => continue,
                 PlanarClearance::Gear(g) if g.cycle.is_none() => continue,
                 PlanarClearance::Revolute(_) => "a worn profile",
                 PlanarClearance::Lubricated(_) => "an oil film",
-                PlanarClearance::Translational(_) => "a block in its guide",
                 PlanarClearance::Gear(_) => "a mesh stiffness that varies along the mesh cycle",
             };
             return Err(not_compiled(c.name(), what));
@@ -348,26 +381,40 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
         i: &spatial_body::BodyState<T>,
         j: &spatial_body::BodyState<T>,
         onset: impl Fn(usize, T) -> T,
-        loads: &mut Loads<T>,
-    ) -> Option<()> {
+        layout: &Layout,
+        qe: Vec<T>,
+    ) -> Option<Vec<T>> {
         match &c.geometry {
-            SpatialGeometry::Play(g) => {
+            SpatialGeometry::Play(g) => in_block(layout, qe, |loads| {
                 c.add_play_loads(g, i, j, onset, loads);
                 Some(())
+            }),
+            SpatialGeometry::Block(g) => {
+                let f = g.frames(i, j);
+                (0..CORNERS3.len()).try_fold(qe, |qe, k| {
+                    let corner = g.corner(&f, k);
+                    (2 * k..2 * k + 2).try_fold(qe, |qe, index| {
+                        in_block(layout, qe, |loads| {
+                            c.add_wall_loads((g, &f, corner), (i, j), index, &onset, loads);
+                            Some(())
+                        })
+                    })
+                })
             }
-            _ => c.add_dry_loads(i, j, onset, loads),
+            _ => in_block(layout, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
         }
     }
 
-    /// Compiled are the ball in its socket, the round journal in its bearing and the
-    /// joints' play.
+    /// Compiled are the ball in its socket, the round journal in its bearing, the joints'
+    /// play and the block in its channel.
     fn uncompiled_joint(sys: &System<Spatial>) -> Result<(), String> {
         for c in &sys.clearances {
             let what = match &c.geometry {
-                SpatialGeometry::BallSocket(_) | SpatialGeometry::Play(_) => continue,
+                SpatialGeometry::BallSocket(_) | SpatialGeometry::Play(_) | SpatialGeometry::Block(_) => {
+                    continue
+                }
                 SpatialGeometry::Cylinder(g) if g.worn.is_none() => continue,
                 SpatialGeometry::Cylinder(_) => "a worn profile",
-                SpatialGeometry::Block(_) => "a block in its guide",
                 SpatialGeometry::Lubricated(_) => "an oil film",
             };
             return Err(not_compiled(&c.name, what));

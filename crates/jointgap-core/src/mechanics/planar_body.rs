@@ -4,7 +4,7 @@
 //! contact geometries build on (the body kind itself, [`super::planar::Planar`], gathers
 //! them).
 
-use crate::math::{cross, Vec2};
+use crate::math::{cross, perp, Vec2};
 use crate::mechanics::layout::{self, BodyShape};
 use crate::model::Body;
 use crate::scalar::Real;
@@ -157,6 +157,12 @@ impl<T: Real> BodyState<T> {
     #[inline]
     pub fn rotate(&self, s: Vec2) -> Vec2<T> {
         Vec2::new(self.cos * s.x - self.sin * s.y, self.sin * s.x + self.cos * s.y)
+    }
+
+    /// Velocity of the body's point at global `p`: `v + omega x (p - r)`.
+    #[inline]
+    pub fn velocity_at(&self, p: Vec2<T>) -> Vec2<T> {
+        self.v + perp(p - self.r) * self.omega
     }
 }
 

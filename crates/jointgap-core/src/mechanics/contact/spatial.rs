@@ -6,8 +6,8 @@
 //! slip vector.
 
 use super::geometry::{
-    contact_ball_socket, contact_block_channel, contact_cylinder_bearing, contact_round_cylinder, BallSocket,
-    BlockChannel, CylinderBearing,
+    contact_ball_socket, contact_block_channel, contact_cylinder_bearing, contact_round_cylinder,
+    wall_contact, BallSocket, BlockChannel, CylinderBearing, Frames,
 };
 use super::lubricated_cylinder::LubricatedCylinder;
 use super::normal::NormalForce;
@@ -183,6 +183,23 @@ impl SpatialClearance {
         let force = |p: &ContactPoint3<T>| self.point_force(p, onset(p.index, p.penetration_rate));
         apply_point_forces(&points, force, i, j, qe);
         Some(())
+    }
+
+    /// Adds the loads of point `index` of a block in its channel `g` in any number type,
+    /// as [`ClearanceJoint::add_to`] adds each point's: its corner at `corner`, the
+    /// frames being `f`; `onset(k, rate)` as for [`Self::add_dry_loads`].
+    #[inline]
+    pub fn add_wall_loads<T: Real>(
+        &self,
+        (g, f, corner): (&BlockChannel, &Frames<T>, Vector3<T>),
+        (i, j): (&BodyState<T>, &BodyState<T>),
+        index: usize,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        if let Some(p) = wall_contact(g, f, corner, (i, j), index, self.reach()) {
+            apply_point_forces(&[p], |p| self.point_force(p, onset(p.index, p.penetration_rate)), i, j, qe);
+        }
     }
 
     /// Adds the loads of a joint's play `g` at its stops, in any number type: the

@@ -1,16 +1,19 @@
 //! The translational clearance joint: a slider block (body j) in a guide (body i) with
 //! lateral play, touching at its corners (docs/translational-clearance.md).
 
-use super::geometry::{contact_slider_guide, SliderGuide};
+use super::geometry::{contact_slider_guide, corner_contact, SliderGuide};
 use super::normal::NormalForce;
 use super::point::{ContactPoint, ContactPoints, Tangential};
-use super::{friction, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORCE};
+use super::{
+    apply_point_forces, dry_force, friction, ClearanceJoint, ContactState, MAX_INITIAL_CONTACT_FORCE,
+};
 use crate::error::{Error, Named};
 use crate::math::{rotate, Vec2};
 use crate::mechanics::layout::Loads;
 use crate::mechanics::planar_body::BodyState;
 use crate::model::{Clearance, FrictionSpec, Joint};
 use crate::output::ClearanceData;
+use crate::scalar::Real;
 
 /// A checked translational clearance joint: the block in its guide and the laws at each
 /// corner.
@@ -197,6 +200,29 @@ impl ClearanceTranslational {
             normal: data.normal,
             friction: data.friction,
         })
+    }
+}
+
+impl ClearanceTranslational {
+    /// Adds the contact loads of corner `index` in any number type, as
+    /// [`ClearanceJoint::add_to`] adds each corner's: `frames` are
+    /// [`SliderGuide::frames`]', `onset(k, rate)` the impact onset speed of point `k` at
+    /// penetration rate `rate` ([`ContactState::onset_for`]).
+    #[inline]
+    pub fn add_corner_loads<T: Real>(
+        &self,
+        frames: ([Vec2<T>; 2], [Vec2<T>; 2]),
+        (guide, block): (&BodyState<T>, &BodyState<T>),
+        index: usize,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        if let Some(p) = corner_contact(&self.geometry, frames, guide, block, index, self.reach()) {
+            let force = |p: &ContactPoint<T>| {
+                dry_force(&self.normal, &self.friction, p, onset(p.index, p.penetration_rate))
+            };
+            apply_point_forces(&[p], force, guide, block, qe);
+        }
     }
 }
 

@@ -5,9 +5,10 @@
 //! planar block in its guide ([`super::SliderGuide`]) is the same geometry without the
 //! depth.
 
-use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
-use crate::mechanics::spatial::body::{BodyState, Vec3};
-use nalgebra::{Matrix3, Rotation3};
+use crate::mechanics::contact::point3::{split, ContactPoint3, ContactPoints3, MaterialPoint3};
+use crate::mechanics::spatial::body::{constant, BodyState, Vec3};
+use crate::scalar::Real;
+use nalgebra::{Matrix3, Rotation3, Vector3};
 
 /// Where a block and its guide channel are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,15 +49,15 @@ pub const CORNERS3: [[f64; 3]; 8] = [
 
 /// The channel's point and axes and the block's centre and axes, global.
 #[derive(Debug, Clone, Copy)]
-pub struct Frames {
+pub struct Frames<T: Real = f64> {
     /// The channel's centreline point.
-    pub origin: Vec3,
+    pub origin: Vector3<T>,
     /// Along, height, depth of the channel.
-    pub guide: [Vec3; 3],
+    pub guide: [Vector3<T>; 3],
     /// The block's centre.
-    pub centre: Vec3,
+    pub centre: Vector3<T>,
     /// The block's along, height, depth.
-    pub block: [Vec3; 3],
+    pub block: [Vector3<T>; 3],
 }
 
 /// Where the block is in its channel.
@@ -77,13 +78,22 @@ impl BlockChannel {
 
     /// The frames at the bodies' states.
     #[inline]
-    pub fn frames(&self, guide: &BodyState, block: &BodyState) -> Frames {
+    pub fn frames<T: Real>(&self, guide: &BodyState<T>, block: &BodyState<T>) -> Frames<T> {
         Frames {
-            origin: guide.r + guide.rotate(&self.s_guide),
-            guide: self.axes_guide.map(|a| guide.rotate(&a)),
-            centre: block.r + block.rotate(&self.s_block),
-            block: self.axes_block.map(|a| block.rotate(&a)),
+            origin: guide.r + guide.rotate(&constant(&self.s_guide)),
+            guide: self.axes_guide.map(|a| guide.rotate(&constant(&a))),
+            centre: block.r + block.rotate(&constant(&self.s_block)),
+            block: self.axes_block.map(|a| block.rotate(&constant(&a))),
         }
+    }
+
+    /// Corner `k` of the block ([`CORNERS3`]), global, the frames being `f`.
+    #[inline]
+    pub fn corner<T: Real>(&self, f: &Frames<T>, k: usize) -> Vector3<T> {
+        let signs = CORNERS3[k];
+        f.centre
+            + (0..3)
+                .fold(Vector3::zeros(), |c, d| c + f.block[d] * T::constant(signs[d] * self.half_block[d]))
     }
 
     /// The block's travel, offset and tilt in its channel.
@@ -125,26 +135,43 @@ pub fn contact_block_channel(
     out: &mut ContactPoints3,
 ) {
     let f = g.frames(guide, block);
-    for (k, signs) in CORNERS3.iter().enumerate() {
-        let corner =
-            f.centre + (0..3).fold(Vec3::zeros(), |c, d| c + f.block[d] * (signs[d] * g.half_block[d]));
+    for k in 0..CORNERS3.len() {
+        let corner = g.corner(&f, k);
         for wall in 0..2 {
-            let n = f.guide[wall + 1] * signs[wall + 1];
-            let penetration = (corner - f.origin).dot(&n) - g.half_channel[wall];
-            if penetration <= -reach {
-                continue;
+            if let Some(p) = wall_contact(g, &f, corner, (guide, block), 2 * k + wall, reach) {
+                out.push(p);
             }
-            let foot = corner - n * penetration;
-            out.push(split(
-                2 * k + wall,
-                n,
-                penetration,
-                1.0,
-                (MaterialPoint3::of(g.guide, guide, foot), guide),
-                (MaterialPoint3::of(g.block, block, corner), block),
-            ));
         }
     }
+}
+
+/// Point `index` ([`contact_block_channel`]) in any number type: its corner (at `corner`,
+/// global) against the wall on its side, the frames being `f`; `None` where its gap is
+/// `reach` or more.
+#[inline]
+pub fn wall_contact<T: Real>(
+    g: &BlockChannel,
+    f: &Frames<T>,
+    corner: Vector3<T>,
+    (guide, block): (&BodyState<T>, &BodyState<T>),
+    index: usize,
+    reach: f64,
+) -> Option<ContactPoint3<T>> {
+    let (signs, wall) = (CORNERS3[index / 2], index % 2);
+    let n = f.guide[wall + 1] * T::constant(signs[wall + 1]);
+    let penetration = (corner - f.origin).dot(&n) - g.half_channel[wall];
+    if penetration <= -reach {
+        return None;
+    }
+    let foot = corner - n * penetration;
+    Some(split(
+        index,
+        n,
+        penetration,
+        1.0,
+        (MaterialPoint3::of(g.guide, guide, foot), guide),
+        (MaterialPoint3::of(g.block, block, corner), block),
+    ))
 }
 
 #[cfg(test)]

@@ -1,7 +1,7 @@
 //! A round journal (pin on body j) in a round bearing (hole on body i): one contact
 //! point, on the line through the two centres (docs/physics.md section 2).
 
-use crate::math::{perp, Vec2};
+use crate::math::Vec2;
 use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar_body::BodyState;
 use crate::scalar::{norm, Real};
@@ -42,12 +42,6 @@ impl JournalBearing {
     }
 }
 
-/// Velocity of a global point `p` of a body.
-#[inline]
-fn point_velocity<T: Real>(b: &BodyState<T>, p: Vec2<T>) -> Vec2<T> {
-    b.v + perp(p - b.r) * b.omega
-}
-
 /// The contact point of journal and bearing, pushed onto `out` unless the gap is `reach`
 /// [m] or more. With eccentricity `e = r_J - r_B`: normal `n = e / |e|` (from the
 /// bearing centre towards the journal), penetration `|e| - c`, the material points
@@ -72,7 +66,7 @@ pub fn contact_journal_bearing<T: Real>(
     let n = if ecc > 1e-15 { e / ecc } else { Vec2::new(T::constant(1.0), T::constant(0.0)) };
     let point_journal = centre_j + n * T::constant(g.r_journal);
     let point_bearing = centre_b + n * T::constant(g.r_bearing);
-    let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
+    let v = journal.velocity_at(point_journal) - bearing.velocity_at(point_bearing);
     out.push(ContactPoint::in_bearing(
         n,
         penetration,
@@ -88,7 +82,7 @@ pub fn contact_journal_bearing<T: Real>(
 #[cfg(test)]
 pub(super) mod tests {
     use super::*;
-    use crate::math::rotate;
+    use crate::math::{perp, rotate};
 
     /// A bearing of radius 10 mm with 0.5 mm clearance, its centre at (20, -5) mm on a body
     /// at (0.1, 0.2) m turned by 0.3 rad; the journal's centre at (-30, 0) mm on its own.

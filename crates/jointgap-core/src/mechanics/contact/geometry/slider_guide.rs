@@ -4,8 +4,9 @@
 //! J. Comput. Nonlinear Dyn. 3 (2008) 011007.
 
 use crate::math::{perp, Vec2};
-use crate::mechanics::contact::point::{tangents, ContactPoint, ContactPoints, MaterialPoint, Tangential};
+use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
 use crate::mechanics::planar_body::BodyState;
+use crate::scalar::Real;
 
 /// Where a block and its guide are, and their sizes.
 #[derive(Debug, Clone, PartialEq)]
@@ -41,7 +42,11 @@ impl SliderGuide {
 
     /// The guide's point and direction, and the block's centre and direction, global.
     #[inline]
-    pub fn frames(&self, guide: &BodyState, block: &BodyState) -> ([Vec2; 2], [Vec2; 2]) {
+    pub fn frames<T: Real>(
+        &self,
+        guide: &BodyState<T>,
+        block: &BodyState<T>,
+    ) -> ([Vec2<T>; 2], [Vec2<T>; 2]) {
         (
             [guide.r + guide.rotate(self.s_guide), guide.rotate(self.axis)],
             [block.r + block.rotate(self.s_block), block.rotate(self.block_axis)],
@@ -54,12 +59,6 @@ impl SliderGuide {
         let ([g0, u], [centre, a]) = self.frames(guide, block);
         (f64::atan2(crate::math::cross(u, a), u.dot(&a)), (centre - g0).dot(&perp(u)))
     }
-}
-
-/// Velocity of a global point `p` of a body.
-#[inline]
-fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
-    b.v + perp(p - b.r) * b.omega
 }
 
 /// The corners whose gap is below `reach` [m], pushed onto `out`. Corner `c` on the
@@ -78,29 +77,37 @@ pub fn contact_slider_guide(
     reach: f64,
     out: &mut ContactPoints,
 ) {
-    let ([g0, u], [centre, a]) = g.frames(guide, block);
-    let (up, b) = (perp(u), perp(a));
-    for (index, (along, across)) in CORNERS.into_iter().enumerate() {
-        let corner = centre + a * (along * g.half_length) + b * (across * g.half_height);
-        let n = up * across;
-        let penetration = (corner - g0).dot(&n) - g.half_width;
-        if penetration <= -reach {
-            continue;
+    let frames = g.frames(guide, block);
+    for index in 0..SliderGuide::POINTS {
+        if let Some(p) = corner_contact(g, frames, guide, block, index, reach) {
+            out.push(p);
         }
-        let foot = corner - n * penetration;
-        let v = point_velocity(block, corner) - point_velocity(guide, foot);
-        let t = tangents(n);
-        out.push(ContactPoint {
-            index,
-            normal: n,
-            penetration,
-            penetration_rate: v.dot(&n),
-            slip: Tangential::from_fn(|k, _| v.dot(&t[k])),
-            share: 1.0,
-            on_i: MaterialPoint { body: g.guide, at: foot },
-            on_j: MaterialPoint { body: g.block, at: corner },
-        });
     }
+}
+
+/// Corner `index`'s contact point ([`contact_slider_guide`]) in any number type, the
+/// frames being [`SliderGuide::frames`]'; `None` where its gap is `reach` or more.
+#[inline]
+pub fn corner_contact<T: Real>(
+    g: &SliderGuide,
+    ([g0, u], [centre, a]): ([Vec2<T>; 2], [Vec2<T>; 2]),
+    guide: &BodyState<T>,
+    block: &BodyState<T>,
+    index: usize,
+    reach: f64,
+) -> Option<ContactPoint<T>> {
+    let (along, across) = CORNERS[index];
+    let corner =
+        centre + a * T::constant(along * g.half_length) + perp(a) * T::constant(across * g.half_height);
+    let n = perp(u) * T::constant(across);
+    let penetration = (corner - g0).dot(&n) - g.half_width;
+    if penetration <= -reach {
+        return None;
+    }
+    let foot = corner - n * penetration;
+    let v = block.velocity_at(corner) - guide.velocity_at(foot);
+    let parts = (MaterialPoint { body: g.guide, at: foot }, MaterialPoint { body: g.block, at: corner });
+    Some(ContactPoint { index, ..ContactPoint::in_bearing(n, penetration, v, 1.0, parts) })
 }
 
 #[cfg(test)]
@@ -201,7 +208,7 @@ mod tests {
             let fd = (depth(h) - depth(-h)) / (2.0 * h);
             let rate = now[k].penetration_rate;
             assert!((rate - fd).abs() < 1e-7 * rate.abs().max(1.0), "corner {k}: {rate} vs {fd}");
-            let v = point_velocity(&block, now[k].on_j.at) - point_velocity(&guide, now[k].on_i.at);
+            let v = block.velocity_at(now[k].on_j.at) - guide.velocity_at(now[k].on_i.at);
             assert!((now[k].slip[0] - v.dot(&perp(now[k].normal))).abs() < 1e-15);
         }
     }

@@ -454,12 +454,6 @@ impl Maxima {
     }
 }
 
-/// Velocity of a global point `p` of a body.
-#[inline]
-fn point_velocity(b: &BodyState, p: Vec2) -> Vec2 {
-    b.v + perp(p - b.r) * b.omega
-}
-
 /// One rim of a worn joint's section where the parts touch or come nearest: a local
 /// maximum of the overlap ([`Worn::rims`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -549,7 +543,7 @@ pub fn contact_worn(
     let phis = (bearing.phi(), journal.phi());
     for rim in worn.rims(centre_j - centre_b, phis, g.clearance, reach) {
         let (point_bearing, point_journal) = rim.points((centre_b, g.r_bearing), (centre_j, g.r_journal));
-        let v = point_velocity(journal, point_journal) - point_velocity(bearing, point_bearing);
+        let v = journal.velocity_at(point_journal) - bearing.velocity_at(point_bearing);
         out.push(ContactPoint::in_bearing(
             rim.normal,
             rim.penetration,
