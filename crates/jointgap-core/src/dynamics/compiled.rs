@@ -42,8 +42,10 @@ use super::Workspace;
 /// Paths a run compiles at most; past them, or past [`MAX_WAYS`] in a block, an
 /// evaluation that the last path used does not cover runs interpreted.
 pub const MAX_PATHS: usize = 16;
-/// Ways through one block (a clearance joint's contact) a path compiles at most.
-pub const MAX_WAYS: usize = 16;
+/// Ways through one block (a clearance joint's contact, a mesh cycle's table) a path
+/// compiles at most: a table of stiffness along a gear's mesh cycle has a way per
+/// interval.
+pub const MAX_WAYS: usize = 64;
 /// Operations of a recorded evaluation above which it is not compiled: compiling takes
 /// about 10 us per operation, which a long run of a large mechanism repays, but a short
 /// one does not (docs/compiled.md).

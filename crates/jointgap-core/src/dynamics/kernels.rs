@@ -284,8 +284,15 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 whole(qe, &|loads| r.add_round_loads(i, j, &onset, loads))
             }
             PlanarClearance::Play(p) => whole(qe, &|loads| p.add_play_loads(i, j, &onset, loads)),
-            PlanarClearance::Gear(g) if g.cycle.is_none() => {
-                whole(qe, &|loads| g.add_gear_loads(i, j, &onset, loads))
+            PlanarClearance::Gear(g) => {
+                let m = g.mesh(i, j);
+                // A mesh cycle's table is read in a block of its own: its intervals are
+                // its ways, apart from the teeth's contact.
+                let share = match &g.cycle {
+                    Some(cycle) => T::block(&[m.theta_1], |theta| Some(vec![cycle.at(theta[0])]))?[0],
+                    None => g.share_at(m.theta_1),
+                };
+                whole(qe, &|loads| g.add_gear_loads(&m, share, (i, j), &onset, loads))
             }
             PlanarClearance::Translational(t) => {
                 let frames = t.geometry.frames(i, j);
@@ -301,16 +308,16 @@ impl Kernels<{ planar_body::NV }> for Planar {
     }
 
     /// Compiled are the dry round journals in their bearings, the joints' play, the
-    /// gear meshes of constant stiffness and the blocks in their guides.
+    /// gear meshes and the blocks in their guides.
     fn uncompiled_joint(sys: &System) -> Result<(), String> {
         for c in &sys.clearances {
             let what = match c {
                 PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
-                PlanarClearance::Play(_) | PlanarClearance::Translational(_) => continue,
-                PlanarClearance::Gear(g) if g.cycle.is_none() => continue,
+                PlanarClearance::Play(_) | PlanarClearance::Translational(_) | PlanarClearance::Gear(_) => {
+                    continue
+                }
                 PlanarClearance::Revolute(_) => "a worn profile",
                 PlanarClearance::Lubricated(_) => "an oil film",
-                PlanarClearance::Gear(_) => "a mesh stiffness that varies along the mesh cycle",
             };
             return Err(not_compiled(c.name(), what));
         }

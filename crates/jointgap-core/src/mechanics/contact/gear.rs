@@ -26,14 +26,14 @@ pub struct MeshCycle {
 
 impl MeshCycle {
     /// The factor at angle `theta`, the table repeated over its span, linear between
-    /// points.
-    pub fn at(&self, theta: f64) -> f64 {
+    /// points, in any number type.
+    pub fn at<T: Real>(&self, theta: T) -> T {
         let (first, span) = (self.angle[0], self.angle[self.angle.len() - 1] - self.angle[0]);
-        let x = first + (theta - first).rem_euclid(span);
-        let k = self.angle.partition_point(|&a| a <= x).clamp(1, self.angle.len() - 1);
+        let x = c::<T>(first) + (theta - first).rem_euclid(c(span));
+        let k = self.angle.partition_point(|&a| x >= a).clamp(1, self.angle.len() - 1);
         let (a0, a1) = (self.angle[k - 1], self.angle[k]);
         let s = (x - a0) / (a1 - a0);
-        self.factor[k - 1] + s * (self.factor[k] - self.factor[k - 1])
+        c::<T>(self.factor[k - 1]) + s * (self.factor[k] - self.factor[k - 1])
     }
 }
 
@@ -65,10 +65,11 @@ pub struct GearPair {
 
 /// The mesh at one state: the centres, the unit line of centres `u`, the pitch point,
 /// gear 1's angle to the line, the measure along the line of action and its rate.
-struct Mesh<T: Real> {
+pub struct Mesh<T: Real> {
     u: Vec2<T>,
     pitch: Vec2<T>,
-    theta_1: T,
+    /// Gear 1's angle to the line of centres [rad].
+    pub theta_1: T,
     s: T,
     rate: T,
 }
@@ -179,7 +180,7 @@ impl GearPair {
     /// The mesh at the gears' states: `s = r_b1 (phi_1 - psi) + r_b2 (phi_2 - psi) - s0`
     /// with `r_b = r cos(alpha)` the base radii and `psi` the line of centres' angle.
     #[inline]
-    fn mesh<T: Real>(&self, g1: &BodyState<T>, g2: &BodyState<T>) -> Mesh<T> {
+    pub fn mesh<T: Real>(&self, g1: &BodyState<T>, g2: &BodyState<T>) -> Mesh<T> {
         let (c1, c2) = (g1.r + g1.rotate(self.gear_1.1), g2.r + g2.rotate(self.gear_2.1));
         let d = c2 - c1;
         let distance = norm(&d);
@@ -202,7 +203,7 @@ impl GearPair {
     /// of the backlash) and the stiffness there [N/m^n].
     pub fn measure(&self, g1: &BodyState, g2: &BodyState) -> (f64, f64) {
         let m = self.mesh(g1, g2);
-        (m.s, self.normal.stiffness * self.cycle.as_ref().map_or(1.0, |c| c.at(m.theta_1)))
+        (m.s, self.normal.stiffness * self.share_at(m.theta_1))
     }
 
     /// The tooth force on gear 2 [N] at the pitch point for a normal force `f_n` on the
@@ -211,50 +212,53 @@ impl GearPair {
         (perp(u) * c::<T>(side * self.pressure.0) + u * c::<T>(self.pressure.1)) * f_n
     }
 
-    /// The one point within `reach` ([`ClearanceJoint::contacts`]), in any number type.
-    /// Its share reads the mesh cycle at the angle's value: the compiled stage, which
-    /// records this, does not take a gear with a mesh cycle.
+    /// The stiffness factor at gear 1's angle `theta_1` to the line of centres: the mesh
+    /// cycle's, 1 without one.
     #[inline]
-    pub fn points_at<T: Real>(&self, g1: &BodyState<T>, g2: &BodyState<T>, reach: f64) -> ContactPoints<T> {
-        let mut out = ContactPoints::new();
-        let m = self.mesh(g1, g2);
+    pub fn share_at<T: Real>(&self, theta_1: T) -> T {
+        self.cycle.as_ref().map_or(c(1.0), |cycle| cycle.at(theta_1))
+    }
+
+    /// The one point within `reach` ([`ClearanceJoint::contacts`]) of mesh `m`, in any
+    /// number type; `share` its stiffness factor's value.
+    #[inline]
+    fn point_of<T: Real>(&self, m: &Mesh<T>, share: f64, reach: f64) -> Option<ContactPoint<T>> {
         let side = if m.s >= 0.0 { 1.0 } else { -1.0 };
         let penetration = m.s * side - self.half_backlash;
-        if penetration > -reach {
-            out.push(ContactPoint {
-                index: 0,
-                normal: -self.tooth_force(m.u, side, T::constant(1.0)),
-                penetration,
-                penetration_rate: m.rate * side,
-                slip: Tangential::zeros(),
-                share: self.cycle.as_ref().map_or(1.0, |c| c.at(m.theta_1.value())),
-                on_i: MaterialPoint { body: self.gear_1.0, at: m.pitch },
-                on_j: MaterialPoint { body: self.gear_2.0, at: m.pitch },
-            });
-        }
-        out
+        (penetration > -reach).then(|| ContactPoint {
+            index: 0,
+            normal: -self.tooth_force(m.u, side, T::constant(1.0)),
+            penetration,
+            penetration_rate: m.rate * side,
+            slip: Tangential::zeros(),
+            share,
+            on_i: MaterialPoint { body: self.gear_1.0, at: m.pitch },
+            on_j: MaterialPoint { body: self.gear_2.0, at: m.pitch },
+        })
     }
 
     /// The teeth's normal force at point `p` for onset speed `onset_speed`: the law's,
-    /// times the point's share of the mesh stiffness.
+    /// times the mesh stiffness's factor `share`.
     #[inline]
-    fn tooth_normal_force<T: Real>(&self, p: &ContactPoint<T>, onset_speed: T) -> T {
-        self.normal.force(p.penetration, p.penetration_rate, onset_speed) * p.share
+    fn tooth_normal_force<T: Real>(&self, p: &ContactPoint<T>, share: T, onset_speed: T) -> T {
+        self.normal.force(p.penetration, p.penetration_rate, onset_speed) * share
     }
 
-    /// Adds the tooth forces ([`ClearanceJoint::add_to`]) in any number type: `onset(k,
-    /// rate)` is the impact onset speed of point `k` at penetration rate `rate`
+    /// Adds the tooth forces ([`ClearanceJoint::add_to`]) of mesh `m` ([`Self::mesh`])
+    /// in any number type, the stiffness factor there being `share` ([`Self::share_at`]):
+    /// `onset(k, rate)` is the impact onset speed of point `k` at penetration rate `rate`
     /// ([`ContactState::onset_for`]).
     #[inline]
     pub fn add_gear_loads<T: Real>(
         &self,
-        g1: &BodyState<T>,
-        g2: &BodyState<T>,
+        m: &Mesh<T>,
+        share: T,
+        (g1, g2): (&BodyState<T>, &BodyState<T>),
         onset: impl Fn(usize, T) -> T,
         qe: &mut Loads<T>,
     ) {
-        for p in self.points_at(g1, g2, self.reach()).iter() {
-            let f_n = self.tooth_normal_force(p, onset(p.index, p.penetration_rate));
+        if let Some(p) = self.point_of(m, share.value(), self.reach()) {
+            let f_n = self.tooth_normal_force(&p, share, onset(p.index, p.penetration_rate));
             if f_n != 0.0 {
                 let f = -p.normal * f_n;
                 add_force_at(qe, self.gear_2.0, g2, p.on_j.at, f);
@@ -320,12 +324,17 @@ impl ClearanceJoint for GearPair {
     /// pushes it back), its share the stiffness factor of the mesh cycle.
     #[inline]
     fn contacts(&self, g1: &BodyState, g2: &BodyState, reach: f64) -> ContactPoints {
-        self.points_at(g1, g2, reach)
+        let m = self.mesh(g1, g2);
+        let mut out = ContactPoints::new();
+        if let Some(p) = self.point_of(&m, self.share_at(m.theta_1), reach) {
+            out.push(p);
+        }
+        out
     }
 
     #[inline]
     fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
-        (self.tooth_normal_force(p, onset_speed), Tangential::zeros())
+        (self.tooth_normal_force(p, p.share, onset_speed), Tangential::zeros())
     }
 
     fn losses(&self, g1: &BodyState, g2: &BodyState, states: &[ContactState]) -> (f64, f64) {
@@ -343,6 +352,7 @@ impl ClearanceJoint for GearPair {
     /// its opposite on gear 1 there.
     #[inline]
     fn add_to(&self, g1: &BodyState, g2: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        self.add_gear_loads(g1, g2, |k, rate| states[k].onset_for(rate), qe);
+        let m = self.mesh(g1, g2);
+        self.add_gear_loads(&m, self.share_at(m.theta_1), (g1, g2), |k, rate| states[k].onset_for(rate), qe);
     }
 }
