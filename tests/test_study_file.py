@@ -66,6 +66,14 @@ def test_grid_cases_in_order_first_parameter_slowest(tmp_path, engine) -> None:
     assert summary["metrics"] == ["peak"]
 
 
+def test_compiled_is_a_run_option(tmp_path, engine) -> None:
+    """``compiled = false`` runs the study's cases on the interpreted engine; left out,
+    the runs take the engine's default (compiled)."""
+    off = load_study(write_study(tmp_path, HEAD + "compiled = false\n" + METRIC))
+    assert off.run["compiled"] is False
+    assert "compiled" not in load_study(write_study(tmp_path, HEAD + METRIC)).run
+
+
 def test_steps_range_includes_both_ends(tmp_path, engine) -> None:
     study = load_study(write_study(tmp_path, grid_study(6)))
     values = [c["rod_slider.clearance"] for c in study.cases()]
@@ -188,6 +196,7 @@ def test_bad_distribution_is_an_error(tmp_path, spec, problem, engine) -> None:
     ("text", "expected"),
     [
         (HEAD + "rtol = 'fine'\n" + METRIC, '[study] rtol = "fine": option rtol'),
+        (HEAD + "compiled = 'no'\n" + METRIC, '[study] compiled = "no": must be true or false'),
         (HEAD + "samples = 3\n" + METRIC, "[study] samples = 3: a grid takes no samples"),
         (HEAD + "colour = 1\n" + METRIC, "[study] colour = 1: unknown key"),
         (

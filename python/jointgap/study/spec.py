@@ -49,7 +49,7 @@ from .sampling import DISTRIBUTIONS, MODEL, SAMPLINGS, Parameter, design
 
 __all__ = ["RUN_KEYS", "Study", "StudyError", "load_study", "loads_study"]
 
-RUN_KEYS = ("t_end", "rate", "rtol", "atol", "method", "max_step", "max_steps")
+RUN_KEYS = ("t_end", "rate", "rtol", "atol", "method", "max_step", "max_steps", "compiled")
 """Run options a study file may give in ``[study]`` (as ``jointgap run``)."""
 _STUDY_KEYS = {"name", "model", "sampling", "samples", "seed", "time_series", *RUN_KEYS}
 _SECTIONS = ("study", "parameters", "metrics")
@@ -262,6 +262,10 @@ class _Reader:
         if "t_end" not in head:
             raise self.error("study", "t_end", None, 'missing: the simulated time, e.g. "0.5 s"')
         given = {k: head[k] for k in RUN_KEYS if k in head}
+        if not isinstance(given.get("compiled", True), bool):
+            raise self.error(
+                "study", "compiled", given["compiled"], "must be true or false (false: interpreted)"
+            )
         for key, value in given.items():
             try:
                 run_options(value) if key == "t_end" else run_options(1.0, **{key: value})
