@@ -68,6 +68,7 @@ valgrind:
 bench: install valgrind
 	$(PY) benchmarks/instructions.py
 	$(PY) benchmarks/compiled.py
+	$(PY) benchmarks/study_throughput.py
 	$(PY) benchmarks/jacobian.py
 	cargo run --release -p jointgap-core --example bench_ideal
 	cargo run --release -p jointgap-bench-diffsol
