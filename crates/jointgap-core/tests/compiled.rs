@@ -199,15 +199,11 @@ fn turned_off_records_nothing() {
 /// What the compiler does not cover runs interpreted, and the run says why.
 #[test]
 fn what_is_not_compiled_says_why() {
-    let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
-    let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
-    joint["type"] = json!("lubricated_revolute");
-    joint["lubrication"] = json!({"length": 7.5e-3, "viscosity": 0.4, "film": "short"});
-    let model: Model = serde_json::from_value(raw).unwrap();
-    let run = simulate(&model, &options(0.05, Method::Auto, true)).unwrap();
+    let run = simulate(&lubricated_founding_case("long"), &options(0.05, Method::Auto, true)).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'rod_slider' has an oil film, which is not compiled yet"
+        "interpreted: joint 'rod_slider' has a long bearing's oil film, whose pressure arc is found by \
+         iteration, which is not compiled yet"
     );
     assert_eq!(run.stats.compile_time, 0.0);
     let film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
@@ -225,6 +221,28 @@ fn spatial_block_in_its_channel_runs_the_same_compiled() {
         let run = same_spatial_run(&block, 0.05, method);
         let points = run.impacts.iter().filter(|p| !p.impacts.is_empty()).count();
         assert!(points >= 3, "{method:?}: points that hit a wall: {points}");
+    }
+}
+
+/// The founding case with its rod-slider joint lubricated (film model `film`, an oil of
+/// 0.4 Pa s).
+fn lubricated_founding_case(film: &str) -> Model {
+    let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
+    let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
+    joint["type"] = json!("lubricated_revolute");
+    joint["lubrication"] = json!({"length": 7.5e-3, "viscosity": 0.4, "film": film});
+    serde_json::from_value(raw).unwrap()
+}
+
+/// The short bearing's oil film, its positive-pressure (Gumbel) film and its pi-film, in
+/// closed form throughout: the Sommerfeld substitution, the film's moments, its force and
+/// torque, with the dry laws where the film is thinner than its threshold.
+#[test]
+fn short_oil_films_run_the_same_compiled() {
+    for film in ["short", "short_pi"] {
+        for method in [Method::Auto, Method::Radau5] {
+            same_run(&lubricated_founding_case(film), 0.1, method);
+        }
     }
 }
 

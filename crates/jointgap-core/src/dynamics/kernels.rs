@@ -279,6 +279,7 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 Some(())
             })
         };
+
         match c {
             PlanarClearance::Revolute(r) if r.worn.is_none() => {
                 whole(qe, &|loads| r.add_round_loads(i, j, &onset, loads))
@@ -294,6 +295,10 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 };
                 whole(qe, &|loads| g.add_gear_loads(&m, share, (i, j), &onset, loads))
             }
+            PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => in_block(layout, qe, |loads| {
+                l.dry.add_round_loads(i, j, &onset, loads);
+                l.add_film_loads(i, j, |m| l.film.short_film(m), loads)
+            }),
             PlanarClearance::Translational(t) => {
                 let frames = t.geometry.frames(i, j);
                 (0..SliderGuide::POINTS).try_fold(qe, |qe, k| {
@@ -316,8 +321,12 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 PlanarClearance::Play(_) | PlanarClearance::Translational(_) | PlanarClearance::Gear(_) => {
                     continue
                 }
+                PlanarClearance::Lubricated(l) if l.dry.worn.is_none() && l.film.is_short() => continue,
                 PlanarClearance::Revolute(_) => "a worn profile",
-                PlanarClearance::Lubricated(_) => "an oil film",
+                PlanarClearance::Lubricated(l) if l.dry.worn.is_some() => "a worn profile",
+                PlanarClearance::Lubricated(_) => {
+                    "a long bearing's oil film, whose pressure arc is found by iteration"
+                }
             };
             return Err(not_compiled(c.name(), what));
         }

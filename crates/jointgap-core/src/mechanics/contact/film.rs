@@ -25,6 +25,7 @@
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use crate::model::FilmModel;
+use crate::scalar::{c, Real};
 
 /// An oil film between a journal and its bearing.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,18 +45,18 @@ pub struct Film {
 
 /// Where the journal is in its bearing and how journal and bearing move.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FilmMotion {
+pub struct FilmMotion<T: Real = f64> {
     /// Eccentricity e [m]: distance from the bearing centre to the journal centre,
     /// `0 <= e < c`.
-    pub eccentricity: f64,
+    pub eccentricity: T,
     /// Its rate de/dt [m/s]: positive when the journal moves towards the wall.
-    pub eccentricity_rate: f64,
+    pub eccentricity_rate: T,
     /// Rate d gamma/dt [rad/s] of the eccentricity direction `n = (cos gamma, sin gamma)`.
-    pub attitude_rate: f64,
+    pub attitude_rate: T,
     /// Journal angular velocity [rad/s], counter-clockwise positive.
-    pub omega_journal: f64,
+    pub omega_journal: T,
     /// Bearing angular velocity [rad/s], counter-clockwise positive.
-    pub omega_bearing: f64,
+    pub omega_bearing: T,
 }
 
 /// What the film does to the journal. The bearing takes `-F` at its centre and the torque
@@ -96,18 +97,50 @@ impl Film {
             m.eccentricity,
             self.clearance
         );
-        let s = Sommerfeld::new(m.eccentricity / self.clearance);
-        let squeeze = m.eccentricity_rate / self.clearance;
-        let wedge = m.omega_journal + m.omega_bearing - 2.0 * m.attitude_rate;
+        let (s, squeeze, wedge) = self.kinematics(m);
         let (along, across, peak_pressure) = match self.model {
             FilmModel::Short => self.short(&s, squeeze, wedge, true),
             FilmModel::ShortPi => self.short(&s, squeeze, wedge, false),
             FilmModel::Long => self.long(&s, squeeze, wedge, true),
             FilmModel::LongPi => self.long(&s, squeeze, wedge, false),
         };
+        FilmForce { along, across, torque_journal: self.torque(&s, m, across), peak_pressure }
+    }
+
+    /// The short bearing's force along and across `n` and its torque on the journal
+    /// ([`Film::force`] less the peak pressure) in any number type; `None` for the long
+    /// bearing's films, whose arc is found by iteration.
+    pub fn short_film<T: Real>(&self, m: &FilmMotion<T>) -> Option<[T; 3]> {
+        if !self.is_short() {
+            return None;
+        }
+        let gumbel = self.model == FilmModel::Short;
+        let (s, squeeze, wedge) = self.kinematics(m);
+        let zero = c::<T>(0.0);
+        let (along, across) =
+            self.short_force(&s, squeeze, wedge, gumbel).map_or((zero, zero), |f| (f.0, f.1));
+        Some([along, across, self.torque(&s, m, across)])
+    }
+
+    /// Whether the film is a short bearing's (Ocvirk), in closed form throughout.
+    pub fn is_short(&self) -> bool {
+        matches!(self.model, FilmModel::Short | FilmModel::ShortPi)
+    }
+
+    /// The Sommerfeld substitution at the motion's eccentricity ratio, the squeeze rate
+    /// `eps_dot` and the wedge speed `wbar`.
+    fn kinematics<T: Real>(&self, m: &FilmMotion<T>) -> (Sommerfeld<T>, T, T) {
+        let s = Sommerfeld::new(m.eccentricity / self.clearance);
+        let squeeze = m.eccentricity_rate / self.clearance;
+        let wedge = m.omega_journal + m.omega_bearing - m.attitude_rate * 2.0;
+        (s, squeeze, wedge)
+    }
+
+    /// The shear torque on the journal, its pressure part from the force `across`.
+    fn torque<T: Real>(&self, s: &Sommerfeld<T>, m: &FilmMotion<T>, across: T) -> T {
         let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
-        let couette = -TAU * mu * r.powi(3) * l * (m.omega_journal - m.omega_bearing) / (c * s.root);
-        FilmForce { along, across, torque_journal: couette - 0.5 * m.eccentricity * across, peak_pressure }
+        let couette = (m.omega_journal - m.omega_bearing) * (-TAU * mu * r.powi(3) * l) / (s.root * c);
+        couette - m.eccentricity * 0.5 * across
     }
 
     /// Short bearing (Ocvirk, for L/D below about 0.5): the axial flow carries the film,
@@ -121,18 +154,11 @@ impl Film {
     /// Otherwise the pressure is taken over [`FIXED_HALF`], negative parts included (the
     /// pi-film). Returns the force along and across `n` and the peak pressure.
     fn short(&self, s: &Sommerfeld, squeeze: f64, wedge: f64, gumbel: bool) -> (f64, f64, f64) {
-        let (a, b) = (2.0 * squeeze, -wedge * s.eps);
-        if a == 0.0 && b == 0.0 {
+        let Some((along, across, centre)) = self.short_force(s, squeeze, wedge, gumbel) else {
             return (0.0, 0.0, 0.0);
-        }
-        let centre = b.atan2(a);
-        let (lo, hi) = if gumbel { (centre - FRAC_PI_2, centre + FRAC_PI_2) } else { FIXED_HALF };
-        let i = s.moments(s.psi(hi)).minus(&s.moments(s.psi(lo)));
-        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
-        // z-integral of the pressure: int (L^2/4 - z^2) dz = L^3/6.
-        let k = mu * r * l.powi(3) / (2.0 * c * c);
-        let along = -k * (a * i.cc3 + b * i.sc3);
-        let across = -k * (a * i.sc3 + b * i.ss3);
+        };
+        let (a, b) = (2.0 * squeeze, -wedge * s.eps);
+        let (mu, l, c) = (self.viscosity, self.length, self.clearance);
 
         // Peak pressure at mid-length (z = 0): the largest value at a stationary point in
         // the positive half circle, or (pi-film) at an end of the fixed half.
@@ -147,6 +173,35 @@ impl Film {
             }
         }
         (along, across, peak)
+    }
+
+    /// The short bearing's force along and across `n` ([`Self::short`]) and the centre
+    /// `atan2(b, a)` of the half circle where `N` is positive, in any number type; `None`
+    /// where `N` is zero everywhere (no squeeze, no wedge).
+    fn short_force<T: Real>(
+        &self,
+        s: &Sommerfeld<T>,
+        squeeze: T,
+        wedge: T,
+        gumbel: bool,
+    ) -> Option<(T, T, T)> {
+        let (a, b) = (squeeze * 2.0, -wedge * s.eps);
+        if a == 0.0 && b == 0.0 {
+            return None;
+        }
+        let centre = b.atan2(a);
+        let (lo, hi) = if gumbel {
+            (centre - FRAC_PI_2, centre + FRAC_PI_2)
+        } else {
+            (c(FIXED_HALF.0), c(FIXED_HALF.1))
+        };
+        let i = s.moments(s.psi(hi)).minus(&s.moments(s.psi(lo)));
+        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
+        // z-integral of the pressure: int (L^2/4 - z^2) dz = L^3/6.
+        let k = mu * r * l.powi(3) / (2.0 * c * c);
+        let along = (a * i.cc3 + b * i.sc3) * -k;
+        let across = (a * i.sc3 + b * i.ss3) * -k;
+        Some((along, across, centre))
     }
 
     /// Long bearing (Sommerfeld, for L/D above about 2): the circumferential flow carries
@@ -313,31 +368,31 @@ fn root(f: impl Fn(f64) -> (f64, f64), mut lo: f64, mut hi: f64) -> f64 {
 /// `cos phi = (cos psi + eps)/(1 + eps cos psi)`, `sin phi = sqrt(1 - eps^2) sin psi /
 /// (1 + eps cos psi)`, `dphi = sqrt(1 - eps^2) dpsi / (1 + eps cos psi)`: it turns each film
 /// integrand `cos^i phi sin^j phi / H^n` into a trigonometric polynomial in `psi`.
-struct Sommerfeld {
+struct Sommerfeld<T: Real = f64> {
     /// Eccentricity ratio.
-    eps: f64,
+    eps: T,
     /// `sqrt(1 - eps^2)`.
-    root: f64,
+    root: T,
     /// `eps / (1 + sqrt(1 - eps^2))`, the `(k - 1)/(k + 1)` of `k = sqrt((1 + eps)/(1 - eps))`.
-    beta: f64,
+    beta: T,
 }
 
 /// Antiderivatives in `phi`, written in `psi`, of the film integrands (`H = 1 - eps cos
 /// phi`): `cc3 = int cos^2/H^3`, `sc3 = int sin cos/H^3`, `ss3 = int sin^2/H^3`, `s2 = int
 /// sin/H^2`, `s3 = int sin/H^3`, `c2 = int cos/H^2`, `c3 = int cos/H^3`.
-struct Moments {
-    cc3: f64,
-    sc3: f64,
-    ss3: f64,
-    s2: f64,
-    s3: f64,
-    c2: f64,
-    c3: f64,
+struct Moments<T: Real = f64> {
+    cc3: T,
+    sc3: T,
+    ss3: T,
+    s2: T,
+    s3: T,
+    c2: T,
+    c3: T,
 }
 
-impl Moments {
+impl<T: Real> Moments<T> {
     /// The definite integrals from `other`'s end to this one's.
-    fn minus(&self, other: &Moments) -> Moments {
+    fn minus(&self, other: &Moments<T>) -> Moments<T> {
         Moments {
             cc3: self.cc3 - other.cc3,
             sc3: self.sc3 - other.sc3,
@@ -350,53 +405,55 @@ impl Moments {
     }
 }
 
-impl Sommerfeld {
-    fn new(eps: f64) -> Self {
-        let root = (1.0 - eps * eps).sqrt();
-        Sommerfeld { eps, root, beta: eps / (1.0 + root) }
-    }
-
-    /// Dimensionless film thickness `H = h/c` at `phi`.
-    fn h(&self, phi: f64) -> f64 {
-        1.0 - self.eps * phi.cos()
+impl<T: Real> Sommerfeld<T> {
+    fn new(eps: T) -> Self {
+        let root = (c::<T>(1.0) - eps * eps).sqrt();
+        Sommerfeld { eps, root, beta: eps / (root + 1.0) }
     }
 
     /// `psi` of `phi`: `tan(psi/2) = k tan(phi/2)` jumps at `phi = pi`; written as
     /// `psi = phi + 2 atan(beta sin phi / (1 - beta cos phi))` it is continuous and
     /// increasing for every `phi`, so an arc needs no splitting.
-    fn psi(&self, phi: f64) -> f64 {
+    fn psi(&self, phi: T) -> T {
         let (s, c) = phi.sin_cos();
-        phi + 2.0 * (self.beta * s).atan2(1.0 - self.beta * c)
-    }
-
-    /// `phi` of `psi`, the inverse of [`Self::psi`] (`beta` changes sign).
-    fn phi(&self, psi: f64) -> f64 {
-        let (s, c) = psi.sin_cos();
-        psi - 2.0 * (self.beta * s).atan2(1.0 + self.beta * c)
+        phi + (self.beta * s).atan2(T::constant(1.0) - self.beta * c) * 2.0
     }
 
     /// The antiderivatives at `psi`.
-    fn moments(&self, psi: f64) -> Moments {
+    fn moments(&self, psi: T) -> Moments<T> {
         let (e, r) = (self.eps, self.root);
         let (s, c) = psi.sin_cos();
         let (r2, r3) = (r * r, r * r * r);
         let (r4, r5) = (r2 * r2, r2 * r3);
         Moments {
             // (cos psi + eps)^2 / r^5
-            cc3: (0.5 * (psi + s * c) + 2.0 * e * s + e * e * psi) / r5,
+            cc3: ((psi + s * c) * 0.5 + e * 2.0 * s + e * e * psi) / r5,
             // sin psi (cos psi + eps) / r^4
-            sc3: -(0.5 * c * c + e * c) / r4,
+            sc3: -(c * 0.5 * c + e * c) / r4,
             // sin^2 psi / r^3
-            ss3: 0.5 * (psi - s * c) / r3,
+            ss3: (psi - s * c) * 0.5 / r3,
             // sin psi / r^2
             s2: -c / r2,
             // sin psi (1 + eps cos psi) / r^4
-            s3: -(c + 0.5 * e * c * c) / r4,
+            s3: -(c + e * 0.5 * c * c) / r4,
             // (cos psi + eps) / r^3
             c2: (s + e * psi) / r3,
             // (cos psi + eps)(1 + eps cos psi) / r^5
-            c3: ((1.0 + e * e) * s + 0.5 * e * (3.0 * psi + s * c)) / r5,
+            c3: ((e * e + 1.0) * s + e * 0.5 * (psi * 3.0 + s * c)) / r5,
         }
+    }
+}
+
+impl Sommerfeld {
+    /// Dimensionless film thickness `H = h/c` at `phi`.
+    fn h(&self, phi: f64) -> f64 {
+        1.0 - self.eps * phi.cos()
+    }
+
+    /// `phi` of `psi`, the inverse of [`Self::psi`] (`beta` changes sign).
+    fn phi(&self, psi: f64) -> f64 {
+        let (s, c) = psi.sin_cos();
+        psi - 2.0 * (self.beta * s).atan2(1.0 + self.beta * c)
     }
 }
 

@@ -12,6 +12,7 @@ use crate::mechanics::planar_body::BodyState;
 use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, Joint, Lubrication};
 use crate::output::ClearanceData;
+use crate::scalar::{c, norm, Real};
 
 /// How the film carries the journal, as the `film_mode` channel reports it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -123,22 +124,64 @@ impl LubricatedRevolute {
     /// and the two spins, its eccentricity capped where the film is thinner than the
     /// threshold (the asperities carry the rest).
     pub fn film_at(&self, bearing: &BodyState, journal: &BodyState) -> FilmState {
+        let (e, ecc, n, motion) = self.film_motion(bearing, journal);
+        let thickness = self.film.clearance - ecc;
+        let film = self.film.force(&motion);
+        let mode = film_mode(thickness, self.threshold);
+        FilmState { eccentricity: e, thickness, force: n * film.along + perp(n) * film.across, film, mode }
+    }
+
+    /// The eccentricity `r_J - r_B`, its length, its direction `n` and the film's
+    /// motion ([`Self::film_at`]), in any number type.
+    #[inline]
+    fn film_motion<T: Real>(
+        &self,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+    ) -> (Vec2<T>, T, Vec2<T>, FilmMotion<T>) {
         let g = &self.dry.geometry;
         let (arm_b, arm_j) = (bearing.rotate(g.s_bearing), journal.rotate(g.s_journal));
         let e = journal.r + arm_j - bearing.r - arm_b;
-        let ecc = e.norm();
-        let n = if ecc > 0.0 { e / ecc } else { Vec2::new(1.0, 0.0) };
+        let ecc = norm(&e);
+        let n = if ecc > 0.0 { e / ecc } else { Vec2::new(c(1.0), c(0.0)) };
         let de = journal.v + perp(arm_j) * journal.omega - bearing.v - perp(arm_b) * bearing.omega;
-        let thickness = self.film.clearance - ecc;
-        let film = self.film.force(&FilmMotion {
-            eccentricity: ecc.min(self.film.clearance - self.threshold),
+        let motion = FilmMotion {
+            eccentricity: ecc.min(c(self.film.clearance - self.threshold)),
             eccentricity_rate: de.dot(&n),
-            attitude_rate: if ecc > 0.0 { de.dot(&perp(n)) / ecc } else { 0.0 },
+            attitude_rate: if ecc > 0.0 { de.dot(&perp(n)) / ecc } else { c(0.0) },
             omega_journal: journal.omega,
             omega_bearing: bearing.omega,
-        });
-        let mode = film_mode(thickness, self.threshold);
-        FilmState { eccentricity: e, thickness, force: n * film.along + perp(n) * film.across, film, mode }
+        };
+        (e, ecc, n, motion)
+    }
+
+    /// Adds the film's loads in any number type, its force along and across `n` and its
+    /// torque on the journal being `film`'s at the film's motion: the force on the journal
+    /// at its centre with the torque, their opposites on the bearing at its centre
+    /// ([`ClearanceJoint::add_to`] adds the dry laws' before); `None` where `film` gives
+    /// none.
+    #[inline]
+    pub fn add_film_loads<T: Real>(
+        &self,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        film: impl Fn(&FilmMotion<T>) -> Option<[T; 3]>,
+        qe: &mut Loads<T>,
+    ) -> Option<()> {
+        let (e, _, n, motion) = self.film_motion(bearing, journal);
+        let [along, across, torque] = film(&motion)?;
+        let force = n * along + perp(n) * across;
+        let g = &self.dry.geometry;
+        let (centre_b, centre_j) = g.centres(bearing, journal);
+        add_force_at(qe, g.journal, journal, centre_j, force);
+        add_force_at(qe, g.bearing, bearing, centre_b, -force);
+        if let Some(q) = qe.body(g.journal) {
+            q[2] += torque;
+        }
+        if let Some(q) = qe.body(g.bearing) {
+            q[2] += -torque - cross(e, force);
+        }
+        Some(())
     }
 
     /// The film's torque on the bearing [N m]: the film carries no moment of its own, so
@@ -214,17 +257,10 @@ impl ClearanceJoint for LubricatedRevolute {
     #[inline]
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
         add_point_forces(&self.dry, bearing, journal, states, qe);
-        let f = self.film_at(bearing, journal);
-        let g = &self.dry.geometry;
-        let (centre_b, centre_j) =
-            (bearing.r + bearing.rotate(g.s_bearing), journal.r + journal.rotate(g.s_journal));
-        add_force_at(qe, g.journal, journal, centre_j, f.force);
-        add_force_at(qe, g.bearing, bearing, centre_b, -f.force);
-        if let Some(q) = qe.body(g.journal) {
-            q[2] += f.film.torque_journal;
-        }
-        if let Some(q) = qe.body(g.bearing) {
-            q[2] += Self::bearing_torque(&f);
-        }
+        let film = |m: &FilmMotion| {
+            let f = self.film.force(m);
+            Some([f.along, f.across, f.torque_journal])
+        };
+        self.add_film_loads(bearing, journal, film, qe);
     }
 }
