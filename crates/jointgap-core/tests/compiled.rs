@@ -206,10 +206,30 @@ fn what_is_not_compiled_says_why() {
          iteration, which is not compiled yet"
     );
     assert_eq!(run.stats.compile_time, 0.0);
-    let film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
+    let mut film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
+    film["joints"][0]["lubrication"]["film"] = json!("long");
     let spatial = SpatialModel::from_json(&film.to_string()).unwrap();
     let run = simulate_spatial(&spatial, &options(0.01, Method::Auto, true), &mut Silent).unwrap();
-    assert_eq!(run.stats.compiled, "interpreted: joint 'bearing' has an oil film, which is not compiled yet");
+    assert_eq!(
+        run.stats.compiled,
+        "interpreted: joint 'bearing' has a long bearing's oil film, whose pressure arc is found by \
+         iteration, which is not compiled yet"
+    );
+}
+
+/// A journal tilted in its lubricated bearing under a load, spinning: the film's two
+/// halves (their eccentricities, rates and the short film at each) and the dry laws of
+/// the cylindrical joint beside them.
+#[test]
+fn spatial_short_oil_film_runs_the_same_compiled() {
+    for film in ["short", "short_pi"] {
+        let mut model =
+            crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.002, [0.0, 0.01, 0.0], [1e-3; 3]);
+        model["joints"][0]["lubrication"]["film"] = json!(film);
+        for method in [Method::Auto, Method::Radau5] {
+            same_spatial_run(&model, 0.02, method);
+        }
+    }
 }
 
 /// A box in its channel, thrown across it and spinning: each of its sixteen points (a

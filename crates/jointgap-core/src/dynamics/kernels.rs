@@ -324,15 +324,16 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 PlanarClearance::Lubricated(l) if l.dry.worn.is_none() && l.film.is_short() => continue,
                 PlanarClearance::Revolute(_) => "a worn profile",
                 PlanarClearance::Lubricated(l) if l.dry.worn.is_some() => "a worn profile",
-                PlanarClearance::Lubricated(_) => {
-                    "a long bearing's oil film, whose pressure arc is found by iteration"
-                }
+                PlanarClearance::Lubricated(_) => LONG_FILM,
             };
             return Err(not_compiled(c.name(), what));
         }
         Ok(())
     }
 }
+
+/// Why a lubricated joint with a long bearing's film runs interpreted.
+const LONG_FILM: &str = "a long bearing's oil film, whose pressure arc is found by iteration";
 
 /// Why joint `name`, which has `what`, runs interpreted.
 fn not_compiled(name: &str, what: &str) -> String {
@@ -417,6 +418,10 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
                     })
                 })
             }
+            SpatialGeometry::Lubricated(g) => in_block(layout, qe, |loads| {
+                c.add_dry_loads(i, j, &onset, loads)?;
+                g.add_film_loads(i, j, |m| g.film.short_film(m), loads)
+            }),
             _ => in_block(layout, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
         }
     }
@@ -430,8 +435,10 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
                     continue
                 }
                 SpatialGeometry::Cylinder(g) if g.worn.is_none() => continue,
+                SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() && g.film.is_short() => continue,
                 SpatialGeometry::Cylinder(_) => "a worn profile",
-                SpatialGeometry::Lubricated(_) => "an oil film",
+                SpatialGeometry::Lubricated(g) if g.dry.worn.is_some() => "a worn profile",
+                SpatialGeometry::Lubricated(_) => LONG_FILM,
             };
             return Err(not_compiled(&c.name, what));
         }

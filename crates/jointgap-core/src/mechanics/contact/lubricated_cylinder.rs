@@ -14,7 +14,9 @@ use super::geometry::CylinderBearing;
 use super::lubricated::{film_mode, FilmMode};
 use super::point3::MaterialPoint3;
 use crate::mechanics::layout::Loads;
-use crate::mechanics::spatial::body::{self, BodyState, Vec3};
+use crate::mechanics::spatial::body::{self, constant, BodyState, Vec3};
+use crate::scalar::{c, norm, Real};
+use nalgebra::Vector3;
 
 /// A checked lubricated cylindrical joint's geometry and film.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,6 +52,21 @@ pub struct HalfFilm {
     pub mode: FilmMode,
 }
 
+/// One half of the film's kinematics at one state, in any number type.
+struct Half<T: Real> {
+    /// The bearing axis `a`, global.
+    axis: Vector3<T>,
+    on_journal: Vector3<T>,
+    on_bearing: Vector3<T>,
+    /// Eccentricity `on_journal - on_bearing` and its length.
+    e: Vector3<T>,
+    ecc: T,
+    /// Its direction `n` and `a x n`.
+    n: Vector3<T>,
+    across: Vector3<T>,
+    motion: FilmMotion<T>,
+}
+
 /// The part of the film each half carries.
 pub const HALF: f64 = 0.5;
 
@@ -59,36 +76,16 @@ impl LubricatedCylinder {
     /// the plane normal to the bearing axis `a`, its rates from the relative velocity of
     /// the journal's and the bearing's material points there, and the spins about `a`.
     pub fn halves(&self, bearing: &BodyState, journal: &BodyState) -> [HalfFilm; 2] {
-        let g = &self.dry;
-        let centre_b = bearing.r + bearing.rotate(&g.s_bearing);
-        let a = bearing.rotate(&g.u_bearing);
-        let centre_j = journal.r + journal.rotate(&g.s_journal);
-        let axis_j = journal.rotate(&g.u_journal);
-        let (spin_j, spin_b) = (journal.omega_global().dot(&a), bearing.omega_global().dot(&a));
         [-1.0, 1.0].map(|side| {
-            let on_journal = centre_j + axis_j * (side * 0.25 * self.film.length);
-            let w = on_journal - centre_b;
-            let on_bearing = centre_b + a * a.dot(&w);
-            let e = on_journal - on_bearing;
-            let ecc = e.norm();
-            let n = if ecc > 0.0 { e / ecc } else { super::geometry::radial_normal(e, ecc, a) };
-            let across = a.cross(&n);
-            let de = MaterialPoint3::of(g.journal, journal, on_journal).velocity(journal)
-                - MaterialPoint3::of(g.bearing, bearing, on_bearing).velocity(bearing);
-            let film = self.film.force(&FilmMotion {
-                eccentricity: ecc.min(self.film.clearance - self.threshold),
-                eccentricity_rate: de.dot(&n),
-                attitude_rate: if ecc > 0.0 { de.dot(&across) / ecc } else { 0.0 },
-                omega_journal: spin_j,
-                omega_bearing: spin_b,
-            });
-            let thickness = self.film.clearance - ecc;
+            let h = self.half(bearing, journal, side);
+            let film = self.film.force(&h.motion);
+            let thickness = self.film.clearance - h.ecc;
             HalfFilm {
-                on_journal,
-                on_bearing,
-                eccentricity: e,
+                on_journal: h.on_journal,
+                on_bearing: h.on_bearing,
+                eccentricity: h.e,
                 thickness,
-                force: (n * film.along + across * film.across) * HALF,
+                force: (h.n * film.along + h.across * film.across) * HALF,
                 torque: HALF * film.torque_journal,
                 film,
                 mode: film_mode(thickness, self.threshold),
@@ -96,22 +93,63 @@ impl LubricatedCylinder {
         })
     }
 
-    /// The film's loads: each half's force on the journal at its point with its torque
-    /// about the bearing axis `a`; on the bearing, the opposite force at the foot and the
-    /// torque `-T a - e x F`, so that the film carries no moment of its own.
-    pub fn add_film(&self, bearing: &BodyState, journal: &BodyState, qe: &mut Loads) {
+    /// The half of the film on side `side` (-1 or 1) in any number type ([`Self::halves`]).
+    #[inline]
+    fn half<T: Real>(&self, bearing: &BodyState<T>, journal: &BodyState<T>, side: f64) -> Half<T> {
         let g = &self.dry;
-        let a = bearing.rotate(&g.u_bearing);
-        for h in self.halves(bearing, journal) {
+        let centre_b = bearing.r + bearing.rotate(&constant(&g.s_bearing));
+        let a = bearing.rotate(&constant(&g.u_bearing));
+        let centre_j = journal.r + journal.rotate(&constant(&g.s_journal));
+        let axis_j = journal.rotate(&constant(&g.u_journal));
+        let (spin_j, spin_b) = (journal.omega_global().dot(&a), bearing.omega_global().dot(&a));
+        let on_journal = centre_j + axis_j * c::<T>(side * 0.25 * self.film.length);
+        let w = on_journal - centre_b;
+        let on_bearing = centre_b + a * a.dot(&w);
+        let e = on_journal - on_bearing;
+        let ecc = norm(&e);
+        let n = if ecc > 0.0 { e / ecc } else { super::geometry::radial_normal(e, ecc, a) };
+        let across = a.cross(&n);
+        let de = MaterialPoint3::of(g.journal, journal, on_journal).velocity(journal)
+            - MaterialPoint3::of(g.bearing, bearing, on_bearing).velocity(bearing);
+        let motion = FilmMotion {
+            eccentricity: ecc.min(c(self.film.clearance - self.threshold)),
+            eccentricity_rate: de.dot(&n),
+            attitude_rate: if ecc > 0.0 { de.dot(&across) / ecc } else { c(0.0) },
+            omega_journal: spin_j,
+            omega_bearing: spin_b,
+        };
+        Half { axis: a, on_journal, on_bearing, e, ecc, n, across, motion }
+    }
+
+    /// The film's loads in any number type, the whole film's force along and across each
+    /// half's `n` and its torque being `film`'s at the half's motion: each half's force
+    /// on the journal at its point with its torque about the bearing axis `a`; on the
+    /// bearing, the opposite force at the foot and the torque `-T a - e x F`, so that the
+    /// film carries no moment of its own. `None` where `film` gives none.
+    #[inline]
+    pub fn add_film_loads<T: Real>(
+        &self,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        film: impl Fn(&FilmMotion<T>) -> Option<[T; 3]>,
+        qe: &mut Loads<T>,
+    ) -> Option<()> {
+        let g = &self.dry;
+        for side in [-1.0, 1.0] {
+            let h = self.half(bearing, journal, side);
+            let [along, across, torque] = film(&h.motion)?;
+            let force = (h.n * along + h.across * across) * c::<T>(HALF);
+            let torque = torque * HALF;
             if let Some(q) = qe.body(g.journal) {
-                body::add_force(q, journal, &(h.on_journal - journal.r), &h.force);
-                body::add_torque(q, journal, &(a * h.torque));
+                body::add_force(q, journal, &(h.on_journal - journal.r), &force);
+                body::add_torque(q, journal, &(h.axis * torque));
             }
             if let Some(q) = qe.body(g.bearing) {
-                body::add_force(q, bearing, &(h.on_bearing - bearing.r), &-h.force);
-                body::add_torque(q, bearing, &(-a * h.torque - h.eccentricity.cross(&h.force)));
+                body::add_force(q, bearing, &(h.on_bearing - bearing.r), &-force);
+                body::add_torque(q, bearing, &(-h.axis * torque - h.e.cross(&force)));
             }
         }
+        Some(())
     }
 
     /// The film's power on the two bodies [W], the same loads as [`Self::add_film`]:

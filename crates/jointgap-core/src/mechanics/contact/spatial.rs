@@ -5,6 +5,7 @@
 //! share of the law's (a journal end carries half) and its friction acts against the
 //! slip vector.
 
+use super::film::FilmMotion;
 use super::geometry::{
     contact_ball_socket, contact_block_channel, contact_cylinder_bearing, contact_round_cylinder,
     wall_contact, BallSocket, BlockChannel, CylinderBearing, Frames,
@@ -159,8 +160,8 @@ impl SpatialClearance {
         (f_n, f_t)
     }
 
-    /// Adds the contact loads of a ball in its socket or a round journal in its bearing
-    /// (no wear), in any number type (the interpreted [`ClearanceJoint::add_to`] runs the
+    /// Adds the contact loads of a ball in its socket or a round journal in its bearing,
+    /// dry or (its dry laws) lubricated (no wear), in any number type (the interpreted [`ClearanceJoint::add_to`] runs the
     /// same kernels): `onset(k, rate)` is the impact onset speed of point `k` at
     /// penetration rate `rate` ([`ContactState::onset_for`]). `None` for the other
     /// geometries, which add nothing here.
@@ -177,6 +178,9 @@ impl SpatialClearance {
             SpatialGeometry::BallSocket(g) => contact_ball_socket(g, i, j, self.reach(), &mut points),
             SpatialGeometry::Cylinder(g) if g.worn.is_none() => {
                 contact_round_cylinder(g, i, j, self.reach(), &mut points)
+            }
+            SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() => {
+                contact_round_cylinder(&g.dry, i, j, self.reach(), &mut points)
             }
             _ => return None,
         }
@@ -360,13 +364,22 @@ impl ClearanceJoint for SpatialClearance {
         if let SpatialGeometry::Play(g) = &self.geometry {
             return self.add_play_loads(g, i, j, onset, qe);
         }
-        if self.add_dry_loads(i, j, onset, qe).is_some() {
-            return;
+        if self.add_dry_loads(i, j, onset, qe).is_none() {
+            let points = self.contacts(i, j, self.reach());
+            apply_point_forces(
+                &points,
+                |p| self.point_force(p, onset(p.index, p.penetration_rate)),
+                i,
+                j,
+                qe,
+            );
         }
-        let points = self.contacts(i, j, self.reach());
-        apply_point_forces(&points, |p| self.point_force(p, onset(p.index, p.penetration_rate)), i, j, qe);
         if let SpatialGeometry::Lubricated(g) = &self.geometry {
-            g.add_film(i, j, qe);
+            let film = |m: &FilmMotion| {
+                let f = g.film.force(m);
+                Some([f.along, f.across, f.torque_journal])
+            };
+            g.add_film_loads(i, j, film, qe);
         }
     }
 }
