@@ -63,7 +63,7 @@ pub trait Kernels<const N: usize>: BodyKind {
         state: impl Fn(Option<usize>) -> Self::StateOf<T>,
         loads: &mut Loads<T>,
     );
-    /// `qe` (laid out by `layout`) with a clearance joint's contact loads added
+    /// `qe` (laid out as `to` says) with a clearance joint's contact loads added
     /// (`onset(k, rate)`: the impact onset speed of its point `k`), each part with
     /// branches of its own (the joint, or each of its points) a block ([`in_block`]);
     /// `None` where the joint is not written over `T`.
@@ -72,7 +72,7 @@ pub trait Kernels<const N: usize>: BodyKind {
         i: &Self::StateOf<T>,
         j: &Self::StateOf<T>,
         onset: impl Fn(usize, T) -> T,
-        layout: &Layout,
+        to: LoadsOf,
         qe: Vec<T>,
     ) -> Option<Vec<T>>;
     /// Why a clearance joint of `sys` is not compiled, if one is not.
@@ -160,7 +160,8 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
         let s = next(2 * points.len());
         let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
         let [i, j] = c.parts();
-        qe = K::add_clearance_loads(c, &state(i), &state(j), onset, &sys.layout, qe)?;
+        let to = LoadsOf { layout: &sys.layout, parts: [i, j] };
+        qe = K::add_clearance_loads(c, &state(i), &state(j), onset, to, qe)?;
     }
     // The solve of [`super::accelerations_for_integration`], operation for operation.
     let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
@@ -194,19 +195,38 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
     Some(out)
 }
 
-/// `qe` with the loads that `add` adds, recorded as a block of their own: a part of the
-/// evaluation whose branches (in contact or not, a friction regime) are its own
-/// ([`Real::block`]); `None` where `add` gives none.
+/// Where a clearance joint's loads go: the layout of `Qe` and the joint's two bodies.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadsOf<'a> {
+    layout: &'a Layout,
+    parts: [Option<usize>; 2],
+}
+
+/// `qe` with the loads that `add` adds to the joint's bodies (`to`), recorded as a block
+/// of their own: a part of the evaluation whose branches (in contact or not, a friction
+/// regime) are its own ([`Real::block`]), whose outputs are the two bodies' entries of
+/// `Qe`. `None` where `add` gives none.
 fn in_block<T: Real>(
-    layout: &Layout,
-    qe: Vec<T>,
+    to: LoadsOf,
+    mut qe: Vec<T>,
     add: impl FnOnce(&mut Loads<T>) -> Option<()>,
 ) -> Option<Vec<T>> {
-    T::block(&qe, |before| {
+    let mut entries: Vec<usize> = to.parts.iter().flatten().flat_map(|&b| to.layout.slot(b).v()).collect();
+    entries.sort_unstable();
+    entries.dedup();
+    if entries.is_empty() {
+        // Both parts the ground: nothing takes the loads.
+        return Some(qe);
+    }
+    let out = T::block(&qe, |before| {
         let mut qe = before.to_vec();
-        add(&mut Loads::new(layout, &mut qe))?;
-        Some(qe)
-    })
+        add(&mut Loads::new(to.layout, &mut qe))?;
+        Some(entries.iter().map(|&k| qe[k]).collect())
+    })?;
+    for (&k, value) in entries.iter().zip(out) {
+        qe[k] = value;
+    }
+    Some(qe)
 }
 
 /// A row's block on a prescribed body, which is planar ([`super::prescribed::split`]).
@@ -270,11 +290,11 @@ impl Kernels<{ planar_body::NV }> for Planar {
         i: &planar_body::BodyState<T>,
         j: &planar_body::BodyState<T>,
         onset: impl Fn(usize, T) -> T,
-        layout: &Layout,
+        to: LoadsOf,
         qe: Vec<T>,
     ) -> Option<Vec<T>> {
         let whole = |qe, add: &dyn Fn(&mut Loads<T>)| {
-            in_block(layout, qe, |loads| {
+            in_block(to, qe, |loads| {
                 add(loads);
                 Some(())
             })
@@ -295,14 +315,14 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 };
                 whole(qe, &|loads| g.add_gear_loads(&m, share, (i, j), &onset, loads))
             }
-            PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => in_block(layout, qe, |loads| {
+            PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => in_block(to, qe, |loads| {
                 l.dry.add_round_loads(i, j, &onset, loads);
                 l.add_film_loads(i, j, |m| l.film.short_film(m), loads)
             }),
             PlanarClearance::Translational(t) => {
                 let frames = t.geometry.frames(i, j);
                 (0..SliderGuide::POINTS).try_fold(qe, |qe, k| {
-                    in_block(layout, qe, |loads| {
+                    in_block(to, qe, |loads| {
                         t.add_corner_loads(frames, (i, j), k, &onset, loads);
                         Some(())
                     })
@@ -398,11 +418,11 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
         i: &spatial_body::BodyState<T>,
         j: &spatial_body::BodyState<T>,
         onset: impl Fn(usize, T) -> T,
-        layout: &Layout,
+        to: LoadsOf,
         qe: Vec<T>,
     ) -> Option<Vec<T>> {
         match &c.geometry {
-            SpatialGeometry::Play(g) => in_block(layout, qe, |loads| {
+            SpatialGeometry::Play(g) => in_block(to, qe, |loads| {
                 c.add_play_loads(g, i, j, onset, loads);
                 Some(())
             }),
@@ -411,18 +431,18 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
                 (0..CORNERS3.len()).try_fold(qe, |qe, k| {
                     let corner = g.corner(&f, k);
                     (2 * k..2 * k + 2).try_fold(qe, |qe, index| {
-                        in_block(layout, qe, |loads| {
+                        in_block(to, qe, |loads| {
                             c.add_wall_loads((g, &f, corner), (i, j), index, &onset, loads);
                             Some(())
                         })
                     })
                 })
             }
-            SpatialGeometry::Lubricated(g) => in_block(layout, qe, |loads| {
+            SpatialGeometry::Lubricated(g) => in_block(to, qe, |loads| {
                 c.add_dry_loads(i, j, &onset, loads)?;
                 g.add_film_loads(i, j, |m| g.film.short_film(m), loads)
             }),
-            _ => in_block(layout, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
+            _ => in_block(to, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
         }
     }
 
