@@ -215,11 +215,12 @@ impl Graph {
             if let Node::Out(b, 0) = *node {
                 let block = &self.blocks[b as usize];
                 let args: Vec<f64> = block.args.iter().map(|&a| v[a as usize]).collect();
-                let way = block.ways.iter().map(|(g, q)| g.eval(&args[..g.inputs], q)).position(|(ok, _)| ok);
-                outs = match way {
-                    Some(w) => block.ways[w].0.eval(&args[..block.ways[w].0.inputs], &block.ways[w].1).1,
-                    None => vec![f64::NAN; block.outputs],
-                };
+                let held = block.ways.iter().enumerate().find_map(|(w, (g, q))| {
+                    let (ok, out) = g.eval(&args[..g.inputs], q);
+                    ok.then_some((w, out))
+                });
+                let way = held.as_ref().map(|(w, _)| *w);
+                outs = held.map_or_else(|| vec![f64::NAN; block.outputs], |(_, out)| out);
                 taken = taken.zip(way).map(|(mut t, w)| {
                     t.push(w);
                     t
