@@ -16,7 +16,8 @@ pub mod schur;
 
 pub use schur::Singular;
 
-use crate::mechanics::contact::{self, ClearanceJoint, ContactState};
+use crate::mechanics::contact::point3::ContactPoint3;
+use crate::mechanics::contact::{self, ClearanceJoint, ContactPoint, ContactState};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::kind::{BodyKind, ForceLaw};
 use crate::mechanics::layout::Layout;
@@ -231,12 +232,13 @@ impl<K: Contacts> Workspace<K> {
 
     /// The inverse mass that a unit force along `g` (a direction in velocity
     /// coordinates) meets through the constraints of the last evaluation,
-    /// `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g`, between zero and the free `g^T M^-1 g`.
-    fn inverse_mass_along(&mut self, g: &[f64]) -> f64 {
+    /// `g^T (M^-1 - M^-1 Cq^T S^-1 Cq M^-1) g`, between zero and the free `g^T M^-1 g`;
+    /// the free one where that is at most `enough` (no solve with the constraints).
+    fn inverse_mass_along(&mut self, g: &[f64], enough: f64) -> f64 {
         let u: Vec<f64> = g.iter().zip(&self.m_inv).map(|(g, m)| g * m).collect();
         let free: f64 = g.iter().zip(&u).map(|(g, u)| g * u).sum();
         let mut inverse_mass = free;
-        if self.dynamic > 0 {
+        if self.dynamic > 0 && free > enough {
             let mut mu: Vec<f64> = self.jac[..self.dynamic].iter().map(|row| row.dot(&u)).collect();
             let r = mu.clone();
             if self.schur_solve(&mut mu).is_ok() {
@@ -593,8 +595,19 @@ pub trait Contacts: BodyKind + compiled::Compile {
     /// slip's direction in coordinates.
     /// An explicit step is stable only below about 3.3 divided by it, so this is the
     /// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
-    /// evaluation.
-    fn friction_rate(sys: &System<Self>, q: &[f64], v: &[f64], ws: &mut Workspace<Self>) -> f64;
+    /// evaluation, and the contact points at `(q, v)`, all joints' by slot.
+    ///
+    /// Rates up to `decides` are not told apart: a point's rate is taken without the
+    /// constraints, `g^T M^-1 g`, where that bound is at most `decides`. So the rate is
+    /// exact where it exceeds `decides`, and at most `decides` where it does not.
+    fn friction_rate(
+        sys: &System<Self>,
+        q: &[f64],
+        v: &[f64],
+        points: &[<Self::Clearance as ClearanceJoint>::Point],
+        decides: f64,
+        ws: &mut Workspace<Self>,
+    ) -> f64;
 }
 
 impl Contacts for Planar {
@@ -621,12 +634,19 @@ impl Contacts for Planar {
     /// slip's direction in coordinates.
     /// An explicit step is stable only below about 3.3 divided by it, so this is the
     /// stiffness that sticking friction brings. Uses the constraint Jacobian of the last
-    /// evaluation.
-    fn friction_rate(sys: &System, q: &[f64], v: &[f64], ws: &mut Workspace) -> f64 {
+    /// evaluation, and the contact points at `(q, v)`, all joints' by slot.
+    fn friction_rate(
+        sys: &System,
+        q: &[f64],
+        v: &[f64],
+        all: &[ContactPoint],
+        decides: f64,
+        ws: &mut Workspace,
+    ) -> f64 {
         let mut rate = 0.0f64;
         for (_, c, points) in contact::slots(&sys.clearances) {
             let [bearing, journal] = c.parts().map(|b| sys.body_state(b, q, v));
-            for (kin, (slip, t)) in c.contacts(&bearing, &journal, f64::INFINITY).iter().flat_map(|kin| {
+            for (kin, (slip, t)) in all[points.clone()].iter().flat_map(|kin| {
                 kin.slip.iter().zip(contact::point::tangents(kin.normal)).map(move |tangent| (kin, tangent))
             }) {
                 let contact = ws.contacts[points.start + kin.index];
@@ -646,7 +666,7 @@ impl Contacts for Planar {
                         planar_body::add_force(g, point - state.r, t * sign);
                     }
                 }
-                rate = rate.max(damping * ws.inverse_mass_along(&g));
+                rate = rate.max(damping * ws.inverse_mass_along(&g, decides / damping));
             }
         }
         rate
@@ -673,12 +693,19 @@ impl Contacts for Spatial {
 
     /// As the planar kind's, the slip taken along two tangents at each contact point
     /// (perpendicular to its normal) at the slip's speed.
-    fn friction_rate(sys: &System<Spatial>, q: &[f64], v: &[f64], ws: &mut Workspace<Spatial>) -> f64 {
+    fn friction_rate(
+        sys: &System<Spatial>,
+        q: &[f64],
+        v: &[f64],
+        all: &[ContactPoint3],
+        decides: f64,
+        ws: &mut Workspace<Spatial>,
+    ) -> f64 {
         let mut rate = 0.0f64;
-        for (k, c, points) in contact::slots(&sys.clearances) {
+        for (_, c, points) in contact::slots(&sys.clearances) {
             let [i, j] = c.parts();
             let (si, sj) = (sys.body_state(i, q, v), sys.body_state(j, q, v));
-            for p in sys.contact_points(k, q, v).iter() {
+            for p in &all[points.clone()] {
                 let contact = ws.contacts[points.start + p.index];
                 let (f_n, _) = c.force(p, contact.onset_for(p.penetration_rate));
                 let damping = if f_n > 0.0 { c.friction.damping(p.slip.norm(), f_n) } else { 0.0 };
@@ -697,7 +724,7 @@ impl Contacts for Spatial {
                             spatial::body::add_force(g, state, &point.arm, &(t * sign));
                         }
                     }
-                    rate = rate.max(damping * ws.inverse_mass_along(&g));
+                    rate = rate.max(damping * ws.inverse_mass_along(&g, decides / damping));
                 }
             }
         }

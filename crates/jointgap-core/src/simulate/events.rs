@@ -95,6 +95,40 @@ fn points_at<K: Kind>(sys: &System<K>, q: &[f64], v: &[f64], out: &mut Vec<Point
 /// The contact point type of body kind `K`'s clearance joints.
 pub type PointOf<K> = <<K as BodyKind>::Clearance as ClearanceJoint>::Point;
 
+/// Every contact point at the last step end asked for, by slot, and that state: a step's
+/// end is asked for by the step's search, by the update after the step and by the next
+/// step's search, and its points are the same each time.
+#[derive(Debug, Clone)]
+struct StepEnd<P> {
+    /// Positions then velocities, as bits (a state is the same only if its bits are).
+    state: Vec<u64>,
+    points: Vec<P>,
+}
+
+impl<P> Default for StepEnd<P> {
+    fn default() -> Self {
+        StepEnd { state: Vec::new(), points: Vec::new() }
+    }
+}
+
+impl<P: Copy> StepEnd<P> {
+    /// The points at `(q, v)`, computed unless they are those of the last state asked for.
+    fn points<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        q: &[f64],
+        v: &[f64],
+    ) -> &[P] {
+        let bits = q.iter().chain(v).map(|x| x.to_bits());
+        if self.state.len() != q.len() + v.len() || !bits.clone().eq(self.state.iter().copied()) {
+            self.state.clear();
+            self.state.extend(bits);
+            points_at(sys, q, v, &mut self.points);
+        }
+        &self.points
+    }
+}
+
 /// Interior points at which a step's penetration is compared with its end-point model.
 const CHECKS: [f64; 2] = [1.0 / 3.0, 2.0 / 3.0];
 
@@ -126,11 +160,10 @@ fn screen<K: Kind>(
     models.clear();
     let mut quiet = true;
     let mut ends = std::mem::take(&mut log.probed);
-    points_at(sys, &step.y0[..n], &step.y0[n..], &mut ends);
+    ends.clear();
+    ends.extend_from_slice(log.step_end.points(sys, &step.y0[..n], &step.y0[n..]));
     let starts = ends.len();
-    for k in 0..sys.clearances.len() {
-        ends.extend_from_slice(&sys.contact_points(k, &step.y1[..n], &step.y1[n..]));
-    }
+    ends.extend_from_slice(log.step_end.points(sys, &step.y1[..n], &step.y1[n..]));
     for (s, state) in states.iter().enumerate() {
         let (a, b) = (ends[s], ends[starts + s]);
         let model = Cubic {
@@ -251,6 +284,8 @@ pub struct ImpactLog<P = ContactPoint> {
     models: Vec<(Cubic, [f64; 2])>,
     /// Extra points for [`locate`] to search, from [`screen`].
     points: Vec<f64>,
+    /// The points at the last step's end.
+    step_end: StepEnd<P>,
     /// Time each point spent in free flight, impact and continuous contact [s] (indexed
     /// by [`Mode`]), summed over the accepted steps by [`ImpactLog::dwell`].
     pub mode_time: Vec<[f64; 3]>,
@@ -277,6 +312,7 @@ impl<P: ContactMeasure> ImpactLog<P> {
             probed: Vec::new(),
             models: Vec::new(),
             points: Vec::new(),
+            step_end: StepEnd::default(),
             mode_time: vec![[0.0; 3]; slots],
         }
     }
@@ -361,8 +397,8 @@ impl<P: ContactMeasure> ImpactLog<P> {
         }
     }
 
-    /// At an accepted state (step end or output sample): the mode from the penetration
-    /// rate, and the peaks of the current impact.
+    /// At an output sample: the mode from the penetration rate, and the peaks of the
+    /// current impact.
     pub fn update<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
         &mut self,
         sys: &System<K>,
@@ -375,13 +411,52 @@ impl<P: ContactMeasure> ImpactLog<P> {
                 continue;
             }
             for p in sys.contact_points(k, q, v).iter() {
-                let slot = range.start + p.index();
-                let s = &mut states[slot];
-                if s.in_contact {
-                    s.follow(p.penetration_rate());
-                    self.raise_peak(sys, slot, s, p);
-                }
+                self.follow(sys, states, range.start + p.index(), p);
             }
+        }
+    }
+
+    /// [`ImpactLog::update`] at an accepted step's end, whose points the step's search
+    /// has mostly found already.
+    pub fn update_at_step_end<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        states: &mut [ContactState],
+        q: &[f64],
+        v: &[f64],
+    ) {
+        if !states.iter().any(|s| s.in_contact) {
+            return;
+        }
+        let mut end = std::mem::take(&mut self.step_end);
+        for (slot, p) in end.points(sys, q, v).iter().enumerate() {
+            self.follow(sys, states, slot, p);
+        }
+        self.step_end = end;
+    }
+
+    /// Every contact point at an accepted step's end `(q, v)`, by slot.
+    pub fn points_at_step_end<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        q: &[f64],
+        v: &[f64],
+    ) -> &[P] {
+        self.step_end.points(sys, q, v)
+    }
+
+    /// Follows the point in slot `slot`, at `p`, if it is in contact.
+    fn follow<K: Kind<Clearance: ClearanceJoint<Point = P>>>(
+        &mut self,
+        sys: &System<K>,
+        states: &mut [ContactState],
+        slot: usize,
+        p: &P,
+    ) {
+        let s = &mut states[slot];
+        if s.in_contact {
+            s.follow(p.penetration_rate());
+            self.raise_peak(sys, slot, s, p);
         }
     }
 }

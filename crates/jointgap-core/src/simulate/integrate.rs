@@ -177,7 +177,7 @@ pub fn integrate<K: Kind>(
                                 break 'run singular(t);
                             }
                         }
-                        log.update(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
+                        log.update_at_step_end(sys, &mut ode.ws.contacts, &y[..n], &y[n..]);
                         if let Some(wear) = wear.as_deref_mut() {
                             wear.step(sys, &ode.ws.contacts, (t, h_taken), &y[..n], &y[n..]);
                         }
@@ -200,7 +200,8 @@ pub fn integrate<K: Kind>(
                             }
                         }
                         if opts.method == Method::Auto {
-                            methods.after_step(ode, stats, (t, h_taken), y, &f, att.stiffness);
+                            let points = log.points_at_step_end(sys, &y[..n], &y[n..]);
+                            methods.after_step(ode, stats, (t, h_taken), y, &f, att.stiffness, points);
                         }
                         h = grow_after_success(
                             &*methods.stepper,
@@ -257,6 +258,7 @@ impl<'a, K: Kind> MethodInUse<'a, K> {
         y: &[f64],
         f: &[f64],
         stiffness: Option<f64>,
+        points: &[PointOf<K>],
     ) {
         let radius = if self.switch.wants_radius(self.method) {
             self.stepper.spectral_radius(ode, t, y, f)
@@ -264,10 +266,12 @@ impl<'a, K: Kind> MethodInUse<'a, K> {
             None
         };
         let (q, v) = y.split_at(ode.sys.layout.nq());
-        let friction = K::friction_rate(ode.sys, q, v, &mut ode.ws);
+        let h_next = h_taken * self.stepper.step_factor().unwrap_or(1.0);
+        let decides = AutoSwitch::friction_decides_above(self.method, h_taken, h_next);
+        let friction = K::friction_rate(ode.sys, q, v, points, decides, &mut ode.ws);
         let next = self.switch.after_step(
             self.method,
-            (t, h_taken, h_taken * self.stepper.step_factor().unwrap_or(1.0)),
+            (t, h_taken, h_next),
             ode.evaluations,
             (stiffness, radius),
             friction,

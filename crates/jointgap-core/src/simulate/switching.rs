@@ -91,6 +91,20 @@ impl AutoSwitch {
         method == Method::Sdirk4 && self.window.steps + 1 >= WINDOW
     }
 
+    /// The friction rate [1/s] at and below which the decision of
+    /// [`AutoSwitch::after_step`] after a step of `method` (`h`, `h_next` as there) is
+    /// the same whatever the rate: rates below it need not be told apart (computed to
+    /// their bound without the constraints). A margin of 1e-9 keeps the products with the
+    /// step on the same side of the limits.
+    pub fn friction_decides_above(method: Method, h: f64, h_next: f64) -> f64 {
+        let limit = match method {
+            Method::Radau5 => FRICTION_EASY / h_next,
+            Method::Dopri5 => FRICTION_STIFF / h,
+            _ => f64::INFINITY,
+        };
+        limit * (1.0 - 1e-9)
+    }
+
     /// After an accepted step of size `h` of `method` ending at `t` (`h_next`: the step
     /// the method proposes next, or `h`), with `evaluations` force evaluations so far, DOPRI5's stiffness estimate `h |lambda|`, (when
     /// [`AutoSwitch::wants_radius`]) the spectral radius, and the friction rate
