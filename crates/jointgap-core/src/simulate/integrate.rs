@@ -124,8 +124,9 @@ pub fn integrate<K: Kind>(
                         stats.accepted_steps += 1;
                         // The drift at the step's end from the step's last evaluation, taken
                         // before output samples reuse the workspace.
+                        let residuals = ode.ws.violation_here(&y_new[n..]);
                         let drift_at_end =
-                            (ode.ws.violation_here(&y_new[n..]), ode.ws.rounding(&y_new[..n], &y_new[n..]));
+                            (residuals, rounding_where_needed(ode, residuals, &y_new[..n], &y_new[n..]));
                         // A contact onset or separation inside the step ends the step there.
                         if mapped {
                             for (qdd, y, f) in [(&mut qdd0, &*y, &f), (&mut qdd1, &y_new, &f_new)] {
@@ -505,7 +506,8 @@ fn keep_on_constraints<K: Kind>(
         Some(drift) => drift,
         None => {
             let (q, v) = y.split_at(n);
-            (violation(sys, t, q, v, &mut ode.ws), ode.ws.rounding(q, v))
+            let residuals = violation(sys, t, q, v, &mut ode.ws);
+            (residuals, rounding_where_needed(ode, residuals, q, v))
         }
     };
     let (pos_limit, vel_limit) = drift_limits(ode.tolerances.atol, rounding);
@@ -519,6 +521,24 @@ fn keep_on_constraints<K: Kind>(
     }
     profile::stop(&mut ode.ws.profile, lap, |p| &mut p.projection);
     Ok(projected)
+}
+
+/// The rounding floor of the constraint residuals `(pos, vel)` at `(q, v)`
+/// ([`crate::dynamics::Workspace::rounding`], from the last evaluation, made there); zero
+/// where the residuals are within the tolerance's own limits, as there the floor changes
+/// nothing.
+fn rounding_where_needed<K: Kind>(
+    ode: &Ode<'_, K>,
+    (pos, vel): (f64, f64),
+    q: &[f64],
+    v: &[f64],
+) -> (f64, f64) {
+    let (pos_limit, vel_limit) = drift_limits(ode.tolerances.atol, (0.0, 0.0));
+    if pos > pos_limit || vel > vel_limit {
+        ode.ws.rounding(q, v)
+    } else {
+        (0.0, 0.0)
+    }
 }
 
 /// At an accepted step's end `(t, y)`: records it when every step is recorded, else
