@@ -24,7 +24,6 @@ pub struct Dopri5 {
     nq: usize,
     k: Vec<Vec<f64>>,
     stage: Vec<f64>,
-    acc: Vec<f64>,
     err: Vec<f64>,
 }
 
@@ -32,7 +31,7 @@ impl Dopri5 {
     /// Allocates for a state of `nq` positions and `nv` velocities.
     pub fn new(nq: usize, nv: usize) -> Self {
         let n = nq + nv;
-        Dopri5 { nq, k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], acc: vec![0.0; n], err: vec![0.0; n] }
+        Dopri5 { nq, k: vec![vec![0.0; n]; 7], stage: vec![0.0; n], err: vec![0.0; n] }
     }
 }
 
@@ -59,16 +58,8 @@ impl<R: Rhs + ?Sized> Stepper<R> for Dopri5 {
         let n = y.len();
         self.k[0].copy_from_slice(f0);
         for s in 1..7 {
-            // stage = y + h sum_j a_sj k_j, the sum taken in stage order for each entry.
-            self.acc.fill(0.0);
-            for (a, k) in A[s][..s].iter().zip(&self.k) {
-                for (acc, k) in self.acc.iter_mut().zip(k) {
-                    *acc += a * k;
-                }
-            }
-            for ((stage, y), acc) in self.stage.iter_mut().zip(y).zip(&self.acc) {
-                *stage = y + h * acc;
-            }
+            let (y, stage) = (&y[..n], &mut self.stage[..n]);
+            weighted_sum(&A[s][..s], &self.k, n, |i, sum| stage[i] = y[i] + h * sum);
             ode.eval(t + C[s] * h, &self.stage, &mut self.k[s]).map_err(|Singular| StepFailure::Singular)?;
             if s == 5 {
                 // Keep stage 6 for the stiffness test; stage 7 is the new solution.
@@ -85,21 +76,44 @@ impl<R: Rhs + ?Sized> Stepper<R> for Dopri5 {
             den += (y_new[i] - self.err[i]).powi(2);
         }
         let stiffness = if den > 0.0 { Some(h * (num / den).sqrt()) } else { None };
-        self.acc.fill(0.0);
-        for (e, k) in E.iter().zip(&self.k) {
-            for (acc, k) in self.acc.iter_mut().zip(k) {
-                *acc += e * k;
-            }
-        }
-        for (err, acc) in self.err.iter_mut().zip(&self.acc) {
-            *err = h * acc;
-        }
+        let err = &mut self.err[..n];
+        weighted_sum(&E, &self.k, n, |i, sum| err[i] = h * sum);
         let error = tol.error_norm(&self.err, y, y_new);
         // Positions brought back onto their manifold: f at the state handed back.
         if ode.update_positions(&mut y_new[..self.nq]) {
             ode.eval(t + h, y_new, f_new).map_err(|Singular| StepFailure::Singular)?;
         }
         Ok(Attempt { error, stiffness })
+    }
+}
+
+/// Hands `put(i, sum_j w_j k_j[i])` for each of the `n` entries, each sum taken from zero
+/// in stage order (which fixes its rounding), over the first `w.len()` stages (1 to 7).
+#[inline]
+fn weighted_sum(w: &[f64], k: &[Vec<f64>], n: usize, put: impl FnMut(usize, f64)) {
+    match w.len() {
+        1 => sum_of::<1>(w, k, n, put),
+        2 => sum_of::<2>(w, k, n, put),
+        3 => sum_of::<3>(w, k, n, put),
+        4 => sum_of::<4>(w, k, n, put),
+        5 => sum_of::<5>(w, k, n, put),
+        6 => sum_of::<6>(w, k, n, put),
+        _ => sum_of::<7>(w, k, n, put),
+    }
+}
+
+/// [`weighted_sum`] over `S` stages, a count the compiler knows, so that the loop over
+/// the entries is unrolled over the stages and vectorised.
+#[inline(always)]
+fn sum_of<const S: usize>(w: &[f64], k: &[Vec<f64>], n: usize, mut put: impl FnMut(usize, f64)) {
+    let w: [f64; S] = std::array::from_fn(|j| w[j]);
+    let k: [&[f64]; S] = std::array::from_fn(|j| &k[j][..n]);
+    for i in 0..n {
+        let mut sum = 0.0;
+        for j in 0..S {
+            sum += w[j] * k[j][i];
+        }
+        put(i, sum);
     }
 }
 
