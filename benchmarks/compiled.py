@@ -12,14 +12,17 @@ The founding clearance case (examples/slider_crank_clearance.toml, 0.5 s, slider
    both, the first compiled run (compiling) and the median of the next ones (from the
    cache) against the median of interpreted runs; and 20 runs in one process of the
    core's ``one_run`` (compiling once), compiled against interpreted, three times each.
-3. A batch of variants of the clearance (``simulate_batch``, two threads): each variant's
-   constants differ, so each compiles its own code.
+3. A batch of variants of the clearance (``simulate_batch``, two threads): the variants'
+   constants differ, and as parameters of the code they share it.
 4. The spatial four-bar with a spherical clearance joint (examples/
    spatial_four_bar_clearance.toml, 0.5 s, 1 kHz, ``auto`` at rtol 1e-8): instructions
    per evaluation and wall times as for the founding case (compiled and interpreted runs
    are the same bits, so at equal accuracy by construction), and where the time goes
    (the run's own profile): the evaluations against everything else a run does.
-5. The slider-crank with two clearance joints (examples/slider_crank_two_clearances.toml,
+5. Where the time goes, for the founding case and the four-bar: the run's own profile
+   stage by stage (evaluations, Jacobians and factors, event search, output samples,
+   projection, and the integrator's own work), compiled and interpreted.
+6. The slider-crank with two clearance joints (examples/slider_crank_two_clearances.toml,
    as the founding case): each joint's contact is a block of its own ways, so one path
    covers every combination of the two joints' branches. Instructions and wall times.
 
@@ -214,32 +217,60 @@ def wall_rows(timed: dict[str, Any]) -> list[str]:
     ]
 
 
-def spatial_lines(spatial: dict[str, Any]) -> list[str]:
-    """The spatial four-bar's counts, wall times and profile."""
-    timed, profile = spatial["timings"], spatial["profile"]
+#: The profile's stages besides the evaluations, as the tables name them.
+STAGES = {
+    "jacobians": "Jacobians and LU factors",
+    "events": "event search",
+    "output": "output samples",
+    "projection": "projection",
+}
+
+
+def profile_lines(profile: dict[str, dict[str, float]]) -> list[str]:
+    """Where the time goes, stage by stage, compiled and interpreted (the run's own
+    profile, which reads the clock at each stage: its total is a few per cent above an
+    unmeasured run's), and the most that cheaper evaluations can give."""
     native, plain = profile["compiled"], profile["interpreted"]
     evaluation = {
-        "compiled": native["forces"],
+        "compiled": native["forces"] + native["linear_solves"],
         "interpreted": plain["forces"] + plain["linear_solves"],
     }
-    rest = plain["total"] - evaluation["interpreted"]
+    rows = []
+    for name, p in (("compiled", native), ("interpreted", plain)):
+        own = p["total"] - evaluation[name] - sum(p[stage] for stage in STAGES)
+        cells = " | ".join(f"{p[stage]:.4f}" for stage in STAGES)
+        rows.append(
+            f"| {name} | {evaluation[name]:.4f} | {cells} | {own:.4f} | {p['total']:.4f} |"
+        )
+    # Both runs take the same steps: the compiled run's rest is the work that is not
+    # evaluation.
+    rest = native["total"] - evaluation["compiled"]
+    return [
+        "Where the time goes (the run's profile, fastest of 3; each stage without the "
+        "evaluations it makes; the integrator's own work is what the stages leave: its "
+        "stage sums, error norms, Newton iterations' solves, step control, contact "
+        "updates and the switching rule):",
+        "",
+        "| | evaluations [s] | " + " [s] | ".join(STAGES.values()) + " [s] | "
+        "integrator's own [s] | total [s] |",
+        "|---|" + "---:|" * (len(STAGES) + 3),
+        *rows,
+        "",
+        f"With evaluations that cost nothing, a run would take the rest alone: "
+        f"{plain['total'] / rest:.2f}x the interpreted run at most.",
+    ]
+
+
+def spatial_lines(spatial: dict[str, Any]) -> list[str]:
+    """The spatial four-bar's counts, wall times and profile."""
     return [
         "The spatial four-bar with a spherical clearance joint "
         "(examples/spatial_four_bar_clearance.toml), 0.5 s, 1 kHz, auto at rtol 1e-8",
         "",
         *count_table(spatial["counts"]),
-        *wall_rows(timed),
+        *wall_rows(spatial["timings"]),
         "",
-        "Where the time goes (the run's profile, fastest of 3):",
-        "",
-        "| | evaluations [s] | the rest of the run [s] | total [s] |",
-        "|---|---:|---:|---:|",
-        f"| compiled | {evaluation['compiled']:.4f} | "
-        f"{native['total'] - evaluation['compiled']:.4f} | {native['total']:.4f} |",
-        f"| interpreted | {evaluation['interpreted']:.4f} | {rest:.4f} | {plain['total']:.4f} |",
-        "",
-        f"With evaluations that cost nothing, a run would take the rest alone: "
-        f"{plain['total'] / rest:.2f}x the interpreted run at most.",
+        *profile_lines(spatial["profile"]),
     ]
 
 
@@ -250,6 +281,7 @@ def main() -> int:
     )  # fmt: skip
     counted = counts(MODEL, RUN)
     timed = timings(MODEL, RUN)
+    founding_profile = where_the_time_goes(MODEL, RUN)
     program = program_runs()
     batched = batch()
     spatial = {
@@ -274,6 +306,7 @@ def main() -> int:
         f"{program['interpreted'] / program['compiled']:.2f}x |",
         f"| 20 runs in one process (one_run), interpreted | {program['interpreted']:.3f} | 1 |",
     ]
+    lines += ["", *profile_lines(founding_profile)]
     lines += ["", *spatial_lines(spatial)]
     lines += [
         "",
@@ -289,6 +322,7 @@ def main() -> int:
     figures = {
         "counts": counted,
         "timings": timed,
+        "profile": founding_profile,
         "program": program,
         "batch": batched,
         "spatial": spatial,

@@ -11,7 +11,9 @@ use serde::Serialize;
 /// linear solves, not as Jacobian or output time).
 #[derive(Debug, Clone, Default, Serialize, PartialEq)]
 pub struct Profile {
-    /// Constraint rows and applied forces (contact laws included) [s].
+    /// The equations of motion beyond their linear solves: constraint rows, applied
+    /// forces (contact laws included) and the accelerations from them; a compiled
+    /// evaluation whole [s].
     pub forces: f64,
     /// Schur complement: assembly, factorisation, solve and refinement [s].
     pub linear_solves: f64,

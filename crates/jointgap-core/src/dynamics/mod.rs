@@ -381,12 +381,12 @@ pub fn accelerations_for_integration<K: Contacts>(
     ws.load_bodies(sys, q, v);
     constraint_rows(sys, t, ws);
     forces_at_bodies(sys, t, ws);
-    profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     let n = sys.layout.nv();
     for j in 0..n {
         ws.qdd[j] = ws.m_inv[j] * ws.qe[j];
     }
     if ws.active.is_empty() {
+        profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
         return Ok(());
     }
     // The prescribed bodies' accelerations from their own rows; then lambda solves
@@ -413,6 +413,7 @@ pub fn accelerations_for_integration<K: Contacts>(
     }
     ws.qdd = qdd;
     ws.lambda = lambda;
+    profile::stop(&mut ws.profile, lap, |p| &mut p.forces);
     solved
 }
 
