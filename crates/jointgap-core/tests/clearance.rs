@@ -228,19 +228,27 @@ fn friction_rate_is_damping_over_the_slip_mass_through_the_constraints() {
         let mut ws = Workspace::new(sys, prepared.initial.active.clone());
         accelerations(sys, 0.0, &q, &v, &mut ws).unwrap();
         let [bearing, journal] = gap.parts().map(|b| sys.body_state(b, &q, &v));
-        let kin = gap.contacts(&bearing, &journal, f64::INFINITY)[0];
+        let points = gap.contacts(&bearing, &journal, f64::INFINITY);
+        let kin = points[0];
         assert!((kin.penetration - depth).abs() < 1e-12, "penetration {}", kin.penetration);
         assert!((kin.slip[0] - slip).abs() < 1e-9 * slip.abs().max(1e-3), "slip {} vs {slip}", kin.slip[0]);
         let (f_n, _) = gap.force(&kin, kin.penetration_rate);
         let expected = gap.friction().damping(slip, f_n) * lever * lever / i_a;
-        let rate = Planar::friction_rate(sys, &q, &v, &mut ws);
+        let rate = Planar::friction_rate(sys, &q, &v, &points[..], 0.0, &mut ws);
         assert!((rate - expected).abs() <= 1e-9 * expected.max(1e-300), "slip {slip}: {rate} vs {expected}");
+        // Where no rate tells the switching rule anything, the bound without the pin.
+        let bound = Planar::friction_rate(sys, &q, &v, &points[..], f64::INFINITY, &mut ws);
         if slip.abs() > 0.01016 {
-            assert_eq!(rate, 0.0, "no damping while sliding");
+            assert_eq!((rate, bound), (0.0, 0.0), "no damping while sliding");
         } else {
             // Without the pin the inverse mass would be 1/m + cross(P - G, t)^2 / I, 30 % more.
             let free = 1.0 / mass + (lever - length / 2.0 * n[0]).powi(2) / inertia;
-            assert!(rate < 0.8 * gap.friction().damping(slip, f_n) * free, "{rate} vs free {free}");
+            let unpinned = gap.friction().damping(slip, f_n) * free;
+            assert!(rate < 0.8 * unpinned, "{rate} vs free {free}");
+            assert!((bound - unpinned).abs() <= 1e-9 * unpinned, "bound {bound} vs {unpinned}");
+            // A rate that decides is exact: just below it, the pinned rate again.
+            let decides = 0.999 * rate;
+            assert_eq!(Planar::friction_rate(sys, &q, &v, &points[..], decides, &mut ws), rate);
         }
     }
 }

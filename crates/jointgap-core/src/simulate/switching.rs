@@ -195,3 +195,31 @@ impl AutoSwitch {
         line
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{AutoSwitch, Method};
+
+    /// The rule's decision after a step, at friction rate `rate`, from a fresh rule.
+    fn decision(method: Method, (h, h_next): (f64, f64), rate: f64) -> Option<Method> {
+        AutoSwitch::default().after_step(method, (0.1, h, h_next), 1000, (None, None), rate)
+    }
+
+    /// Any rate up to `friction_decides_above` takes the rule the same way as a rate of
+    /// zero, and a rate just past the limit it guards turns it: so rates below it need
+    /// not be told apart, and the margin is no wider than it needs to be.
+    #[test]
+    fn rates_below_the_deciding_rate_take_the_same_turn() {
+        for (h, h_next) in [(1e-5, 1.3e-5), (3.7e-6, 2.9e-6), (0.01, 0.02)] {
+            for (method, limit) in [(Method::Dopri5, 2.0 / h), (Method::Radau5, 1.5 / h_next)] {
+                let decides = AutoSwitch::friction_decides_above(method, h, h_next);
+                assert!(decides < limit && decides > limit * (1.0 - 1e-8), "{method:?}");
+                let at_zero = decision(method, (h, h_next), 0.0);
+                assert_eq!(decision(method, (h, h_next), decides), at_zero, "{method:?} h {h}");
+                assert_ne!(decision(method, (h, h_next), limit * (1.0 + 1e-9)), at_zero, "{method:?}");
+            }
+            let free = AutoSwitch::friction_decides_above(Method::Sdirk4, h, h_next);
+            assert_eq!(free, f64::INFINITY, "SDIRK4's rule reads no friction");
+        }
+    }
+}
