@@ -239,9 +239,7 @@ def profile_lines(profile: dict[str, dict[str, float]]) -> list[str]:
     for name, p in (("compiled", native), ("interpreted", plain)):
         own = p["total"] - evaluation[name] - sum(p[stage] for stage in STAGES)
         cells = " | ".join(f"{p[stage]:.4f}" for stage in STAGES)
-        rows.append(
-            f"| {name} | {evaluation[name]:.4f} | {cells} | {own:.4f} | {p['total']:.4f} |"
-        )
+        rows.append(f"| {name} | {evaluation[name]:.4f} | {cells} | {own:.4f} | {p['total']:.4f} |")
     # Both runs take the same steps: the compiled run's rest is the work that is not
     # evaluation.
     rest = native["total"] - evaluation["compiled"]

@@ -202,7 +202,7 @@ pub fn integrate<K: Kind>(
                         }
                         if opts.method == Method::Auto {
                             let points = log.points_at_step_end(sys, &y[..n], &y[n..]);
-                            methods.after_step(ode, stats, (t, h_taken), y, &f, att.stiffness, points);
+                            methods.after_step(ode, stats, (t, h_taken), (y, &f), att.stiffness, points);
                         }
                         h = grow_after_success(
                             &*methods.stepper,
@@ -249,15 +249,15 @@ impl<'a, K: Kind> MethodInUse<'a, K> {
     }
 
     /// Under `auto`, after an accepted step of `h_taken` to `(t, y)` with `f = f(t, y)`
-    /// (`stiffness`: the explicit method's estimate): the method of the next step, from
-    /// the stiffness and the sticking friction the step shows.
+    /// (`stiffness`: the explicit method's estimate; `points`: the contact points at
+    /// `y`): the method of the next step, from the stiffness and the sticking friction
+    /// the step shows.
     fn after_step(
         &mut self,
         ode: &mut Ode<'a, K>,
         stats: &mut RunStats,
         (t, h_taken): (f64, f64),
-        y: &[f64],
-        f: &[f64],
+        (y, f): (&[f64], &[f64]),
         stiffness: Option<f64>,
         points: &[PointOf<K>],
     ) {
