@@ -202,8 +202,8 @@ fn what_is_not_compiled_says_why() {
     let run = simulate(&lubricated_founding_case("long"), &options(0.05, Method::Auto, true)).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'rod_slider' has a long bearing's oil film, whose pressure arc is found by \
-         iteration, which is not compiled yet"
+        "interpreted: joint 'rod_slider' has a long bearing's positive-pressure oil film, the end of whose \
+         arc is found by iteration, which is not compiled yet"
     );
     assert_eq!(run.stats.compile_time, 0.0);
     let mut film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
@@ -212,17 +212,17 @@ fn what_is_not_compiled_says_why() {
     let run = simulate_spatial(&spatial, &options(0.01, Method::Auto, true), &mut Silent).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'bearing' has a long bearing's oil film, whose pressure arc is found by \
-         iteration, which is not compiled yet"
+        "interpreted: joint 'bearing' has a long bearing's positive-pressure oil film, the end of whose \
+         arc is found by iteration, which is not compiled yet"
     );
 }
 
 /// A journal tilted in its lubricated bearing under a load, spinning: the film's two
-/// halves (their eccentricities, rates and the short film at each) and the dry laws of
-/// the cylindrical joint beside them.
+/// halves (their eccentricities, rates and the film at each: short, its pi-film, and the
+/// long bearing's pi-film) and the dry laws of the cylindrical joint beside them.
 #[test]
-fn spatial_short_oil_film_runs_the_same_compiled() {
-    for film in ["short", "short_pi"] {
+fn spatial_closed_form_oil_films_run_the_same_compiled() {
+    for film in ["short", "short_pi", "long_pi"] {
         let mut model =
             crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.002, [0.0, 0.01, 0.0], [1e-3; 3]);
         model["joints"][0]["lubrication"]["film"] = json!(film);
@@ -254,12 +254,13 @@ fn lubricated_founding_case(film: &str) -> Model {
     serde_json::from_value(raw).unwrap()
 }
 
-/// The short bearing's oil film, its positive-pressure (Gumbel) film and its pi-film, in
-/// closed form throughout: the Sommerfeld substitution, the film's moments, its force and
-/// torque, with the dry laws where the film is thinner than its threshold.
+/// The oil films in closed form throughout: the short bearing's positive-pressure
+/// (Gumbel) film and its pi-film, and the long bearing's pi-film. The Sommerfeld
+/// substitution, the film's moments, its force and torque, with the dry laws where the
+/// film is thinner than its threshold.
 #[test]
-fn short_oil_films_run_the_same_compiled() {
-    for film in ["short", "short_pi"] {
+fn closed_form_oil_films_run_the_same_compiled() {
+    for film in ["short", "short_pi", "long_pi"] {
         for method in [Method::Auto, Method::Radau5] {
             same_run(&lubricated_founding_case(film), 0.1, method);
         }

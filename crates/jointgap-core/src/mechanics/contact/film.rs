@@ -107,24 +107,29 @@ impl Film {
         FilmForce { along, across, torque_journal: self.torque(&s, m, across), peak_pressure }
     }
 
-    /// The short bearing's force along and across `n` and its torque on the journal
+    /// The film's force along and across `n` and its torque on the journal
     /// ([`Film::force`] less the peak pressure) in any number type; `None` for the long
-    /// bearing's films, whose arc is found by iteration.
-    pub fn short_film<T: Real>(&self, m: &FilmMotion<T>) -> Option<[T; 3]> {
-        if !self.is_short() {
+    /// bearing's positive-pressure film, the end of whose arc is found by iteration.
+    pub fn closed_form<T: Real>(&self, m: &FilmMotion<T>) -> Option<[T; 3]> {
+        if !self.is_closed_form() {
             return None;
         }
-        let gumbel = self.model == FilmModel::Short;
         let (s, squeeze, wedge) = self.kinematics(m);
         let zero = c::<T>(0.0);
-        let (along, across) =
-            self.short_force(&s, squeeze, wedge, gumbel).map_or((zero, zero), |f| (f.0, f.1));
+        let (along, across) = match self.model {
+            FilmModel::Short | FilmModel::ShortPi => self
+                .short_force(&s, squeeze, wedge, self.model == FilmModel::Short)
+                .map_or((zero, zero), |f| (f.0, f.1)),
+            _ if wedge * s.eps == 0.0 && squeeze == 0.0 => (zero, zero),
+            _ => self.long_force(&s, squeeze, wedge, (s.psi(c(FIXED_HALF.0)), s.psi(c(FIXED_HALF.1)))),
+        };
         Some([along, across, self.torque(&s, m, across)])
     }
 
-    /// Whether the film is a short bearing's (Ocvirk), in closed form throughout.
-    pub fn is_short(&self) -> bool {
-        matches!(self.model, FilmModel::Short | FilmModel::ShortPi)
+    /// Whether the film's force is in closed form throughout: all but the long bearing's
+    /// positive-pressure film.
+    pub fn is_closed_form(&self) -> bool {
+        self.model != FilmModel::Long
     }
 
     /// The Sommerfeld substitution at the motion's eccentricity ratio, the squeeze rate
@@ -222,16 +227,7 @@ impl Film {
         if wedge * eps == 0.0 && squeeze == 0.0 {
             return (0.0, 0.0, 0.0);
         }
-        let (mu, r, l, c) = (self.viscosity, self.radius, self.length, self.clearance);
-        let k = 6.0 * mu * r * r / (c * c);
-        let kappa = -2.0 * wedge * s.root * s.root / (2.0 + eps * eps);
-        let p = |phi: f64| {
-            let (sn, cs) = phi.sin_cos();
-            let h = s.h(phi);
-            k * (-wedge * eps * sn * (2.0 - eps * cs) / ((2.0 + eps * eps) * h * h)
-                + squeeze * (cs * (2.0 - eps * cs) / (h * h) + (2.0 + eps) / ((1.0 + eps) * (1.0 + eps))))
-        };
-        let (psi_a, psi_b) = if gumbel {
+        let arc = if gumbel {
             match Self::long_positive_arc(s, squeeze, wedge) {
                 Some(arc) => arc,
                 None => return (0.0, 0.0, 0.0),
@@ -239,14 +235,11 @@ impl Film {
         } else {
             (s.psi(FIXED_HALF.0), s.psi(FIXED_HALF.1))
         };
-        let i = s.moments(psi_b).minus(&s.moments(psi_a));
-        let (phi_a, phi_b) = (s.phi(psi_a), s.phi(psi_b));
-        let dp_sin = k * (wedge * i.s2 + kappa * i.s3 - 2.0 * squeeze * i.ss3);
-        let dp_cos = k * (wedge * i.c2 + kappa * i.c3 - 2.0 * squeeze * i.sc3);
-        let p_cos = p(phi_b) * phi_b.sin() - p(phi_a) * phi_a.sin() - dp_sin;
-        let p_sin = -(p(phi_b) * phi_b.cos() - p(phi_a) * phi_a.cos()) + dp_cos;
+        let (along, across) = self.long_force(s, squeeze, wedge, arc);
+        let p = |phi: f64| self.long_pressure(s, squeeze, wedge, phi);
 
         // Peak: dp/dphi = 0 where wbar eps cos phi + 2 eps_dot sin phi = wbar + kappa.
+        let kappa = self.long_kappa(s, wedge);
         let amp = (wedge * eps).hypot(2.0 * squeeze);
         let turn = ((wedge + kappa) / amp).clamp(-1.0, 1.0).acos();
         let at = (2.0 * squeeze).atan2(wedge * eps);
@@ -256,7 +249,46 @@ impl Film {
                 peak = peak.max(p(phi));
             }
         }
-        (-r * l * p_cos, -r * l * p_sin, peak)
+        (along, across, peak)
+    }
+
+    /// The long bearing's force along and across `n` over the arc `(psi_a, psi_b)` (in the
+    /// Sommerfeld variable), in any number type ([`Self::long`]).
+    fn long_force<T: Real>(&self, s: &Sommerfeld<T>, squeeze: T, wedge: T, (psi_a, psi_b): (T, T)) -> (T, T) {
+        let (r, l) = (self.radius, self.length);
+        let k = self.long_k();
+        let kappa = self.long_kappa(s, wedge);
+        let p = |phi: T| self.long_pressure(s, squeeze, wedge, phi);
+        let i = s.moments(psi_b).minus(&s.moments(psi_a));
+        let (phi_a, phi_b) = (s.phi(psi_a), s.phi(psi_b));
+        let dp_sin = (wedge * i.s2 + kappa * i.s3 - squeeze * 2.0 * i.ss3) * k;
+        let dp_cos = (wedge * i.c2 + kappa * i.c3 - squeeze * 2.0 * i.sc3) * k;
+        let ((sin_a, cos_a), (sin_b, cos_b)) = (phi_a.sin_cos(), phi_b.sin_cos());
+        let p_cos = p(phi_b) * sin_b - p(phi_a) * sin_a - dp_sin;
+        let p_sin = -(p(phi_b) * cos_b - p(phi_a) * cos_a) + dp_cos;
+        (p_cos * (-r * l), p_sin * (-r * l))
+    }
+
+    /// `k = 6 mu R^2 / c^2` of the long bearing's pressure ([`Self::long`]).
+    fn long_k(&self) -> f64 {
+        let (mu, r, c) = (self.viscosity, self.radius, self.clearance);
+        6.0 * mu * r * r / (c * c)
+    }
+
+    /// `kappa = -2 wbar (1 - eps^2)/(2 + eps^2)` of the long bearing's pressure gradient.
+    fn long_kappa<T: Real>(&self, s: &Sommerfeld<T>, wedge: T) -> T {
+        wedge * -2.0 * s.root * s.root / (s.eps * s.eps + 2.0)
+    }
+
+    /// The long bearing's pressure at `phi` ([`Self::long`]).
+    fn long_pressure<T: Real>(&self, s: &Sommerfeld<T>, squeeze: T, wedge: T, phi: T) -> T {
+        let eps = s.eps;
+        let (sn, cs) = phi.sin_cos();
+        let h = -(eps * cs) + 1.0;
+        let two = c::<T>(2.0);
+        (-wedge * eps * sn * (two - eps * cs) / ((eps * eps + 2.0) * h * h)
+            + squeeze * (cs * (two - eps * cs) / (h * h) + (eps + 2.0) / ((eps + 1.0) * (eps + 1.0))))
+            * self.long_k()
     }
 
     /// The long bearing's positive-pressure arc as `(psi_a, psi_b)` in the Sommerfeld
@@ -419,6 +451,12 @@ impl<T: Real> Sommerfeld<T> {
         phi + (self.beta * s).atan2(T::constant(1.0) - self.beta * c) * 2.0
     }
 
+    /// `phi` of `psi`, the inverse of [`Self::psi`] (`beta` changes sign).
+    fn phi(&self, psi: T) -> T {
+        let (s, c) = psi.sin_cos();
+        psi - (self.beta * s).atan2(self.beta * c + 1.0) * 2.0
+    }
+
     /// The antiderivatives at `psi`.
     fn moments(&self, psi: T) -> Moments<T> {
         let (e, r) = (self.eps, self.root);
@@ -448,12 +486,6 @@ impl Sommerfeld {
     /// Dimensionless film thickness `H = h/c` at `phi`.
     fn h(&self, phi: f64) -> f64 {
         1.0 - self.eps * phi.cos()
-    }
-
-    /// `phi` of `psi`, the inverse of [`Self::psi`] (`beta` changes sign).
-    fn phi(&self, psi: f64) -> f64 {
-        let (s, c) = psi.sin_cos();
-        psi - 2.0 * (self.beta * s).atan2(1.0 + self.beta * c)
     }
 }
 
