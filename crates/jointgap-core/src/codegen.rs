@@ -257,7 +257,21 @@ fn address(f: Func) -> *const u8 {
         Func::Cosh => jg_cosh as *const u8,
         Func::Atan2 => jg_atan2 as *const u8,
         Func::RemEuclid => jg_rem_euclid as *const u8,
+        Func::Implicit(f) => f.value as *const u8,
     }
+}
+
+/// The functions computed by methods of their own that `graph` calls, by their names.
+fn implicit_functions(graph: &Graph) -> Vec<(Func, &'static str)> {
+    let mut found: Vec<(Func, &'static str)> = Vec::new();
+    for node in &graph.nodes {
+        if let Node::Call(f @ Func::Implicit(i), _, _) = *node {
+            if !found.iter().any(|&(g, _)| g == f) {
+                found.push((f, i.name));
+            }
+        }
+    }
+    found
 }
 
 /// Nodes an output, a guard or a block (which every run calls) needs.
@@ -316,7 +330,8 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     let mut jit = JITBuilder::with_isa(isa, default_libcall_names());
     jit.symbol("jg_sin_cos", address(Func::Sin));
     jit.symbol("jg_block", jg_block as *const u8);
-    for (f, name) in CALLS {
+    let implicit = implicit_functions(graph);
+    for (f, name) in CALLS.into_iter().chain(implicit.iter().copied()) {
         jit.symbol(name, address(f));
     }
     let mut module = JITModule::new(jit);
@@ -330,7 +345,7 @@ pub fn compile(graph: &Graph) -> Result<Compiled, CodegenError> {
     };
     let sin_cos = declare("jg_sin_cos", &[types::F64, ptr])?;
     let mut calls = HashMap::new();
-    for (f, name) in CALLS {
+    for (f, name) in CALLS.into_iter().chain(implicit) {
         calls.insert(f, declare(name, &[types::F64, types::F64])?);
     }
     let block_call = {

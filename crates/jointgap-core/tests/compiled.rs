@@ -196,33 +196,39 @@ fn turned_off_records_nothing() {
     assert_eq!(run.stats.compiled, "interpreted: turned off by the run's options");
 }
 
-/// What the compiler does not cover runs interpreted, and the run says why.
+/// What the compiler does not cover runs interpreted, and the run says why: a worn
+/// bearing, planar and spatial.
 #[test]
 fn what_is_not_compiled_says_why() {
-    let run = simulate(&lubricated_founding_case("long"), &options(0.05, Method::Auto, true)).unwrap();
+    let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
+    let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
+    joint["clearance"]["bearing_wear"] = json!(vec![2e-6; 8]);
+    let worn: Model = serde_json::from_value(raw).unwrap();
+    let run = simulate(&worn, &options(0.02, Method::Auto, true)).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'rod_slider' has a long bearing's positive-pressure oil film, the end of whose \
-         arc is found by iteration, which is not compiled yet"
+        "interpreted: joint 'rod_slider' has a worn profile, which is not compiled yet"
     );
     assert_eq!(run.stats.compile_time, 0.0);
-    let mut film = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
-    film["joints"][0]["lubrication"]["film"] = json!("long");
-    let spatial = SpatialModel::from_json(&film.to_string()).unwrap();
+    let mut journal = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
+    let dry = journal["joints"][0].as_object_mut().unwrap();
+    dry.remove("lubrication");
+    dry.insert("type".into(), json!("clearance_cylindrical"));
+    journal["joints"][0]["clearance"]["bearing_wear"] = json!(vec![2e-6; 8]);
+    let spatial = SpatialModel::from_json(&journal.to_string()).unwrap();
     let run = simulate_spatial(&spatial, &options(0.01, Method::Auto, true), &mut Silent).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'bearing' has a long bearing's positive-pressure oil film, the end of whose \
-         arc is found by iteration, which is not compiled yet"
+        "interpreted: joint 'bearing' has a worn profile, which is not compiled yet"
     );
 }
 
 /// A journal tilted in its lubricated bearing under a load, spinning: the film's two
-/// halves (their eccentricities, rates and the film at each: short, its pi-film, and the
-/// long bearing's pi-film) and the dry laws of the cylindrical joint beside them.
+/// halves (their eccentricities, rates and each film form at each) and the dry laws of
+/// the cylindrical joint beside them.
 #[test]
-fn spatial_closed_form_oil_films_run_the_same_compiled() {
-    for film in ["short", "short_pi", "long_pi"] {
+fn spatial_oil_films_run_the_same_compiled() {
+    for film in ["short", "short_pi", "long", "long_pi"] {
         let mut model =
             crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.002, [0.0, 0.01, 0.0], [1e-3; 3]);
         model["joints"][0]["lubrication"]["film"] = json!(film);
@@ -246,7 +252,7 @@ fn spatial_block_in_its_channel_runs_the_same_compiled() {
 
 /// The founding case with its rod-slider joint lubricated (film model `film`, an oil of
 /// 0.4 Pa s).
-fn lubricated_founding_case(film: &str) -> Model {
+pub(crate) fn lubricated_founding_case(film: &str) -> Model {
     let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
     let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
     joint["type"] = json!("lubricated_revolute");
@@ -254,13 +260,13 @@ fn lubricated_founding_case(film: &str) -> Model {
     serde_json::from_value(raw).unwrap()
 }
 
-/// The oil films in closed form throughout: the short bearing's positive-pressure
-/// (Gumbel) film and its pi-film, and the long bearing's pi-film. The Sommerfeld
-/// substitution, the film's moments, its force and torque, with the dry laws where the
-/// film is thinner than its threshold.
+/// Every oil film form: the short and the long bearing's positive-pressure (Gumbel)
+/// films and their pi-films. The Sommerfeld substitution, the film's moments, the end of
+/// the long bearing's positive-pressure arc (a root found by iteration, called whole),
+/// its force and torque, with the dry laws where the film is thinner than its threshold.
 #[test]
-fn closed_form_oil_films_run_the_same_compiled() {
-    for film in ["short", "short_pi", "long_pi"] {
+fn oil_films_run_the_same_compiled() {
+    for film in ["short", "short_pi", "long", "long_pi"] {
         for method in [Method::Auto, Method::Radau5] {
             same_run(&lubricated_founding_case(film), 0.1, method);
         }

@@ -317,7 +317,8 @@ impl Kernels<{ planar_body::NV }> for Planar {
             }
             PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => in_block(to, qe, |loads| {
                 l.dry.add_round_loads(i, j, &onset, loads);
-                l.add_film_loads(i, j, |m| l.film.closed_form(m), loads)
+                l.add_film_loads(i, j, |m| l.film.loads(m), loads);
+                Some(())
             }),
             PlanarClearance::Translational(t) => {
                 let frames = t.geometry.frames(i, j);
@@ -341,20 +342,14 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 PlanarClearance::Play(_) | PlanarClearance::Translational(_) | PlanarClearance::Gear(_) => {
                     continue
                 }
-                PlanarClearance::Lubricated(l) if l.dry.worn.is_none() && l.film.is_closed_form() => continue,
-                PlanarClearance::Revolute(_) => "a worn profile",
-                PlanarClearance::Lubricated(l) if l.dry.worn.is_some() => "a worn profile",
-                PlanarClearance::Lubricated(_) => LONG_FILM,
+                PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => continue,
+                PlanarClearance::Revolute(_) | PlanarClearance::Lubricated(_) => "a worn profile",
             };
             return Err(not_compiled(c.name(), what));
         }
         Ok(())
     }
 }
-
-/// Why a lubricated joint with a long bearing's positive-pressure film runs interpreted.
-const LONG_FILM: &str =
-    "a long bearing's positive-pressure oil film, the end of whose arc is found by iteration";
 
 /// Why joint `name`, which has `what`, runs interpreted.
 fn not_compiled(name: &str, what: &str) -> String {
@@ -441,7 +436,8 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
             }
             SpatialGeometry::Lubricated(g) => in_block(to, qe, |loads| {
                 c.add_dry_loads(i, j, &onset, loads)?;
-                g.add_film_loads(i, j, |m| g.film.closed_form(m), loads)
+                g.add_film_loads(i, j, |m| g.film.loads(m), loads);
+                Some(())
             }),
             _ => in_block(to, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
         }
@@ -456,10 +452,8 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
                     continue
                 }
                 SpatialGeometry::Cylinder(g) if g.worn.is_none() => continue,
-                SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() && g.film.is_closed_form() => continue,
-                SpatialGeometry::Cylinder(_) => "a worn profile",
-                SpatialGeometry::Lubricated(g) if g.dry.worn.is_some() => "a worn profile",
-                SpatialGeometry::Lubricated(_) => LONG_FILM,
+                SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() => continue,
+                SpatialGeometry::Cylinder(_) | SpatialGeometry::Lubricated(_) => "a worn profile",
             };
             return Err(not_compiled(&c.name, what));
         }

@@ -147,6 +147,11 @@ impl Graph {
                             term(p, 1.0);
                             term(q, -((x - value) / y).round());
                         }
+                        Func::Implicit(f) => {
+                            let (dx, dy) = (f.slopes)(x, y, value);
+                            term(p, dx);
+                            term(q, dy);
+                        }
                     }
                 }
             }

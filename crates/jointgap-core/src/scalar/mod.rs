@@ -14,7 +14,7 @@ mod traced;
 pub use derivative::Sweep;
 #[cfg(test)]
 pub(crate) use traced::tests as traced_tests;
-pub use traced::{record, Block, Cmp, Func, Graph, Guard, Node, Traced};
+pub use traced::{record, Block, Cmp, Func, Graph, Guard, Implicit, Node, Traced};
 
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -76,6 +76,8 @@ pub trait Real:
     fn atan2(self, x: Self) -> Self;
     /// The remainder in `[0, |m|)`, as `f64::rem_euclid`.
     fn rem_euclid(self, m: Self) -> Self;
+    /// `f` at `(self, y)`: a function computed by a method of its own ([`Implicit`]).
+    fn implicit(self, y: Self, f: &'static Implicit) -> Self;
     /// `f(values)`, a part of the evaluation with branches of its own (a clearance
     /// joint's contact): [`Traced`] records it as a block, whose ways through its
     /// branches add to the evaluation's instead of multiplying them.
@@ -137,6 +139,10 @@ impl Real for f64 {
     #[inline(always)]
     fn rem_euclid(self, m: Self) -> Self {
         f64::rem_euclid(self, m)
+    }
+    #[inline(always)]
+    fn implicit(self, y: Self, f: &'static Implicit) -> Self {
+        (f.value)(self, y)
     }
 }
 

@@ -47,6 +47,41 @@ pub enum Func {
     Atan2,
     /// `x.rem_euclid(y)`.
     RemEuclid,
+    /// A function of two numbers computed by a method of its own ([`Implicit`]).
+    Implicit(&'static Implicit),
+}
+
+/// A function of two numbers that a kernel computes by a method of its own, an
+/// iteration whose branches depend on the numbers (a root in a bracket): a graph calls
+/// it whole, as it calls `atan2`, and takes its slopes from the function that defines
+/// it (the implicit function theorem), so that no guard records the iteration's steps.
+pub struct Implicit {
+    /// Its name, unique among them: the compiled code's symbol and its identity.
+    pub name: &'static str,
+    /// Its value at `(x, y)`, as the interpreted engine computes it.
+    pub value: extern "C" fn(f64, f64) -> f64,
+    /// Its slopes `(d/dx, d/dy)` at `(x, y)`, given its value there.
+    pub slopes: fn(f64, f64, f64) -> (f64, f64),
+}
+
+impl PartialEq for Implicit {
+    fn eq(&self, other: &Implicit) -> bool {
+        self.name == other.name
+    }
+}
+
+impl Eq for Implicit {}
+
+impl std::hash::Hash for Implicit {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.name.hash(h);
+    }
+}
+
+impl std::fmt::Debug for Implicit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name)
+    }
 }
 
 impl Func {
@@ -63,6 +98,7 @@ impl Func {
             Func::Cosh => x.cosh(),
             Func::Atan2 => x.atan2(y),
             Func::RemEuclid => x.rem_euclid(y),
+            Func::Implicit(f) => (f.value)(x, y),
         }
     }
 }
@@ -756,6 +792,9 @@ impl Real for Traced {
     }
     fn rem_euclid(self, m: Traced) -> Traced {
         self.call(Func::RemEuclid, Some(m))
+    }
+    fn implicit(self, y: Traced, f: &'static Implicit) -> Traced {
+        self.call(Func::Implicit(f), Some(y))
     }
     fn block(values: &[Traced], f: impl FnOnce(&[Traced]) -> Option<Vec<Traced>>) -> Option<Vec<Traced>> {
         block(values, f)

@@ -25,7 +25,7 @@
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 use crate::model::FilmModel;
-use crate::scalar::{c, Real};
+use crate::scalar::{c, Implicit, Real};
 
 /// An oil film between a journal and its bearing.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,28 +108,19 @@ impl Film {
     }
 
     /// The film's force along and across `n` and its torque on the journal
-    /// ([`Film::force`] less the peak pressure) in any number type; `None` for the long
-    /// bearing's positive-pressure film, the end of whose arc is found by iteration.
-    pub fn closed_form<T: Real>(&self, m: &FilmMotion<T>) -> Option<[T; 3]> {
-        if !self.is_closed_form() {
-            return None;
-        }
+    /// ([`Film::force`] less the peak pressure) in any number type.
+    pub fn loads<T: Real>(&self, m: &FilmMotion<T>) -> [T; 3] {
         let (s, squeeze, wedge) = self.kinematics(m);
         let zero = c::<T>(0.0);
         let (along, across) = match self.model {
             FilmModel::Short | FilmModel::ShortPi => self
                 .short_force(&s, squeeze, wedge, self.model == FilmModel::Short)
                 .map_or((zero, zero), |f| (f.0, f.1)),
-            _ if wedge * s.eps == 0.0 && squeeze == 0.0 => (zero, zero),
-            _ => self.long_force(&s, squeeze, wedge, (s.psi(c(FIXED_HALF.0)), s.psi(c(FIXED_HALF.1)))),
+            FilmModel::Long | FilmModel::LongPi => self
+                .long_arc(&s, squeeze, wedge, self.model == FilmModel::Long)
+                .map_or((zero, zero), |arc| self.long_force(&s, squeeze, wedge, arc)),
         };
-        Some([along, across, self.torque(&s, m, across)])
-    }
-
-    /// Whether the film's force is in closed form throughout: all but the long bearing's
-    /// positive-pressure film.
-    pub fn is_closed_form(&self) -> bool {
-        self.model != FilmModel::Long
+        [along, across, self.torque(&s, m, across)]
     }
 
     /// The Sommerfeld substitution at the motion's eccentricity ratio, the squeeze rate
@@ -224,16 +215,8 @@ impl Film {
     /// in the Sommerfeld variable.
     fn long(&self, s: &Sommerfeld, squeeze: f64, wedge: f64, gumbel: bool) -> (f64, f64, f64) {
         let eps = s.eps;
-        if wedge * eps == 0.0 && squeeze == 0.0 {
+        let Some(arc) = self.long_arc(s, squeeze, wedge, gumbel) else {
             return (0.0, 0.0, 0.0);
-        }
-        let arc = if gumbel {
-            match Self::long_positive_arc(s, squeeze, wedge) {
-                Some(arc) => arc,
-                None => return (0.0, 0.0, 0.0),
-            }
-        } else {
-            (s.psi(FIXED_HALF.0), s.psi(FIXED_HALF.1))
         };
         let (along, across) = self.long_force(s, squeeze, wedge, arc);
         let p = |phi: f64| self.long_pressure(s, squeeze, wedge, phi);
@@ -250,6 +233,20 @@ impl Film {
             }
         }
         (along, across, peak)
+    }
+
+    /// The arc in the Sommerfeld variable over which the long bearing's film carries
+    /// pressure: the positive-pressure arc (`gumbel`) or the fixed half; `None` where the
+    /// film carries none (no squeeze, no wedge; or no positive pressure).
+    fn long_arc<T: Real>(&self, s: &Sommerfeld<T>, squeeze: T, wedge: T, gumbel: bool) -> Option<(T, T)> {
+        if wedge * s.eps == 0.0 && squeeze == 0.0 {
+            return None;
+        }
+        if gumbel {
+            Self::long_positive_arc(s, squeeze, wedge)
+        } else {
+            Some((s.psi(c(FIXED_HALF.0)), s.psi(c(FIXED_HALF.1))))
+        }
     }
 
     /// The long bearing's force along and across `n` over the arc `(psi_a, psi_b)` (in the
@@ -296,27 +293,57 @@ impl Film {
     /// `2 cos(psi/2) F(psi) k / (1 - eps^2)^2` with
     /// `F = eps_dot cos(psi/2) (2 - eps + eps cos psi) + w sin(psi/2) (2 - eps^2 + eps cos psi)`,
     /// `w = -wbar eps sqrt(1 - eps^2)/(2 + eps^2)`; on `(-pi, pi)` the sign of `F` is that
-    /// of `2 eps_dot + w r(t)`, `t = tan(psi/2)`, `r = t (A + B t^2)/(1 + D t^2)`,
-    /// `A = (1 + eps)(2 - eps)`, `B = (1 - eps)(2 + eps)`, `D = 1 - eps`. `r` is increasing
-    /// (`r'` has positive coefficients) with `r/t` between `A` and `B/D`, so the pressure
-    /// has exactly one zero besides `psi = pi`, at `r(t) = q = -2 eps_dot / w`, within
-    /// `t` in `q / [max, min](A, B/D)`.
-    fn long_positive_arc(s: &Sommerfeld, squeeze: f64, wedge: f64) -> Option<(f64, f64)> {
+    /// of `2 eps_dot + w r(t)`, `t = tan(psi/2)`, so the pressure has exactly one zero
+    /// besides `psi = pi`, at `r(t) = q = -2 eps_dot / w` ([`LONG_ARC_END`]).
+    fn long_positive_arc<T: Real>(s: &Sommerfeld<T>, squeeze: T, wedge: T) -> Option<(T, T)> {
         let eps = s.eps;
-        let w = -wedge * eps * s.root / (2.0 + eps * eps);
+        let w = -wedge * eps * s.root / (eps * eps + 2.0);
         if w == 0.0 {
             // Pure squeeze: positive all round when approaching, nowhere when receding.
-            return (squeeze > 0.0).then_some((-PI, PI));
+            return (squeeze > 0.0).then_some((c(-PI), c(PI)));
         }
-        let (a, b, d) = ((1.0 + eps) * (2.0 - eps), (1.0 - eps) * (2.0 + eps), 1.0 - eps);
-        let q = -2.0 * squeeze / w;
-        // r(t) = q times (1 + D t^2): a cubic with one real root.
-        let cubic =
-            |t: f64| (t * (a + b * t * t) - q * (1.0 + d * t * t), a + 3.0 * b * t * t - 2.0 * q * d * t);
-        let (t1, t2) = (q / a, q * d / b);
-        let zero = 2.0 * root(cubic, t1.min(t2), t1.max(t2)).atan();
-        Some(if w > 0.0 { (zero, PI) } else { (-PI, zero) })
+        let q = squeeze * -2.0 / w;
+        let zero = eps.implicit(q, &LONG_ARC_END);
+        Some(if w > 0.0 { (zero, c(PI)) } else { (c(-PI), zero) })
     }
+}
+
+/// The end `psi = 2 atan(t)` of the long bearing's positive-pressure arc
+/// ([`Film::long_positive_arc`]) as a function of `(eps, q)`: `t` is the one real root of
+/// `G(t) = t (A + B t^2) - q (1 + D t^2)`, `A = (1 + eps)(2 - eps)`,
+/// `B = (1 - eps)(2 + eps)`, `D = 1 - eps`. `G/(1 + D t^2) = r(t) - q` with
+/// `r = t (A + B t^2)/(1 + D t^2)` increasing (`r'` has positive coefficients) and `r/t`
+/// between `A` and `B/D`, so the root lies within `t` in `q / [max, min](A, B/D)`, where
+/// Newton's steps in a bracket find it. Its slopes follow from `G = 0`: `dt = -(G_eps
+/// deps + G_q dq) / G_t`.
+static LONG_ARC_END: Implicit =
+    Implicit { name: "jg_long_arc_end", value: long_arc_end, slopes: long_arc_end_slopes };
+
+/// `(A, B, D)` of [`LONG_ARC_END`] at `eps`.
+fn long_arc_coefficients(eps: f64) -> (f64, f64, f64) {
+    ((1.0 + eps) * (2.0 - eps), (1.0 - eps) * (2.0 + eps), 1.0 - eps)
+}
+
+/// The value of [`LONG_ARC_END`].
+extern "C" fn long_arc_end(eps: f64, q: f64) -> f64 {
+    let (a, b, d) = long_arc_coefficients(eps);
+    // r(t) = q times (1 + D t^2): a cubic with one real root.
+    let cubic = |t: f64| (t * (a + b * t * t) - q * (1.0 + d * t * t), a + 3.0 * b * t * t - 2.0 * q * d * t);
+    let (t1, t2) = (q / a, q * d / b);
+    2.0 * root(cubic, t1.min(t2), t1.max(t2)).atan()
+}
+
+/// The slopes of [`LONG_ARC_END`] at `(eps, q)`, its value `psi` there.
+fn long_arc_end_slopes(eps: f64, q: f64, psi: f64) -> (f64, f64) {
+    let (a, b, d) = long_arc_coefficients(eps);
+    let t = (0.5 * psi).tan();
+    let g_t = a + 3.0 * b * t * t - 2.0 * q * d * t;
+    // dA/deps = 1 - 2 eps, dB/deps = -1 - 2 eps, dD/deps = -1.
+    let g_eps = t * ((1.0 - 2.0 * eps) - (1.0 + 2.0 * eps) * t * t) + q * t * t;
+    let g_q = -(1.0 + d * t * t);
+    // psi = 2 atan(t): dpsi = 2 dt / (1 + t^2).
+    let dpsi_dt = 2.0 / (1.0 + t * t);
+    (-g_eps / g_t * dpsi_dt, -g_q / g_t * dpsi_dt)
 }
 
 /// The stationary points of the short bearing's mid-length pressure `N/H^3` inside its
@@ -538,5 +565,30 @@ mod tests {
         }
         let n = poly_roots(&product(&[0.2, 0.2, -0.6]), -1.0, 1.0, &mut out);
         assert_eq!((n, (out[0] + 0.6).abs() < 1e-14), (1, true), "{out:?}");
+    }
+
+    /// The end of the long bearing's positive-pressure arc solves its cubic, and its
+    /// slopes (from the implicit function theorem) equal central differences of the
+    /// iteration's values, for squeeze both ways and a range of eccentricities.
+    #[test]
+    fn long_arc_end_slopes_match_differences() {
+        for eps in [0.05, 0.4, 0.8, 0.97] {
+            for q in [-3.0, -0.2, 0.0, 0.7, 5.0] {
+                let psi = long_arc_end(eps, q);
+                let t = (0.5 * psi).tan();
+                let (a, b, d) = long_arc_coefficients(eps);
+                let g = t * (a + b * t * t) - q * (1.0 + d * t * t);
+                assert!(g.abs() < 1e-12 * (1.0 + q.abs()) * (1.0 + t.abs().powi(3)), "G = {g} at {eps}, {q}");
+                let (d_eps, d_q) = long_arc_end_slopes(eps, q, psi);
+                let h = 1e-6;
+                let by_eps = (long_arc_end(eps + h, q) - long_arc_end(eps - h, q)) / (2.0 * h);
+                let by_q = (long_arc_end(eps, q + h) - long_arc_end(eps, q - h)) / (2.0 * h);
+                assert!(
+                    (d_eps - by_eps).abs() < 1e-7 * (1.0 + by_eps.abs()),
+                    "{eps}, {q}: {d_eps} vs {by_eps}"
+                );
+                assert!((d_q - by_q).abs() < 1e-7 * (1.0 + by_q.abs()), "{eps}, {q}: {d_q} vs {by_q}");
+            }
+        }
     }
 }

@@ -158,18 +158,17 @@ impl LubricatedRevolute {
     /// Adds the film's loads in any number type, its force along and across `n` and its
     /// torque on the journal being `film`'s at the film's motion: the force on the journal
     /// at its centre with the torque, their opposites on the bearing at its centre
-    /// ([`ClearanceJoint::add_to`] adds the dry laws' before); `None` where `film` gives
-    /// none.
+    /// ([`ClearanceJoint::add_to`] adds the dry laws' before).
     #[inline]
     pub fn add_film_loads<T: Real>(
         &self,
         bearing: &BodyState<T>,
         journal: &BodyState<T>,
-        film: impl Fn(&FilmMotion<T>) -> Option<[T; 3]>,
+        film: impl Fn(&FilmMotion<T>) -> [T; 3],
         qe: &mut Loads<T>,
-    ) -> Option<()> {
+    ) {
         let (e, _, n, motion) = self.film_motion(bearing, journal);
-        let [along, across, torque] = film(&motion)?;
+        let [along, across, torque] = film(&motion);
         let force = n * along + perp(n) * across;
         let g = &self.dry.geometry;
         let (centre_b, centre_j) = g.centres(bearing, journal);
@@ -181,7 +180,6 @@ impl LubricatedRevolute {
         if let Some(q) = qe.body(g.bearing) {
             q[2] += -torque - cross(e, force);
         }
-        Some(())
     }
 
     /// The film's torque on the bearing [N m]: the film carries no moment of its own, so
@@ -259,7 +257,7 @@ impl ClearanceJoint for LubricatedRevolute {
         add_point_forces(&self.dry, bearing, journal, states, qe);
         let film = |m: &FilmMotion| {
             let f = self.film.force(m);
-            Some([f.along, f.across, f.torque_journal])
+            [f.along, f.across, f.torque_journal]
         };
         self.add_film_loads(bearing, journal, film, qe);
     }

@@ -125,19 +125,19 @@ impl LubricatedCylinder {
     /// half's `n` and its torque being `film`'s at the half's motion: each half's force
     /// on the journal at its point with its torque about the bearing axis `a`; on the
     /// bearing, the opposite force at the foot and the torque `-T a - e x F`, so that the
-    /// film carries no moment of its own. `None` where `film` gives none.
+    /// film carries no moment of its own.
     #[inline]
     pub fn add_film_loads<T: Real>(
         &self,
         bearing: &BodyState<T>,
         journal: &BodyState<T>,
-        film: impl Fn(&FilmMotion<T>) -> Option<[T; 3]>,
+        film: impl Fn(&FilmMotion<T>) -> [T; 3],
         qe: &mut Loads<T>,
-    ) -> Option<()> {
+    ) {
         let g = &self.dry;
         for side in [-1.0, 1.0] {
             let h = self.half(bearing, journal, side);
-            let [along, across, torque] = film(&h.motion)?;
+            let [along, across, torque] = film(&h.motion);
             let force = (h.n * along + h.across * across) * c::<T>(HALF);
             let torque = torque * HALF;
             if let Some(q) = qe.body(g.journal) {
@@ -149,7 +149,6 @@ impl LubricatedCylinder {
                 body::add_torque(q, bearing, &(-h.axis * torque - h.e.cross(&force)));
             }
         }
-        Some(())
     }
 
     /// The film's power on the two bodies [W], the same loads as [`Self::add_film`]:

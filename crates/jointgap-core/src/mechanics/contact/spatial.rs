@@ -377,7 +377,7 @@ impl ClearanceJoint for SpatialClearance {
         if let SpatialGeometry::Lubricated(g) = &self.geometry {
             let film = |m: &FilmMotion| {
                 let f = g.film.force(m);
-                Some([f.along, f.across, f.torque_journal])
+                [f.along, f.across, f.torque_journal]
             };
             g.add_film_loads(i, j, film, qe);
         }
