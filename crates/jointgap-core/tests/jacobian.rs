@@ -125,6 +125,29 @@ fn central_differences(ode: &mut Ode, t: f64, y: &[f64], steps: &[f64]) -> DMatr
     jac
 }
 
+/// The exact Jacobian of a planar slider-crank (its three bodies) at `(t, y)`, central
+/// differences of its whole equations of motion there, and the applied forces' part.
+/// The increments are well below a contact's 1e-7 m penetration and a sliding speed, and
+/// large enough that rounding stays below the terms compared (measured on the founding
+/// case: the differences move towards the exact Jacobian as the increments grow from
+/// 1e-13 m to 3e-9 m).
+fn three_jacobians(model: &Model, t: f64, y: &[f64]) -> [DMatrix<f64>; 3] {
+    let prepared = prepare(model).unwrap();
+    let sys = &prepared.system;
+    let n = sys.layout.nv();
+    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
+    ode.ws.compile(sys, false, true).unwrap();
+    let mut f0 = vec![0.0; 2 * n];
+    ode.rhs(t, y, &mut f0).unwrap();
+    let mut exact = DMatrix::zeros(n, 2 * n);
+    assert!(jointgap_core::dynamics::compiled::jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut exact));
+    let steps: Vec<f64> = (0..2 * n).map(|j| if j < n { 1e-9 } else { 1e-6 }).collect();
+    let central = central_differences(&mut ode, t, y, &steps);
+    let mut by_forces = DMatrix::zeros(n, 2 * n);
+    force_jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut by_forces).unwrap();
+    [exact, central, by_forces]
+}
+
 /// The exact Jacobian (reverse-mode derivatives of the recorded evaluation) on the
 /// founding slider-crank in sliding contact mid-run, against central differences of the
 /// whole equations of motion: equal to the differences' own error, and closer by far
@@ -139,23 +162,7 @@ fn exact_jacobian_matches_central_differences_in_contact() {
     let slip = res.channel("rod_slider.slip").unwrap();
     let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
     let y = state_at(&res, &["crank", "rod", "slider"], i);
-    let t = res.time[i];
-    let prepared = prepare(&model).unwrap();
-    let sys = &prepared.system;
-    let n = sys.layout.nv();
-    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
-    ode.ws.compile(sys, false, true).unwrap();
-    let mut f0 = vec![0.0; 2 * n];
-    ode.rhs(t, &y, &mut f0).unwrap();
-    let mut exact = DMatrix::zeros(n, 2 * n);
-    assert!(jointgap_core::dynamics::compiled::jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut exact));
-    // Increments well below the 1e-7 m penetration and the sliding speed, and large
-    // enough that rounding stays below the terms compared (measured: the differences
-    // move towards the exact Jacobian as the increments grow from 1e-13 m to 3e-9 m).
-    let steps: Vec<f64> = (0..2 * n).map(|j| if j < n { 1e-9 } else { 1e-6 }).collect();
-    let central = central_differences(&mut ode, t, &y, &steps);
-    let mut by_forces = DMatrix::zeros(n, 2 * n);
-    force_jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut by_forces).unwrap();
+    let [exact, central, by_forces] = three_jacobians(&model, res.time[i], &y);
     let scale = largest(&central);
     let exact_off = largest(&(&exact - &central));
     let forces_off = largest(&(&by_forces - &central));
@@ -176,18 +183,7 @@ fn exact_jacobian_through_the_long_film_matches_central_differences() {
     let (fx, fy) = (res.channel("rod_slider.film_fx").unwrap(), res.channel("rod_slider.film_fy").unwrap());
     let i = (0..fx.len()).rev().find(|&i| fx[i].hypot(fy[i]) > 1.0).expect("a film that carries");
     let y = state_at(&res, &["crank", "rod", "slider"], i);
-    let t = res.time[i];
-    let prepared = prepare(&model).unwrap();
-    let sys = &prepared.system;
-    let n = sys.layout.nv();
-    let mut ode = Ode::new(sys, prepared.initial.active.clone(), 1e-7, 1e-10);
-    ode.ws.compile(sys, false, true).unwrap();
-    let mut f0 = vec![0.0; 2 * n];
-    ode.rhs(t, &y, &mut f0).unwrap();
-    let mut exact = DMatrix::zeros(n, 2 * n);
-    assert!(jointgap_core::dynamics::compiled::jacobian(sys, t, &y[..n], &y[n..], &mut ode.ws, &mut exact));
-    let steps: Vec<f64> = (0..2 * n).map(|j| if j < n { 1e-9 } else { 1e-6 }).collect();
-    let central = central_differences(&mut ode, t, &y, &steps);
+    let [exact, central, _] = three_jacobians(&model, res.time[i], &y);
     let scale = largest(&central);
     let off = largest(&(&exact - &central));
     // Measured: 0.18 of 6.3e6.
