@@ -196,31 +196,83 @@ fn turned_off_records_nothing() {
     assert_eq!(run.stats.compiled, "interpreted: turned off by the run's options");
 }
 
-/// What the compiler does not cover runs interpreted, and the run says why: a worn
-/// bearing, planar and spatial.
-#[test]
-fn what_is_not_compiled_says_why() {
+/// The founding case's rod-slider joint with `wear` (its `bearing_wear` and
+/// `journal_wear`).
+pub fn worn_founding_case(wear: Value) -> Model {
     let mut raw = serde_json::to_value(slider_crank_clearance()).unwrap();
     let joint = raw["joints"].as_array_mut().unwrap().iter_mut().find(|j| j["name"] == "rod_slider").unwrap();
-    joint["clearance"]["bearing_wear"] = json!(vec![2e-6; 8]);
-    let worn: Model = serde_json::from_value(raw).unwrap();
-    let run = simulate(&worn, &options(0.02, Method::Auto, true)).unwrap();
-    assert_eq!(
-        run.stats.compiled,
-        "interpreted: joint 'rod_slider' has a worn profile, which is not compiled yet"
-    );
-    assert_eq!(run.stats.compile_time, 0.0);
+    for (key, table) in wear.as_object().unwrap() {
+        joint["clearance"][key] = table.clone();
+    }
+    serde_json::from_value(raw).unwrap()
+}
+
+/// Depths `f(theta)` [m] at `n` equally spaced angles.
+fn wear_table(n: usize, f: impl Fn(f64) -> f64) -> Value {
+    json!((0..n).map(|k| f(std::f64::consts::TAU * k as f64 / n as f64)).collect::<Vec<_>>())
+}
+
+/// Worn parts: the search over the profiles runs interpreted and hands the compiled
+/// code where the rims lie, whose last Newton step, wear and contact laws are compiled.
+/// The founding case with a bearing worn into an oval and a pocket and a journal worn
+/// at two sides, and a dry spatial journal in a bearing worn into an oval.
+#[test]
+fn worn_parts_run_the_same_compiled() {
+    let pocket = |t: f64| {
+        let d = (t - 1.0) / 0.3;
+        2e-5 * (1.0 + (2.0 * t).cos()) + if d.abs() < 1.0 { 6e-5 * (1.0 - d * d) } else { 0.0 }
+    };
+    let model = worn_founding_case(json!({
+        "bearing_wear": wear_table(72, pocket),
+        "journal_wear": wear_table(48, |t| 1e-5 * (1.0 + (2.0 * t).cos())),
+    }));
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_run(&model, 0.12, method);
+        assert!(run.stats.events > 0, "{method:?}: the journal hits its bearing");
+    }
     let mut journal = crate::spatial_joint_kinds::lubricated_journal(50.0, 100.0, 0.0, [0.0; 3], [1e-3; 3]);
     let dry = journal["joints"][0].as_object_mut().unwrap();
     dry.remove("lubrication");
     dry.insert("type".into(), json!("clearance_cylindrical"));
-    journal["joints"][0]["clearance"]["bearing_wear"] = json!(vec![2e-6; 8]);
-    let spatial = SpatialModel::from_json(&journal.to_string()).unwrap();
-    let run = simulate_spatial(&spatial, &options(0.01, Method::Auto, true), &mut Silent).unwrap();
+    journal["joints"][0]["clearance"]["bearing_wear"] = wear_table(36, |t| 2e-5 * (1.0 + (2.0 * t).cos()));
+    for method in [Method::Auto, Method::Radau5] {
+        let run = same_spatial_run(&journal, 0.02, method);
+        assert!(run.stats.events > 0, "{method:?}: the journal hits its bearing");
+    }
+}
+
+/// What the compiler does not cover runs interpreted, and the run says why: a Schur
+/// complement factored sparse (a chain of 60 links whose joints are listed out of
+/// order).
+#[test]
+fn what_is_not_compiled_says_why() {
+    let n = 60;
+    let bodies: Vec<_> = (0..n)
+        .map(|k| {
+            json!({"name": format!("bar{k}"), "mass": 1.0, "inertia": 1.0 / 12.0, "position": [k as f64 + 0.5, 0.0],
+                   "points": {"L": [-0.5, 0.0], "R": [0.5, 0.0]}})
+        })
+        .collect();
+    let joints: Vec<_> = (0..n)
+        .map(|k| 37 * k % n)
+        .map(|k| {
+            let (body_i, point_i) = if k == 0 {
+                ("ground".to_string(), json!([0.0, 0.0]))
+            } else {
+                (format!("bar{}", k - 1), json!("R"))
+            };
+            json!({"name": format!("j{k}"), "type": "revolute", "body_i": body_i, "point_i": point_i,
+                   "body_j": format!("bar{k}"), "point_j": "L"})
+        })
+        .collect();
+    let chain: Model =
+        serde_json::from_value(json!({"gravity": [0.0, -9.81], "bodies": bodies, "joints": joints})).unwrap();
+    let run = simulate(&chain, &options(0.001, Method::Auto, true)).unwrap();
     assert_eq!(
         run.stats.compiled,
-        "interpreted: joint 'bearing' has a worn profile, which is not compiled yet"
+        "interpreted: the Schur complement of its 120 rows is factored sparse, which is not compiled yet"
     );
+    assert_eq!(run.stats.compile_time, 0.0);
 }
 
 /// A journal tilted in its lubricated bearing under a load, spinning: the film's two

@@ -77,8 +77,8 @@ type Feed<K> = fn(&System<K>, &[usize], f64, f64, &[ContactState], &mut Vec<f64>
 
 /// What a body kind gives the compiled stage.
 pub trait Compile: BodyKind {
-    /// How the evaluation of `sys` is recorded, or why it is not compiled.
-    fn recorder(sys: &System<Self>) -> Result<Recorder<Self>, String>;
+    /// How an evaluation is recorded.
+    fn recorder() -> Recorder<Self>;
 }
 
 /// The compiled stage of one run: its paths and what they cost.
@@ -557,33 +557,29 @@ fn scatter<K: BodyKind>(out: &[f64], ws: &mut Workspace<K>) {
 }
 
 /// The recorder of a body kind whose kernels are written over the number type
-/// ([`kernels`]), or why `sys` is not compiled.
-fn recorder_of<K: Kernels<N>, const N: usize>(sys: &System<K>) -> Result<Recorder<K>, String> {
-    K::uncompiled_joint(sys)?;
-    Ok(Recorder {
-        record: |sys, ws, x| record(x, |x| evaluation::<K, N, _>(sys, ws, x)),
-        inputs: inputs::<K, N>,
-    })
+/// ([`kernels`]).
+fn recorder_of<K: Kernels<N>, const N: usize>() -> Recorder<K> {
+    Recorder { record: |sys, ws, x| record(x, |x| evaluation::<K, N, _>(sys, ws, x)), inputs: inputs::<K, N> }
 }
 
 impl Compile for Planar {
-    fn recorder(sys: &System) -> Result<Recorder<Planar>, String> {
-        recorder_of(sys)
+    fn recorder() -> Recorder<Planar> {
+        recorder_of()
     }
 }
 
 impl Compile for Spatial {
-    fn recorder(sys: &System<Spatial>) -> Result<Recorder<Spatial>, String> {
-        recorder_of(sys)
+    fn recorder() -> Recorder<Spatial> {
+        recorder_of()
     }
 }
 
 impl<K: Compile> Workspace<K> {
-    /// Records the evaluation of `sys` as the run needs its paths, or says why it is not
+    /// Records the run's evaluation as it needs its paths, or says why it is not
     /// recorded: compiled to native code for the evaluations where `native`, and
     /// differentiated for the implicit methods' Jacobians where `exact_jacobian`.
-    pub fn compile(&mut self, sys: &System<K>, native: bool, exact_jacobian: bool) -> Result<(), String> {
-        let recorder = K::recorder(sys)?;
+    pub fn compile(&mut self, native: bool, exact_jacobian: bool) -> Result<(), String> {
+        let recorder = K::recorder();
         if self.schur.factorisation() == Factorisation::Sparse {
             return Err(format!(
                 "the Schur complement of its {} rows is factored sparse, which is not compiled yet",

@@ -5,10 +5,13 @@
 //! compiled stage ([`super::compiled`]) records it on traced numbers; what it returns is
 //! the stage's outputs, what it reads its inputs (docs/compiled.md).
 
-use crate::mechanics::contact::geometry::{SliderGuide, CORNERS3};
+use crate::mechanics::contact::geometry::{
+    read_found, search_cylinder, search_worn, write_found, CylinderBearing, SliderGuide, Worn, CORNERS3,
+    FOUND,
+};
 use crate::mechanics::contact::planar_clearance::PlanarClearance;
 use crate::mechanics::contact::spatial::{SpatialClearance, SpatialGeometry};
-use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ContactState};
+use crate::mechanics::contact::{self, onset_for, ClearanceJoint, ClearanceRevolute, ContactState};
 use crate::mechanics::drivers::Motion;
 use crate::mechanics::forces::ForceElement;
 use crate::mechanics::kind::{BodyKind, RowEval};
@@ -63,26 +66,33 @@ pub trait Kernels<const N: usize>: BodyKind {
         state: impl Fn(Option<usize>) -> Self::StateOf<T>,
         loads: &mut Loads<T>,
     );
+    /// The numbers a clearance joint's search gives at a state: where the rims of its
+    /// worn profiles lie ([`crate::mechanics::contact::geometry::Worn::search`]), which
+    /// the compiled code reads as inputs. None for the other joints.
+    fn searched(c: &Self::Clearance) -> usize;
+    /// Appends the [`Kernels::searched`] numbers of a clearance joint's search at its
+    /// bodies' states `(i, j)`.
+    fn search(c: &Self::Clearance, i: &Self::StateOf<f64>, j: &Self::StateOf<f64>, x: &mut Vec<f64>);
     /// `qe` (laid out as `to` says) with a clearance joint's contact loads added
-    /// (`onset(k, rate)`: the impact onset speed of its point `k`), each part with
-    /// branches of its own (the joint, or each of its points) a block ([`in_block`]);
-    /// `None` where the joint is not written over `T`.
+    /// (`onset(k, rate)`: the impact onset speed of its point `k`; `found`: what its
+    /// search gave, [`Kernels::search`]), each part with branches of its own (the
+    /// joint, or each of its points) a block ([`in_block`]); `None` where the joint is
+    /// not written over `T`.
     fn add_clearance_loads<T: Real>(
         c: &Self::Clearance,
-        i: &Self::StateOf<T>,
-        j: &Self::StateOf<T>,
+        parts: (&Self::StateOf<T>, &Self::StateOf<T>),
+        found: &[T],
         onset: impl Fn(usize, T) -> T,
         to: LoadsOf,
         qe: Vec<T>,
     ) -> Option<Vec<T>>;
-    /// Why a clearance joint of `sys` is not compiled, if one is not.
-    fn uncompiled_joint(sys: &System<Self>) -> Result<(), String>;
 }
 
-/// Appends the inputs of a stage after `q` and `v`: the motion of each driven active row
-/// (position, speed, acceleration) at time `t` (the piece of time `t_piece`), the table
-/// values of the applied loads, and each contact point's state (in contact, 1 or 0, and
-/// its onset speed).
+/// Appends the inputs of a stage after `q` and `v` (which `x` holds): the motion of
+/// each driven active row (position, speed, acceleration) at time `t` (the piece of time
+/// `t_piece`), the table values of the applied loads, and for each clearance joint its
+/// points' states (in contact, 1 or 0, and the onset speed) and what its search finds
+/// at `(q, v)` ([`Kernels::search`]).
 pub fn inputs<K: Kernels<N>, const N: usize>(
     sys: &System<K>,
     active: &[usize],
@@ -100,8 +110,23 @@ pub fn inputs<K: Kernels<N>, const N: usize>(
     for f in sys.forces.iter().filter(|f| K::has_table(f)) {
         K::table_at(f, t, x);
     }
-    for s in contacts {
-        x.extend([if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed]);
+    let (nq, nv) = (sys.layout.nq(), sys.layout.nv());
+    for (_, c, points) in contact::slots(&sys.clearances) {
+        for s in &contacts[points] {
+            x.extend([if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed]);
+        }
+        if K::searched(c) > 0 {
+            let state = |b: Option<usize>| match b {
+                Some(k) => {
+                    let slot = &sys.layout.slots()[k];
+                    K::state_of(&x[..nq][slot.q()], &x[nq..nq + nv][slot.v()])
+                }
+                None => K::ground_of(),
+            };
+            let [i, j] = c.parts();
+            let (i, j) = (state(i), state(j));
+            K::search(c, &i, &j, x);
+        }
     }
 }
 
@@ -159,9 +184,10 @@ pub fn evaluation<K: Kernels<N>, const N: usize, T: Real>(
     for (_, c, points) in contact::slots(&sys.clearances) {
         let s = next(2 * points.len());
         let onset = |k: usize, rate| onset_for(s[2 * k], s[2 * k + 1], rate);
+        let found = next(K::searched(c));
         let [i, j] = c.parts();
         let to = LoadsOf { layout: &sys.layout, parts: [i, j] };
-        qe = K::add_clearance_loads(c, &state(i), &state(j), onset, to, qe)?;
+        qe = K::add_clearance_loads(c, (&state(i), &state(j)), found, onset, to, qe)?;
     }
     // The solve of [`super::accelerations_for_integration`], operation for operation.
     let mut qdd: Vec<T> = qe.iter().zip(&ws.m_inv).map(|(f, m)| *f * *m).collect();
@@ -283,12 +309,26 @@ impl Kernels<{ planar_body::NV }> for Planar {
         f.add_loads([0, 1].map(|k| applied.get(k).copied().unwrap_or(zero)), state, loads);
     }
 
+    fn searched(c: &PlanarClearance) -> usize {
+        if worn_revolute(c).is_some() {
+            FOUND
+        } else {
+            0
+        }
+    }
+
+    fn search(c: &PlanarClearance, i: &planar_body::BodyState, j: &planar_body::BodyState, x: &mut Vec<f64>) {
+        if let Some((r, worn)) = worn_revolute(c) {
+            write_found(&search_worn(&r.geometry, worn, i, j, r.reach()), x);
+        }
+    }
+
     /// A block in its guide adds each corner as a block of its own: its four corners'
     /// branches would otherwise multiply.
     fn add_clearance_loads<T: Real>(
         c: &PlanarClearance,
-        i: &planar_body::BodyState<T>,
-        j: &planar_body::BodyState<T>,
+        (i, j): (&planar_body::BodyState<T>, &planar_body::BodyState<T>),
+        found: &[T],
         onset: impl Fn(usize, T) -> T,
         to: LoadsOf,
         qe: Vec<T>,
@@ -301,9 +341,12 @@ impl Kernels<{ planar_body::NV }> for Planar {
         };
 
         match c {
-            PlanarClearance::Revolute(r) if r.worn.is_none() => {
-                whole(qe, &|loads| r.add_round_loads(i, j, &onset, loads))
-            }
+            PlanarClearance::Revolute(r) => match &r.worn {
+                Some(worn) => {
+                    whole(qe, &|loads| r.add_worn_loads(worn, &read_found(found), i, j, &onset, loads))
+                }
+                None => whole(qe, &|loads| r.add_round_loads(i, j, &onset, loads)),
+            },
             PlanarClearance::Play(p) => whole(qe, &|loads| p.add_play_loads(i, j, &onset, loads)),
             PlanarClearance::Gear(g) => {
                 let m = g.mesh(i, j);
@@ -315,7 +358,7 @@ impl Kernels<{ planar_body::NV }> for Planar {
                 };
                 whole(qe, &|loads| g.add_gear_loads(&m, share, (i, j), &onset, loads))
             }
-            PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => in_block(to, qe, |loads| {
+            PlanarClearance::Lubricated(l) => in_block(to, qe, |loads| {
                 l.dry.add_round_loads(i, j, &onset, loads);
                 l.add_film_loads(i, j, |m| l.film.loads(m), loads);
                 Some(())
@@ -329,31 +372,17 @@ impl Kernels<{ planar_body::NV }> for Planar {
                     })
                 })
             }
-            _ => None,
         }
-    }
-
-    /// Compiled are the dry round journals in their bearings, the joints' play, the
-    /// gear meshes and the blocks in their guides.
-    fn uncompiled_joint(sys: &System) -> Result<(), String> {
-        for c in &sys.clearances {
-            let what = match c {
-                PlanarClearance::Revolute(r) if r.worn.is_none() => continue,
-                PlanarClearance::Play(_) | PlanarClearance::Translational(_) | PlanarClearance::Gear(_) => {
-                    continue
-                }
-                PlanarClearance::Lubricated(l) if l.dry.worn.is_none() => continue,
-                PlanarClearance::Revolute(_) | PlanarClearance::Lubricated(_) => "a worn profile",
-            };
-            return Err(not_compiled(c.name(), what));
-        }
-        Ok(())
     }
 }
 
-/// Why joint `name`, which has `what`, runs interpreted.
-fn not_compiled(name: &str, what: &str) -> String {
-    format!("joint '{name}' has {what}, which is not compiled yet")
+/// The revolute joint of a planar clearance joint and its worn profiles, if it has them
+/// (a lubricated joint has none).
+fn worn_revolute(c: &PlanarClearance) -> Option<(&ClearanceRevolute, &Worn)> {
+    match c {
+        PlanarClearance::Revolute(r) => Some((r, r.worn.as_ref()?)),
+        _ => None,
+    }
 }
 
 impl Kernels<{ spatial_body::NV }> for Spatial {
@@ -409,10 +438,31 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
         f.add_loads([0, 1, 2].map(|k| applied.get(k).copied().unwrap_or(zero)), state, loads);
     }
 
+    fn searched(c: &SpatialClearance) -> usize {
+        if c.worn().is_some() {
+            2 * FOUND
+        } else {
+            0
+        }
+    }
+
+    fn search(
+        c: &SpatialClearance,
+        i: &spatial_body::BodyState,
+        j: &spatial_body::BodyState,
+        x: &mut Vec<f64>,
+    ) {
+        if let Some((g, worn)) = c.worn() {
+            for found in search_cylinder(g, worn, i, j, c.reach()) {
+                write_found(&found, x);
+            }
+        }
+    }
+
     fn add_clearance_loads<T: Real>(
         c: &SpatialClearance,
-        i: &spatial_body::BodyState<T>,
-        j: &spatial_body::BodyState<T>,
+        (i, j): (&spatial_body::BodyState<T>, &spatial_body::BodyState<T>),
+        found: &[T],
         onset: impl Fn(usize, T) -> T,
         to: LoadsOf,
         qe: Vec<T>,
@@ -439,24 +489,14 @@ impl Kernels<{ spatial_body::NV }> for Spatial {
                 g.add_film_loads(i, j, |m| g.film.loads(m), loads);
                 Some(())
             }),
+            SpatialGeometry::Cylinder(g @ CylinderBearing { worn: Some(worn), .. }) => {
+                let found = [read_found(&found[..FOUND]), read_found(&found[FOUND..])];
+                in_block(to, qe, |loads| {
+                    c.add_worn_loads((g, worn, &found), i, j, onset, loads);
+                    Some(())
+                })
+            }
             _ => in_block(to, qe, |loads| c.add_dry_loads(i, j, onset, loads)),
         }
-    }
-
-    /// Compiled are the ball in its socket, the round journal in its bearing, the joints'
-    /// play and the block in its channel.
-    fn uncompiled_joint(sys: &System<Spatial>) -> Result<(), String> {
-        for c in &sys.clearances {
-            let what = match &c.geometry {
-                SpatialGeometry::BallSocket(_) | SpatialGeometry::Play(_) | SpatialGeometry::Block(_) => {
-                    continue
-                }
-                SpatialGeometry::Cylinder(g) if g.worn.is_none() => continue,
-                SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() => continue,
-                SpatialGeometry::Cylinder(_) | SpatialGeometry::Lubricated(_) => "a worn profile",
-            };
-            return Err(not_compiled(&c.name, what));
-        }
-        Ok(())
     }
 }

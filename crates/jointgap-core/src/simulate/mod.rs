@@ -269,7 +269,7 @@ pub(crate) fn run_prepared<K: Kind>(
         record::Recorder::new(system, &ode.ws, opts.channels.as_deref(), opts.decimate, opts.energy)?;
     ode.ws.profile = opts.profile.then(Profile::default);
     let interpreted = if opts.compiled || opts.exact_jacobian {
-        ode.ws.compile(system, opts.compiled, opts.exact_jacobian).err()
+        ode.ws.compile(opts.compiled, opts.exact_jacobian).err()
     } else {
         Some(crate::dynamics::compiled::TURNED_OFF.to_string())
     };

@@ -220,9 +220,9 @@ impl GearPair {
     }
 
     /// The one point within `reach` ([`ClearanceJoint::contacts`]) of mesh `m`, in any
-    /// number type; `share` its stiffness factor's value.
+    /// number type; `share` its stiffness factor.
     #[inline]
-    fn point_of<T: Real>(&self, m: &Mesh<T>, share: f64, reach: f64) -> Option<ContactPoint<T>> {
+    fn point_of<T: Real>(&self, m: &Mesh<T>, share: T, reach: f64) -> Option<ContactPoint<T>> {
         let side = if m.s >= 0.0 { 1.0 } else { -1.0 };
         let penetration = m.s * side - self.half_backlash;
         (penetration > -reach).then(|| ContactPoint {
@@ -240,8 +240,8 @@ impl GearPair {
     /// The teeth's normal force at point `p` for onset speed `onset_speed`: the law's,
     /// times the mesh stiffness's factor `share`.
     #[inline]
-    fn tooth_normal_force<T: Real>(&self, p: &ContactPoint<T>, share: T, onset_speed: T) -> T {
-        self.normal.force(p.penetration, p.penetration_rate, onset_speed) * share
+    fn tooth_normal_force<T: Real>(&self, p: &ContactPoint<T>, onset_speed: T) -> T {
+        self.normal.force(p.penetration, p.penetration_rate, onset_speed) * p.share
     }
 
     /// Adds the tooth forces ([`ClearanceJoint::add_to`]) of mesh `m` ([`Self::mesh`])
@@ -257,8 +257,8 @@ impl GearPair {
         onset: impl Fn(usize, T) -> T,
         qe: &mut Loads<T>,
     ) {
-        if let Some(p) = self.point_of(m, share.value(), self.reach()) {
-            let f_n = self.tooth_normal_force(&p, share, onset(p.index, p.penetration_rate));
+        if let Some(p) = self.point_of(m, share, self.reach()) {
+            let f_n = self.tooth_normal_force(&p, onset(p.index, p.penetration_rate));
             if f_n != 0.0 {
                 let f = -p.normal * f_n;
                 add_force_at(qe, self.gear_2.0, g2, p.on_j.at, f);
@@ -334,7 +334,7 @@ impl ClearanceJoint for GearPair {
 
     #[inline]
     fn force(&self, p: &ContactPoint, onset_speed: f64) -> (f64, Tangential) {
-        (self.tooth_normal_force(p, p.share, onset_speed), Tangential::zeros())
+        (self.tooth_normal_force(p, onset_speed), Tangential::zeros())
     }
 
     fn losses(&self, g1: &BodyState, g2: &BodyState, states: &[ContactState]) -> (f64, f64) {

@@ -34,7 +34,9 @@ use crate::mechanics::resolve::Resolver;
 use crate::model::{Clearance, FrictionSpec, Joint, JointKind};
 use crate::output::ClearanceData;
 use crate::scalar::Real;
-use geometry::{contact_journal_bearing, contact_worn, JournalBearing, Worn};
+use geometry::{
+    contact_journal_bearing, contact_worn, contact_worn_from, search_worn, Found, JournalBearing, Worn,
+};
 use normal::NormalForce;
 
 /// What the run reads of any contact point, planar or spatial: which of its joint's
@@ -468,10 +470,13 @@ impl ClearanceJoint for ClearanceRevolute {
 
     #[inline]
     fn add_to(&self, bearing: &BodyState, journal: &BodyState, states: &[ContactState], qe: &mut Loads) {
-        if self.worn.is_some() {
-            add_point_forces(self, bearing, journal, states, qe);
-        } else {
-            self.add_round_loads(bearing, journal, |k, rate| states[k].onset_for(rate), qe);
+        let onset = |k: usize, rate| states[k].onset_for(rate);
+        match &self.worn {
+            Some(worn) => {
+                let found = search_worn(&self.geometry, worn, bearing, journal, self.reach());
+                self.add_worn_loads(worn, &found, bearing, journal, onset, qe);
+            }
+            None => self.add_round_loads(bearing, journal, onset, qe),
         }
     }
 }
@@ -490,10 +495,41 @@ impl ClearanceRevolute {
     ) {
         let mut points = ContactPoints::new();
         contact_journal_bearing(&self.geometry, bearing, journal, self.reach(), &mut points);
+        self.apply_dry_forces(&points, bearing, journal, onset, qe);
+    }
+
+    /// Adds the contact loads of the joint's worn parts `worn` ([`contact_worn_from`] and
+    /// the dry laws) in any number type, from where the search found the rims (`found`,
+    /// [`search_worn`] at the law's reach); `onset` as for [`Self::add_round_loads`].
+    #[inline]
+    pub fn add_worn_loads<T: Real>(
+        &self,
+        worn: &Worn,
+        found: &Found<T>,
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints::new();
+        contact_worn_from(&self.geometry, worn, found, bearing, journal, self.reach(), &mut points);
+        self.apply_dry_forces(&points, bearing, journal, onset, qe);
+    }
+
+    /// Adds the dry laws' forces at `points`.
+    #[inline]
+    fn apply_dry_forces<T: Real>(
+        &self,
+        points: &[ContactPoint<T>],
+        bearing: &BodyState<T>,
+        journal: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
         let force = |p: &ContactPoint<T>| {
             dry_force(&self.normal, &self.friction, p, onset(p.index, p.penetration_rate))
         };
-        apply_point_forces(&points, force, bearing, journal, qe);
+        apply_point_forces(points, force, bearing, journal, qe);
     }
 }
 

@@ -123,7 +123,7 @@ impl JointPlay {
                 penetration,
                 penetration_rate: rate * side,
                 slip: Tangential::zeros(),
-                share: 1.0,
+                share: T::constant(1.0),
                 on_i: MaterialPoint { body: self.bodies[0], at },
                 on_j: MaterialPoint { body: self.bodies[1], at },
             });

@@ -61,8 +61,9 @@ pub struct ContactPoint<T: Real = f64> {
     /// Slip: `v`'s tangential part, along the [`tangents`] of `normal` [m/s].
     pub slip: Tangential<T>,
     /// The part of its law's force the point takes: 1, but for a gear mesh, whose
-    /// stiffness varies along the mesh cycle (the stiffness there over the law's).
-    pub share: f64,
+    /// stiffness varies along the mesh cycle (the stiffness there over the law's), and
+    /// for a worn joint's rims, which share their law where their contacts merge.
+    pub share: T,
     /// The point of body i's part (the bearing wall).
     pub on_i: MaterialPoint<T>,
     /// The point of body j's part (the journal's surface).
@@ -79,7 +80,7 @@ impl<T: Real> ContactPoint<T> {
         normal: Vec2<T>,
         penetration: T,
         v: Vec2<T>,
-        share: f64,
+        share: T,
         (on_i, on_j): (MaterialPoint<T>, MaterialPoint<T>),
     ) -> Self {
         let t = tangents(normal);

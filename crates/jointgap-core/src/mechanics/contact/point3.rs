@@ -65,7 +65,7 @@ pub struct ContactPoint3<T: Real = f64> {
     /// times the law's force at its penetration and rate (1 for a ball in its socket;
     /// 1/2 at each end of a journal, whose two ends together carry the whole journal's
     /// law when it lies aligned).
-    pub share: f64,
+    pub share: T,
     /// The point of body i's part (the socket's, the bearing's wall).
     pub on_i: MaterialPoint3<T>,
     /// The point of body j's part (the ball's, the journal's surface).
@@ -125,7 +125,7 @@ pub(crate) fn split<T: Real>(
     index: usize,
     n: Vector3<T>,
     penetration: T,
-    share: f64,
+    share: T,
     (on_i, state_i): (MaterialPoint3<T>, &BodyState<T>),
     (on_j, state_j): (MaterialPoint3<T>, &BodyState<T>),
 ) -> ContactPoint3<T> {

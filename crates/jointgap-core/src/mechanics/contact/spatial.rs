@@ -8,7 +8,8 @@
 use super::film::FilmMotion;
 use super::geometry::{
     contact_ball_socket, contact_block_channel, contact_cylinder_bearing, contact_round_cylinder,
-    wall_contact, BallSocket, BlockChannel, CylinderBearing, Frames,
+    contact_worn_cylinder, search_cylinder, wall_contact, BallSocket, BlockChannel, CylinderBearing, Found,
+    Frames, Worn,
 };
 use super::lubricated_cylinder::LubricatedCylinder;
 use super::normal::NormalForce;
@@ -77,7 +78,7 @@ impl SpatialPlay {
                 penetration,
                 penetration_rate: side * rate,
                 slip: Vector3::zeros(),
-                share: 1.0,
+                share: T::constant(1.0),
                 on_i: MaterialPoint3::of(self.bodies[0], i, i.r + i.rotate(&constant(&self.points[0]))),
                 on_j: MaterialPoint3::of(self.bodies[1], j, j.r + j.rotate(&constant(&self.points[1]))),
             });
@@ -179,14 +180,39 @@ impl SpatialClearance {
             SpatialGeometry::Cylinder(g) if g.worn.is_none() => {
                 contact_round_cylinder(g, i, j, self.reach(), &mut points)
             }
-            SpatialGeometry::Lubricated(g) if g.dry.worn.is_none() => {
-                contact_round_cylinder(&g.dry, i, j, self.reach(), &mut points)
-            }
+            SpatialGeometry::Lubricated(g) => contact_round_cylinder(&g.dry, i, j, self.reach(), &mut points),
             _ => return None,
         }
         let force = |p: &ContactPoint3<T>| self.point_force(p, onset(p.index, p.penetration_rate));
         apply_point_forces(&points, force, i, j, qe);
         Some(())
+    }
+
+    /// Adds the contact loads of a journal in its bearing `g` whose parts are worn as
+    /// `worn`, in any number type, from where the search found the rims at each end
+    /// (`found`, [`search_cylinder`]); `onset` as for [`Self::add_dry_loads`].
+    #[inline]
+    pub fn add_worn_loads<T: Real>(
+        &self,
+        (g, worn, found): (&CylinderBearing, &Worn, &[Found<T>; 2]),
+        i: &BodyState<T>,
+        j: &BodyState<T>,
+        onset: impl Fn(usize, T) -> T,
+        qe: &mut Loads<T>,
+    ) {
+        let mut points = ContactPoints3::new();
+        contact_worn_cylinder(g, worn, found, i, j, self.reach(), &mut points);
+        let force = |p: &ContactPoint3<T>| self.point_force(p, onset(p.index, p.penetration_rate));
+        apply_point_forces(&points, force, i, j, qe);
+    }
+
+    /// The worn parts of a dry journal in its bearing, if it has them (a lubricated
+    /// joint has none).
+    pub fn worn(&self) -> Option<(&CylinderBearing, &Worn)> {
+        match &self.geometry {
+            SpatialGeometry::Cylinder(g) => Some((g, g.worn.as_deref()?)),
+            _ => None,
+        }
     }
 
     /// Adds the loads of point `index` of a block in its channel `g` in any number type,
@@ -363,6 +389,10 @@ impl ClearanceJoint for SpatialClearance {
         let onset = |k: usize, rate| states[k].onset_for(rate);
         if let SpatialGeometry::Play(g) = &self.geometry {
             return self.add_play_loads(g, i, j, onset, qe);
+        }
+        if let Some((g, worn)) = self.worn() {
+            let found = search_cylinder(g, worn, i, j, self.reach());
+            return self.add_worn_loads((g, worn, &found), i, j, onset, qe);
         }
         if self.add_dry_loads(i, j, onset, qe).is_none() {
             let points = self.contacts(i, j, self.reach());

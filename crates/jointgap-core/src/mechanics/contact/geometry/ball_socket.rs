@@ -75,7 +75,7 @@ pub fn contact_ball_socket<T: Real>(
         0,
         n,
         penetration,
-        1.0,
+        T::constant(1.0),
         (MaterialPoint3::of(g.socket, socket, centre_s + n * T::constant(g.r_socket)), socket),
         (MaterialPoint3::of(g.ball, ball, centre_b + n * T::constant(g.r_ball)), ball),
     ));

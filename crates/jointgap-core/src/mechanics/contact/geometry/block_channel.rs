@@ -168,7 +168,7 @@ pub fn wall_contact<T: Real>(
         index,
         n,
         penetration,
-        1.0,
+        T::constant(1.0),
         (MaterialPoint3::of(g.guide, guide, foot), guide),
         (MaterialPoint3::of(g.block, block, corner), block),
     ))

@@ -7,7 +7,7 @@
 //! joints with radial and axial clearance).
 
 use super::cylinder_section::{worn_end, Section};
-use super::worn::Worn;
+use super::worn::{Found, Worn};
 use nalgebra::Vector3;
 
 use crate::mechanics::contact::point3::{split, ContactPoints3, MaterialPoint3};
@@ -172,18 +172,55 @@ pub fn contact_cylinder_bearing(
     reach: f64,
     out: &mut ContactPoints3,
 ) {
+    match g.worn.as_deref() {
+        Some(w) => contact_worn_cylinder(
+            g,
+            w,
+            &search_cylinder(g, w, bearing, journal, reach),
+            bearing,
+            journal,
+            reach,
+            out,
+        ),
+        None => contact_round_cylinder(g, bearing, journal, reach, out),
+    }
+}
+
+/// Where the search over the worn profiles `worn` finds the rims at each of the
+/// journal's ends ([`Worn::search`] in the end's section).
+pub fn search_cylinder(
+    g: &CylinderBearing,
+    worn: &Worn,
+    bearing: &BodyState,
+    journal: &BodyState,
+    reach: f64,
+) -> [Found; 2] {
     let x = g.axes(bearing, journal);
-    let worn = g.worn.as_deref().map(|w| (w, g.section(bearing, journal)));
+    let section = g.section(bearing, journal);
+    let phis = (0.0, section.journal_turn);
+    [-1.0, 1.0].map(|side| worn.search(section.of(&g.end(&x, side).2), phis, g.clearance, reach))
+}
+
+/// [`contact_cylinder_bearing`] of worn parts `worn`, in any number type, from where
+/// the search found the rims at each end (`found`, [`search_cylinder`]).
+#[inline]
+pub fn contact_worn_cylinder<T: Real>(
+    g: &CylinderBearing,
+    worn: &Worn,
+    found: &[Found<T>; 2],
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
+    reach: f64,
+    out: &mut ContactPoints3<T>,
+) {
+    let x = g.axes(bearing, journal);
+    let section = Section::at(g.u_bearing, g.u_journal, bearing, journal);
     for (index, side) in [(0, -1.0), (1, 1.0)] {
-        if let Some((w, section)) = &worn {
-            let (_, station, d) = g.end(&x, side);
-            let parts = ([g.bearing, g.journal], (g.r_bearing, g.r_journal), g.clearance);
-            let ends = (index, CylinderBearing::END_SHARE);
-            let at = (x.centre_b, x.axis_b, station);
-            worn_end((w, section), parts, (bearing, journal), ends, at, d, reach, out);
-            continue;
-        }
-        round_end(g, &x, (index, side), bearing, journal, reach, out);
+        let (_, station, d) = g.end(&x, side);
+        let parts = ([g.bearing, g.journal], (g.r_bearing, g.r_journal), g.clearance);
+        let ends = (index, CylinderBearing::END_SHARE);
+        let at = (x.centre_b, x.axis_b, station);
+        worn_end((worn, &section, &found[index]), parts, (bearing, journal), ends, at, d, reach, out);
     }
     thrust_faces(g, &x, bearing, journal, reach, out);
 }
@@ -228,7 +265,7 @@ fn round_end<T: Real>(
         index,
         n,
         penetration,
-        CylinderBearing::END_SHARE,
+        T::constant(CylinderBearing::END_SHARE),
         (MaterialPoint3::of(g.bearing, bearing, wall), bearing),
         (MaterialPoint3::of(g.journal, journal, end + n * T::constant(g.r_journal)), journal),
     ));
@@ -265,7 +302,7 @@ fn thrust_faces<T: Real>(
             index,
             n,
             penetration,
-            1.0,
+            T::constant(1.0),
             (MaterialPoint3::of(g.bearing, bearing, point_j - n * penetration), bearing),
             (MaterialPoint3::of(g.journal, journal, point_j), journal),
         ));

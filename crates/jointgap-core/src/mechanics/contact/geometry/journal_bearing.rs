@@ -71,7 +71,7 @@ pub fn contact_journal_bearing<T: Real>(
         n,
         penetration,
         v,
-        1.0,
+        T::constant(1.0),
         (
             MaterialPoint { body: g.bearing, at: point_bearing },
             MaterialPoint { body: g.journal, at: point_journal },

@@ -20,9 +20,10 @@ pub mod worn;
 pub use ball_socket::{contact_ball_socket, BallSocket};
 pub use block_channel::{contact_block_channel, wall_contact, BlockChannel, Frames, Pose, CORNERS3};
 pub use cylinder_bearing::{
-    contact_cylinder_bearing, contact_round_cylinder, radial_normal, CylinderBearing,
+    contact_cylinder_bearing, contact_round_cylinder, contact_worn_cylinder, radial_normal, search_cylinder,
+    CylinderBearing,
 };
 pub use cylinder_section::{section_basis, Section};
 pub use journal_bearing::{contact_journal_bearing, JournalBearing};
 pub use slider_guide::{contact_slider_guide, corner_contact, SliderGuide, CORNERS};
-pub use worn::{contact_worn, Worn};
+pub use worn::{contact_worn, contact_worn_from, read_found, search_worn, write_found, Found, Worn, FOUND};

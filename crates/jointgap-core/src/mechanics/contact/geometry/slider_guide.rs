@@ -107,7 +107,7 @@ pub fn corner_contact<T: Real>(
     let foot = corner - n * penetration;
     let v = block.velocity_at(corner) - guide.velocity_at(foot);
     let parts = (MaterialPoint { body: g.guide, at: foot }, MaterialPoint { body: g.block, at: corner });
-    Some(ContactPoint { index, ..ContactPoint::in_bearing(n, penetration, v, 1.0, parts) })
+    Some(ContactPoint { index, ..ContactPoint::in_bearing(n, penetration, v, T::constant(1.0), parts) })
 }
 
 #[cfg(test)]

@@ -20,6 +20,7 @@
 
 use crate::error::{Error, Named};
 use crate::math::{perp, Vec2};
+use crate::scalar::Real;
 use smallvec::SmallVec;
 
 use crate::mechanics::contact::point::{ContactPoint, ContactPoints, MaterialPoint};
@@ -66,19 +67,36 @@ impl PeriodicSpline {
     /// `(s, s', s'')` at angle `theta` [rad], any value.
     #[inline]
     pub fn eval(&self, theta: f64) -> (f64, f64, f64) {
+        let (k, t) = self.cell(theta);
+        self.piece_of(k, theta - t).cubic(self.spacing, t)
+    }
+
+    /// The cubic piece that holds angle `theta` [rad], any value, its start unwrapped
+    /// as `theta` is.
+    pub fn piece(&self, theta: f64) -> Piece<f64> {
+        let (k, t) = self.cell(theta);
+        self.piece_of(k, theta - t)
+    }
+
+    /// The table interval `k` that holds angle `theta` and how far into it `theta` lies
+    /// [rad].
+    #[inline]
+    fn cell(&self, theta: f64) -> (usize, f64) {
         let n = self.values.len();
-        let h = self.spacing;
-        let x = theta.rem_euclid(std::f64::consts::TAU) / h;
+        let x = theta.rem_euclid(std::f64::consts::TAU) / self.spacing;
         let k = (x.floor() as usize).min(n - 1);
-        let t = (x - k as f64) * h;
-        let (y0, y1) = (self.values[k], self.values[(k + 1) % n]);
-        let (m0, m1) = (self.curvatures[k], self.curvatures[(k + 1) % n]);
-        let s = h - t;
-        let (c0, c1) = (y0 / h - m0 * h / 6.0, y1 / h - m1 * h / 6.0);
-        let value = (m0 * s * s * s + m1 * t * t * t) / (6.0 * h) + c0 * s + c1 * t;
-        let slope = (-m0 * s * s + m1 * t * t) / (2.0 * h) - c0 + c1;
-        let curvature = (m0 * s + m1 * t) / h;
-        (value, slope, curvature)
+        (k, (x - k as f64) * self.spacing)
+    }
+
+    /// The piece of table interval `k`, starting at `start` [rad].
+    #[inline]
+    fn piece_of(&self, k: usize, start: f64) -> Piece<f64> {
+        let n = self.values.len();
+        Piece {
+            start,
+            values: [self.values[k], self.values[(k + 1) % n]],
+            curvatures: [self.curvatures[k], self.curvatures[(k + 1) % n]],
+        }
     }
 
     /// The largest and smallest second derivative (the spline's is linear between the
@@ -93,6 +111,51 @@ impl PeriodicSpline {
         let (lo, hi) = self.curvature_range();
         let lowest = self.values.iter().fold(f64::INFINITY, |a, &v| a.min(v));
         lowest - self.spacing * self.spacing * lo.abs().max(hi.abs()) / 8.0
+    }
+}
+
+/// One cubic piece of a [`PeriodicSpline`], in any number type: where it starts, the
+/// values and the second derivatives at its two ends. A compiled evaluation reads it as
+/// numbers ([`Start`]), so that one code serves every piece.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Piece<T> {
+    /// The angle where it starts [rad].
+    pub start: T,
+    /// The values at its ends.
+    pub values: [T; 2],
+    /// The second derivatives at its ends.
+    pub curvatures: [T; 2],
+}
+
+impl<T: Real> Piece<T> {
+    /// The numbers that give a piece.
+    const NUMBERS: usize = 5;
+
+    /// `(s, s', s'')` at angle `theta` [rad] of a piece `h` wide: the cubic whose second
+    /// derivative runs linearly between the ends'.
+    #[inline]
+    pub fn at(&self, h: f64, theta: T) -> (T, T, T) {
+        self.cubic(h, theta - self.start)
+    }
+
+    /// [`Piece::at`] `t` [rad] into the piece.
+    #[inline]
+    fn cubic(&self, h: f64, t: T) -> (T, T, T) {
+        let s = T::constant(h) - t;
+        let ([y0, y1], [m0, m1]) = (self.values, self.curvatures);
+        let (c0, c1) = (y0 / h - m0 * h / 6.0, y1 / h - m1 * h / 6.0);
+        let value = (m0 * s * s * s + m1 * t * t * t) / (6.0 * h) + c0 * s + c1 * t;
+        let slope = (-m0 * s * s + m1 * t * t) / (2.0 * h) - c0 + c1;
+        let curvature = (m0 * s + m1 * t) / h;
+        (value, slope, curvature)
+    }
+
+    fn read(x: &[T]) -> Self {
+        Piece { start: x[0], values: [x[1], x[2]], curvatures: [x[3], x[4]] }
+    }
+
+    fn numbers(&self) -> [T; 5] {
+        [self.start, self.values[0], self.values[1], self.curvatures[0], self.curvatures[1]]
     }
 }
 
@@ -244,10 +307,7 @@ impl Worn {
         clearance: f64,
         alpha: f64,
     ) -> (f64, f64, f64) {
-        let u = Vec2::new(alpha.cos(), alpha.sin());
-        let (wb, db, ddb) = self.bearing_at(alpha - phi_b);
-        let (wj, dj, ddj) = self.journal_at(alpha - phi_j);
-        (e.dot(&u) - clearance - wb - wj, e.dot(&perp(u)) - db - dj, -e.dot(&u) - ddb - ddj)
+        overlap_of(e, alpha, clearance, self.bearing_at(alpha - phi_b), self.journal_at(alpha - phi_j))
     }
 
     /// The angles about `e`'s direction `beta` where the overlap can reach `at_least` [m]:
@@ -320,7 +380,7 @@ impl Worn {
             }
             (before, here) = (here, after);
         }
-        let mut found = Maxima::default();
+        let mut found = Maxima { refined: count > 0, ..Maxima::default() };
         // Nothing converged (a flat overlap): the best sample.
         if count == 0 {
             found.add((best.0, best.1, 1.0));
@@ -401,6 +461,16 @@ impl Worn {
     }
 }
 
+/// [`Worn::overlap`] in any number type, `(w_B, w_B', w_B'')` and `(w_J, w_J', w_J'')`
+/// the parts' wear at `alpha`.
+#[inline]
+fn overlap_of<T: Real>(e: Vec2<T>, alpha: T, clearance: f64, wb: (T, T, T), wj: (T, T, T)) -> (T, T, T) {
+    let (sin, cos) = alpha.sin_cos();
+    let u = Vec2::new(cos, sin);
+    let ((wb, db, ddb), (wj, dj, ddj)) = (wb, wj);
+    (e.dot(&u) - clearance - wb - wj, e.dot(&perp(u)) - db - dj, -e.dot(&u) - ddb - ddj)
+}
+
 /// The most local maxima of the overlap a worn joint takes as contact points: its rims.
 pub const RIMS: usize = 4;
 
@@ -434,6 +504,9 @@ const PEAKS: usize = 16;
 #[derive(Default)]
 struct Maxima {
     found: [(f64, f64, f64); RIMS],
+    /// Whether they are maxima refined to `delta' = 0` (not a flat overlap's best
+    /// sample).
+    refined: bool,
     count: usize,
 }
 
@@ -457,21 +530,21 @@ impl Maxima {
 /// One rim of a worn joint's section where the parts touch or come nearest: a local
 /// maximum of the overlap ([`Worn::rims`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Rim {
+pub struct Rim<T: Real = f64> {
     /// The normal `u(alpha)` in the section's axes, pointing from the bearing's centre
     /// outwards.
-    pub normal: Vec2,
+    pub normal: Vec2<T>,
     /// The overlap `delta(alpha)` [m]: the penetration.
-    pub penetration: f64,
+    pub penetration: T,
     /// The part of the joint's law it carries ([`merging`]).
-    pub share: f64,
+    pub share: T,
     /// The bearing's wear and its slope at the normal, `(w_B, w_B')`.
-    pub bearing: (f64, f64),
+    pub bearing: (T, T),
     /// The journal's, `(w_J, w_J')`.
-    pub journal: (f64, f64),
+    pub journal: (T, T),
 }
 
-impl Rim {
+impl<T: Real> Rim<T> {
     /// The material points `(bearing, journal)` of a bearing of radius `r_bearing`
     /// centred at `centre_b` and a journal of radius `r_journal` at `centre_j`, both in
     /// the section's axes: `c + h u + h' u_perp` of each part's support function `h`.
@@ -479,19 +552,77 @@ impl Rim {
     #[inline]
     pub fn points(
         &self,
-        (centre_b, r_bearing): (Vec2, f64),
-        (centre_j, r_journal): (Vec2, f64),
-    ) -> (Vec2, Vec2) {
+        (centre_b, r_bearing): (Vec2<T>, f64),
+        (centre_j, r_journal): (Vec2<T>, f64),
+    ) -> (Vec2<T>, Vec2<T>) {
         let t = perp(self.normal);
         (
-            centre_b + self.normal * (r_bearing + self.bearing.0) + t * self.bearing.1,
-            centre_j + self.normal * (r_journal - self.journal.0) - t * self.journal.1,
+            centre_b + self.normal * (T::constant(r_bearing) + self.bearing.0) + t * self.bearing.1,
+            centre_j + self.normal * (T::constant(r_journal) - self.journal.0) - t * self.journal.1,
         )
     }
 }
 
 /// The rims a section can have at once.
-pub type Rims = SmallVec<[Rim; RIMS]>;
+pub type Rims<T = f64> = SmallVec<[Rim<T>; RIMS]>;
+
+/// Where the search over the profiles ([`Worn::search`]) found a rim: the numbers that
+/// [`Worn::rims_from`] starts from, in any number type, so that a compiled evaluation
+/// reads them as inputs while the search runs interpreted (its scan and its iterations
+/// branch at every sample).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Start<T> {
+    /// 0: no rim; 1: the best sample of a flat overlap; 2: a maximum refined to
+    /// `delta' = 0`.
+    pub kind: T,
+    /// Its angle `alpha` [rad].
+    pub alpha: T,
+    /// The part of the joint's law it carries ([`merging`]).
+    pub share: T,
+    /// The bearing's piece at `alpha - phi_B` (zeros without a table).
+    pub bearing: Piece<T>,
+    /// The journal's piece at `alpha - phi_J`.
+    pub journal: Piece<T>,
+}
+
+/// What the search found: a start for each rim, the first the deepest.
+pub type Found<T = f64> = [Start<T>; RIMS];
+
+/// The numbers that give a [`Found`].
+pub const FOUND: usize = RIMS * (3 + 2 * Piece::<f64>::NUMBERS);
+
+impl<T: Real> Start<T> {
+    /// No rim.
+    fn none() -> Self {
+        let zero = T::constant(0.0);
+        let piece = Piece { start: zero, values: [zero; 2], curvatures: [zero; 2] };
+        Start { kind: zero, alpha: zero, share: zero, bearing: piece, journal: piece }
+    }
+}
+
+/// Appends the [`FOUND`] numbers of `found` to `x`.
+pub fn write_found(found: &Found, x: &mut Vec<f64>) {
+    for s in found {
+        x.extend([s.kind, s.alpha, s.share]);
+        x.extend(s.bearing.numbers());
+        x.extend(s.journal.numbers());
+    }
+}
+
+/// The [`Found`] whose numbers are `x` ([`write_found`]).
+pub fn read_found<T: Real>(x: &[T]) -> Found<T> {
+    let n = Piece::<T>::NUMBERS;
+    std::array::from_fn(|k| {
+        let x = &x[k * (3 + 2 * n)..];
+        Start {
+            kind: x[0],
+            alpha: x[1],
+            share: x[2],
+            bearing: Piece::read(&x[3..]),
+            journal: Piece::read(&x[3 + n..]),
+        }
+    })
+}
 
 impl Worn {
     /// The rims of a worn journal at eccentricity `e` in its worn bearing of clearance
@@ -501,36 +632,85 @@ impl Worn {
     /// the other local maxima follow, the rims of a worn pocket on which the journal
     /// rests at once ([`Worn::maxima`]).
     pub fn rims(&self, e: Vec2, phis: (f64, f64), clearance: f64, reach: f64) -> Rims {
-        let mut out = Rims::new();
+        self.rims_from(e, phis, clearance, reach, &self.search(e, phis, clearance, reach))
+    }
+
+    /// Where the rims of [`Worn::rims`] lie, as the search over the profiles finds
+    /// them.
+    pub fn search(&self, e: Vec2, phis: (f64, f64), clearance: f64, reach: f64) -> Found {
+        let mut found = [Start::none(); RIMS];
         // No angle overlaps by more than |e| - c - (w_B + w_J)'s floor.
         if e.norm() - clearance - self.floor <= -reach {
-            return out;
+            return found;
         }
         // The rims beyond the deepest only for the forces (a finite reach): the contact
         // state, its events and channels follow the deepest point.
         let rims = if reach.is_finite() { RIMS } else { 1 };
         let floor = if reach.is_finite() { -reach } else { f64::INFINITY };
-        for &(alpha, _, share) in self.maxima(e, phis, clearance, floor).iter().take(rims) {
-            let normal = Vec2::new(alpha.cos(), alpha.sin());
-            let (wb, db, _) = self.bearing_at(alpha - phis.0);
-            let (wj, dj, _) = self.journal_at(alpha - phis.1);
+        let maxima = self.maxima(e, phis, clearance, floor);
+        let kind = if maxima.refined { 2.0 } else { 1.0 };
+        let piece = |s: &Option<PeriodicSpline>, theta: f64| match s {
+            Some(s) => s.piece(theta),
+            None => Start::none().bearing,
+        };
+        for (slot, &(alpha, _, share)) in found.iter_mut().zip(maxima.iter().take(rims)) {
+            let (bearing, journal) =
+                (piece(&self.bearing, alpha - phis.0), piece(&self.journal, alpha - phis.1));
+            *slot = Start { kind, alpha, share, bearing, journal };
+        }
+        found
+    }
+
+    /// [`Worn::rims`] in any number type from where the search found them (`found`):
+    /// each refined maximum takes one more Newton step on `delta' = 0` in `T`, so that
+    /// its angle moves with the state as the implicit function theorem says, and the
+    /// compiled Jacobians are exact through it. Each rim's share is the search's.
+    pub fn rims_from<T: Real>(
+        &self,
+        e: Vec2<T>,
+        (phi_b, phi_j): (T, T),
+        clearance: f64,
+        reach: f64,
+        found: &Found<T>,
+    ) -> Rims<T> {
+        let wear = |s: &Option<PeriodicSpline>, piece: &Piece<T>, theta: T| match s {
+            Some(s) => piece.at(s.spacing, theta),
+            None => (T::constant(0.0), T::constant(0.0), T::constant(0.0)),
+        };
+        let mut out = Rims::new();
+        for s in found {
+            if s.kind < 0.5 {
+                break;
+            }
+            let at = |alpha: T| {
+                (
+                    wear(&self.bearing, &s.bearing, alpha - phi_b),
+                    wear(&self.journal, &s.journal, alpha - phi_j),
+                )
+            };
+            let mut alpha = s.alpha;
+            if s.kind > 1.5 {
+                let (wb, wj) = at(alpha);
+                let (_, d1, d2) = overlap_of(e, alpha, clearance, wb, wj);
+                if d2 < 0.0 {
+                    alpha -= d1 / d2;
+                }
+            }
+            let (sin, cos) = alpha.sin_cos();
+            let normal = Vec2::new(cos, sin);
+            let ((wb, db, _), (wj, dj, _)) = at(alpha);
             let penetration = e.dot(&normal) - clearance - wb - wj;
             if penetration <= -reach {
                 break;
             }
-            out.push(Rim { normal, penetration, share, bearing: (wb, db), journal: (wj, dj) });
+            out.push(Rim { normal, penetration, share: s.share, bearing: (wb, db), journal: (wj, dj) });
         }
         out
     }
 }
 
 /// The contact points of a worn journal in its worn bearing, pushed onto `out` unless
-/// the gap is `reach` [m] or more: its rims ([`Worn::rims`]) in the global plane, all
-/// sharing the joint's one contact state (index 0). Each has the penetration
-/// `delta(alpha)`, the material points of each part ([`Rim::points`]), and the relative
-/// velocity of the journal's point to the bearing's along `n` and the tangent. Since
-/// `delta' = 0` there, the penetration's time derivative is its partial one at fixed
-/// `alpha`, which is the relative velocity of the two material points along `n`.
+/// the gap is `reach` [m] or more: its rims ([`Worn::rims`]) in the global plane.
 pub fn contact_worn(
     g: &JournalBearing,
     worn: &Worn,
@@ -539,9 +719,41 @@ pub fn contact_worn(
     reach: f64,
     out: &mut ContactPoints,
 ) {
+    let found = search_worn(g, worn, bearing, journal, reach);
+    contact_worn_from(g, worn, &found, bearing, journal, reach, out);
+}
+
+/// Where the search over the profiles finds the rims of a worn journal in its worn
+/// bearing at the bodies' states ([`Worn::search`]).
+pub fn search_worn(
+    g: &JournalBearing,
+    worn: &Worn,
+    bearing: &BodyState,
+    journal: &BodyState,
+    reach: f64,
+) -> Found {
+    let (centre_b, centre_j) = g.centres(bearing, journal);
+    worn.search(centre_j - centre_b, (bearing.phi(), journal.phi()), g.clearance, reach)
+}
+
+/// [`contact_worn`] in any number type from where the search found the rims (`found`),
+/// all sharing the joint's one contact state (index 0). Each has the penetration
+/// `delta(alpha)`, the material points of each part ([`Rim::points`]), and the relative
+/// velocity of the journal's point to the bearing's along `n` and the tangent. Since
+/// `delta' = 0` there, the penetration's time derivative is its partial one at fixed
+/// `alpha`, which is the relative velocity of the two material points along `n`.
+pub fn contact_worn_from<T: Real>(
+    g: &JournalBearing,
+    worn: &Worn,
+    found: &Found<T>,
+    bearing: &BodyState<T>,
+    journal: &BodyState<T>,
+    reach: f64,
+    out: &mut ContactPoints<T>,
+) {
     let (centre_b, centre_j) = g.centres(bearing, journal);
     let phis = (bearing.phi(), journal.phi());
-    for rim in worn.rims(centre_j - centre_b, phis, g.clearance, reach) {
+    for rim in worn.rims_from(centre_j - centre_b, phis, g.clearance, reach, found) {
         let (point_bearing, point_journal) = rim.points((centre_b, g.r_bearing), (centre_j, g.r_journal));
         let v = journal.velocity_at(point_journal) - bearing.velocity_at(point_bearing);
         out.push(ContactPoint::in_bearing(
