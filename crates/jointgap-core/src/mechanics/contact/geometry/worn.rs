@@ -83,8 +83,9 @@ impl PeriodicSpline {
     #[inline]
     fn cell(&self, theta: f64) -> (usize, f64) {
         let n = self.values.len();
-        let x = theta.rem_euclid(std::f64::consts::TAU) / self.spacing;
-        let k = (x.floor() as usize).min(n - 1);
+        let x = within_turn(theta) / self.spacing;
+        // `x` is not negative: its truncation is its floor (a call without SSE4.1).
+        let k = (x as usize).min(n - 1);
         (k, (x - k as f64) * self.spacing)
     }
 
@@ -111,6 +112,20 @@ impl PeriodicSpline {
         let (lo, hi) = self.curvature_range();
         let lowest = self.values.iter().fold(f64::INFINITY, |a, &v| a.min(v));
         lowest - self.spacing * self.spacing * lo.abs().max(hi.abs()) / 8.0
+    }
+}
+
+/// `theta.rem_euclid(2 pi)` to the bit, without the division's remainder (a call) for
+/// the angles within a turn either side of zero, which the profiles' angles mostly are.
+#[inline]
+fn within_turn(theta: f64) -> f64 {
+    use std::f64::consts::TAU;
+    if (0.0..TAU).contains(&theta) {
+        theta
+    } else if theta > -TAU && theta < 0.0 {
+        theta + TAU
+    } else {
+        theta.rem_euclid(TAU)
     }
 }
 
@@ -790,6 +805,19 @@ mod tests {
         Worn::new(Named::joint("c"), (bearing.as_deref(), journal.as_deref()), 0.0095)
             .expect("valid tables")
             .expect("some table")
+    }
+
+    /// The shortcut of the angle's remainder gives `rem_euclid`'s bits, at the turn's
+    /// ends and zeros of either sign too.
+    #[test]
+    fn within_turn_is_rem_euclid() {
+        let mut angles =
+            vec![0.0, -0.0, TAU, -TAU, PI, -PI, 1e-300, -1e-300, 3.0 * TAU + 0.1, -7.5, f64::NAN];
+        angles.extend([TAU, -TAU].iter().flat_map(|&a: &f64| [a.next_up(), a.next_down()]));
+        angles.extend((0..2000).map(|k| -20.0 + 0.02 * k as f64 + 1e-9));
+        for a in angles {
+            assert_eq!(within_turn(a).to_bits(), a.rem_euclid(TAU).to_bits(), "{a}");
+        }
     }
 
     /// The spline of `a cos 2 theta + a` from 64 points against the function, its slope
