@@ -191,7 +191,7 @@ fn run(
         if !projecting || (pos <= 1e-4 * rtol && vel <= 1e-4 * rtol) {
             return false;
         }
-        project(sys, t, q, v, &mut e.ode.ws).expect("projection converges");
+        project(sys, t, q, v, &mut e.ode.ws, 1e-4 * rtol).expect("projection converges");
         e.rhs(t, y, dy);
         projections += 1;
         true

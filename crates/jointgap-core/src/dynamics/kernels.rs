@@ -76,8 +76,8 @@ pub trait Kernels<const N: usize>: BodyKind {
     /// `qe` (laid out as `to` says) with a clearance joint's contact loads added
     /// (`onset(k, rate)`: the impact onset speed of its point `k`; `found`: what its
     /// search gave, [`Kernels::search`]), each part with branches of its own (the
-    /// joint, or each of its points) a block ([`in_block`]); `None` where the joint is
-    /// not written over `T`.
+    /// joint, or each of its points) a block ([`in_block`]); `None` where a block gives
+    /// none.
     fn add_clearance_loads<T: Real>(
         c: &Self::Clearance,
         parts: (&Self::StateOf<T>, &Self::StateOf<T>),
