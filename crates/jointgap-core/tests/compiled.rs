@@ -246,27 +246,7 @@ fn worn_parts_run_the_same_compiled() {
 /// order).
 #[test]
 fn what_is_not_compiled_says_why() {
-    let n = 60;
-    let bodies: Vec<_> = (0..n)
-        .map(|k| {
-            json!({"name": format!("bar{k}"), "mass": 1.0, "inertia": 1.0 / 12.0, "position": [k as f64 + 0.5, 0.0],
-                   "points": {"L": [-0.5, 0.0], "R": [0.5, 0.0]}})
-        })
-        .collect();
-    let joints: Vec<_> = (0..n)
-        .map(|k| 37 * k % n)
-        .map(|k| {
-            let (body_i, point_i) = if k == 0 {
-                ("ground".to_string(), json!([0.0, 0.0]))
-            } else {
-                (format!("bar{}", k - 1), json!("R"))
-            };
-            json!({"name": format!("j{k}"), "type": "revolute", "body_i": body_i, "point_i": point_i,
-                   "body_j": format!("bar{k}"), "point_j": "L"})
-        })
-        .collect();
-    let chain: Model =
-        serde_json::from_value(json!({"gravity": [0.0, -9.81], "bodies": bodies, "joints": joints})).unwrap();
+    let chain = crate::schur::chain_listed(60, |k| 37 * k % 60);
     let run = simulate(&chain, &options(0.001, Method::Auto, true)).unwrap();
     assert_eq!(
         run.stats.compiled,

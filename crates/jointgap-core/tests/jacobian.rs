@@ -148,6 +148,18 @@ fn three_jacobians(model: &Model, t: f64, y: &[f64]) -> [DMatrix<f64>; 3] {
     [exact, central, by_forces]
 }
 
+/// [`three_jacobians`] of a founding slider-crank at the last output sample before 0.3 s
+/// where its rod-slider joint slides in contact (pressed 0.1 um deep, slipping faster
+/// than the friction law's dynamic speed).
+fn jacobians_in_sliding_contact(model: &Model) -> [DMatrix<f64>; 3] {
+    let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
+    let res = simulate(model, &opts).unwrap();
+    let pen = res.channel("rod_slider.penetration").unwrap();
+    let slip = res.channel("rod_slider.slip").unwrap();
+    let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
+    three_jacobians(model, res.time[i], &state_at(&res, &["crank", "rod", "slider"], i))
+}
+
 /// The exact Jacobian (reverse-mode derivatives of the recorded evaluation) on the
 /// founding slider-crank in sliding contact mid-run, against central differences of the
 /// whole equations of motion: equal to the differences' own error, and closer by far
@@ -155,14 +167,7 @@ fn three_jacobians(model: &Model, t: f64, y: &[f64]) -> [DMatrix<f64>; 3] {
 /// stiffness and the velocity terms.
 #[test]
 fn exact_jacobian_matches_central_differences_in_contact() {
-    let model = common::slider_crank_clearance();
-    let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
-    let res = simulate(&model, &opts).unwrap();
-    let pen = res.channel("rod_slider.penetration").unwrap();
-    let slip = res.channel("rod_slider.slip").unwrap();
-    let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
-    let y = state_at(&res, &["crank", "rod", "slider"], i);
-    let [exact, central, by_forces] = three_jacobians(&model, res.time[i], &y);
+    let [exact, central, by_forces] = jacobians_in_sliding_contact(&common::slider_crank_clearance());
     let scale = largest(&central);
     let exact_off = largest(&(&exact - &central));
     let forces_off = largest(&(&by_forces - &central));
@@ -201,13 +206,7 @@ fn exact_jacobian_through_a_worn_contact_matches_central_differences() {
     let oval: Vec<f64> =
         (0..24).map(|k| 2e-5 * (1.0 + (std::f64::consts::TAU * k as f64 / 12.0).cos())).collect();
     let model = crate::compiled::worn_founding_case(serde_json::json!({"bearing_wear": oval}));
-    let opts = SimOptions { rate: Some(10_000.0), ..SimOptions::new(0.3) };
-    let res = simulate(&model, &opts).unwrap();
-    let pen = res.channel("rod_slider.penetration").unwrap();
-    let slip = res.channel("rod_slider.slip").unwrap();
-    let i = (0..pen.len()).rev().find(|&i| pen[i] > 1e-7 && slip[i].abs() > 0.0102).expect("sliding contact");
-    let y = state_at(&res, &["crank", "rod", "slider"], i);
-    let [exact, central, _] = three_jacobians(&model, res.time[i], &y);
+    let [exact, central, _] = jacobians_in_sliding_contact(&model);
     let scale = largest(&central);
     let off = largest(&(&exact - &central));
     // Measured: 3.4 of 1.4e8; 7.8e6 with the rim's angle held (no Newton step).

@@ -12,6 +12,11 @@ use serde_json::json;
 
 /// A planar chain of `n` bars of 1 m and 1 kg hanging from the ground, laid out along x.
 fn chain(n: usize) -> Model {
+    chain_listed(n, |k| k)
+}
+
+/// [`chain`] whose joint `k` in the model's list holds link `link(k)` to the one before.
+pub fn chain_listed(n: usize, link: impl Fn(usize) -> usize) -> Model {
     let bodies: Vec<_> = (0..n)
         .map(|k| {
             json!({"name": format!("bar{k}"), "mass": 1.0, "inertia": 1.0 / 12.0,
@@ -20,6 +25,7 @@ fn chain(n: usize) -> Model {
         })
         .collect();
     let joints: Vec<_> = (0..n)
+        .map(link)
         .map(|k| {
             let (body_i, point_i) = if k == 0 {
                 ("ground".to_string(), json!([0.0, 0.0]))
