@@ -17,11 +17,13 @@ EXAMPLES = ROOT / "examples"
 #: The modules of the physics tests (by the start of their names), which run on both
 #: paths of the evaluation: compiled to native code (the engine's default) and
 #: interpreted (docs/compiled.md). The planar fingerprints (``test_bit_for_bit``) hold
-#: on both to the bit.
+#: on both to the bit. The wear predictions over a life (``test_wear_life``) repeat the
+#: cycles that ``test_wear_core`` checks, and run on the default path only.
 PHYSICS = (
     "test_physics_",
     "test_energy_accounts",
-    "test_wear_",
+    "test_wear_core",
+    "test_wear_spatial",
     "test_joint_kind_examples",
     "test_singular_positions",
     "test_bit_for_bit",
