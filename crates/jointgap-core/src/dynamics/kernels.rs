@@ -110,10 +110,17 @@ pub fn inputs<K: Kernels<N>, const N: usize>(
     for f in sys.forces.iter().filter(|f| K::has_table(f)) {
         K::table_at(f, t, x);
     }
+    let state_of = |s: &ContactState| [if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed];
+    if sys.clearances.iter().all(|c| K::searched(c) == 0) {
+        for s in contacts {
+            x.extend(state_of(s));
+        }
+        return;
+    }
     let (nq, nv) = (sys.layout.nq(), sys.layout.nv());
     for (_, c, points) in contact::slots(&sys.clearances) {
         for s in &contacts[points] {
-            x.extend([if s.in_contact { 1.0 } else { 0.0 }, s.onset_speed]);
+            x.extend(state_of(s));
         }
         if K::searched(c) > 0 {
             let state = |b: Option<usize>| match b {

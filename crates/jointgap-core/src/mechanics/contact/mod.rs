@@ -516,8 +516,8 @@ impl ClearanceRevolute {
         self.apply_dry_forces(&points, bearing, journal, onset, qe);
     }
 
-    /// Adds the dry laws' forces at `points`.
-    #[inline]
+    /// Adds the dry laws' forces at `points`, in line as [`apply_point_forces`].
+    #[inline(always)]
     fn apply_dry_forces<T: Real>(
         &self,
         points: &[ContactPoint<T>],
@@ -649,8 +649,9 @@ pub(crate) fn add_point_forces<C>(
 }
 
 /// Adds the force of each of `points` (`force` gives its normal and friction forces):
-/// body j's at its material point, the opposite on body i at its own.
-#[inline]
+/// body j's at its material point, the opposite on body i at its own. In line in each
+/// caller: called, it cost the founding case 0.8 % more instructions.
+#[inline(always)]
 pub(crate) fn apply_point_forces<T: Real>(
     points: &[ContactPoint<T>],
     force: impl Fn(&ContactPoint<T>) -> (T, Tangential<T>),
