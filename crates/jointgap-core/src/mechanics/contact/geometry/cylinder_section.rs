@@ -3,7 +3,7 @@
 //! the contact of a journal end where both parts are worn uniformly along their length
 //! (docs/wear.md, "The spatial journal"). In the section of an aligned journal the
 //! worn parts are the planar joint's worn profiles, so each end touches at the rims of
-//! [`Worn::rims`]; a tilted journal's end is taken in the same section, its own turn
+//! [`Worn::rims_from`]; a tilted journal's end is taken in the same section, its own turn
 //! about its axis projected onto it.
 
 use super::worn::{Found, Worn};

@@ -146,6 +146,12 @@ impl<T: Real> Piece<T> {
     /// The numbers that give a piece.
     const NUMBERS: usize = 5;
 
+    /// A piece of no wear (a part without a table).
+    fn zero() -> Self {
+        let zero = T::constant(0.0);
+        Piece { start: zero, values: [zero; 2], curvatures: [zero; 2] }
+    }
+
     /// `(s, s', s'')` at angle `theta` [rad] of a piece `h` wide: the cubic whose second
     /// derivative runs linearly between the ends'.
     #[inline]
@@ -543,7 +549,7 @@ impl Maxima {
 }
 
 /// One rim of a worn joint's section where the parts touch or come nearest: a local
-/// maximum of the overlap ([`Worn::rims`]).
+/// maximum of the overlap ([`Worn::rims_from`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rim<T: Real = f64> {
     /// The normal `u(alpha)` in the section's axes, pointing from the bearing's centre
@@ -610,8 +616,7 @@ impl<T: Real> Start<T> {
     /// No rim.
     fn none() -> Self {
         let zero = T::constant(0.0);
-        let piece = Piece { start: zero, values: [zero; 2], curvatures: [zero; 2] };
-        Start { kind: zero, alpha: zero, share: zero, bearing: piece, journal: piece }
+        Start { kind: zero, alpha: zero, share: zero, bearing: Piece::zero(), journal: Piece::zero() }
     }
 }
 
@@ -640,18 +645,13 @@ pub fn read_found<T: Real>(x: &[T]) -> Found<T> {
 }
 
 impl Worn {
-    /// The rims of a worn journal at eccentricity `e` in its worn bearing of clearance
-    /// `c`, the bodies turned by `phis`, whose overlap is above `-reach` [m]: the first
-    /// the deepest, the normal angle `alpha` where the overlap `delta(alpha) = e . u +
-    /// R_J - w_J(alpha - phi_J) - R_B - w_B(alpha - phi_B)` is largest; for a finite reach
-    /// the other local maxima follow, the rims of a worn pocket on which the journal
-    /// rests at once ([`Worn::maxima`]).
-    pub fn rims(&self, e: Vec2, phis: (f64, f64), clearance: f64, reach: f64) -> Rims {
-        self.rims_from(e, phis, clearance, reach, &self.search(e, phis, clearance, reach))
-    }
-
-    /// Where the rims of [`Worn::rims`] lie, as the search over the profiles finds
-    /// them.
+    /// Where the rims lie of a worn journal at eccentricity `e` in its worn bearing of
+    /// clearance `c`, the bodies turned by `phis`, whose overlap is above `-reach` [m]
+    /// ([`Worn::rims_from`] takes them from there): the first the deepest, the normal
+    /// angle `alpha` where the overlap `delta(alpha) = e . u + R_J - w_J(alpha - phi_J) -
+    /// R_B - w_B(alpha - phi_B)` is largest; for a finite reach the other local maxima
+    /// follow, the rims of a worn pocket on which the journal rests at once
+    /// ([`Worn::maxima`]).
     pub fn search(&self, e: Vec2, phis: (f64, f64), clearance: f64, reach: f64) -> Found {
         let mut found = [Start::none(); RIMS];
         // No angle overlaps by more than |e| - c - (w_B + w_J)'s floor.
@@ -666,7 +666,7 @@ impl Worn {
         let kind = if maxima.refined { 2.0 } else { 1.0 };
         let piece = |s: &Option<PeriodicSpline>, theta: f64| match s {
             Some(s) => s.piece(theta),
-            None => Start::none().bearing,
+            None => Piece::zero(),
         };
         for (slot, &(alpha, _, share)) in found.iter_mut().zip(maxima.iter().take(rims)) {
             let (bearing, journal) =
@@ -676,7 +676,8 @@ impl Worn {
         found
     }
 
-    /// [`Worn::rims`] in any number type from where the search found them (`found`):
+    /// The rims in any number type from where the search found them (`found`,
+    /// [`Worn::search`]):
     /// each refined maximum takes one more Newton step on `delta' = 0` in `T`, so that
     /// its angle moves with the state as the implicit function theorem says, and the
     /// compiled Jacobians are exact through it. Each rim's share is the search's.
@@ -725,7 +726,7 @@ impl Worn {
 }
 
 /// The contact points of a worn journal in its worn bearing, pushed onto `out` unless
-/// the gap is `reach` [m] or more: its rims ([`Worn::rims`]) in the global plane.
+/// the gap is `reach` [m] or more: its rims ([`Worn::rims_from`]) in the global plane.
 pub fn contact_worn(
     g: &JournalBearing,
     worn: &Worn,
